@@ -1,0 +1,52 @@
+/* adem: a Discrete Element Method engine for adhesive and granular spheres.
+ * Umbrella header: include this one. */
+#ifndef ADEM_ADEM_H
+#define ADEM_ADEM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ADEM_VERSION_STRING "0.1.0"
+#define ADEM_NAME_MAX 64
+#define ADEM_MSG_MAX 1024
+
+/* Status codes. The numeric values of the first three are the command's exit codes. */
+typedef enum adem_status {
+  ADEM_OK = 0,
+  ADEM_ERR_INPUT = 2,   /* bad case file, bad option, missing file */
+  ADEM_ERR_RUNTIME = 3, /* the run went wrong: NaN, runaway overlap, escaped particle */
+  ADEM_ERR_IO = 4,      /* a file could not be written */
+  ADEM_ERR_NOMEM = 5,
+  ADEM_INTERRUPTED = 6  /* SIGINT/SIGTERM asked the run to stop; a checkpoint was written */
+} adem_status;
+
+/* Where a failure happened and why: filled by every function that can fail. */
+typedef struct adem_error {
+  adem_status status;
+  char message[ADEM_MSG_MAX];
+} adem_error;
+
+/* Log hook: the library never prints; it calls this (default: stderr for warnings). */
+typedef enum adem_log_level { ADEM_LOG_INFO = 0, ADEM_LOG_WARN = 1 } adem_log_level;
+typedef void adem_log_fn(adem_log_level level, const char *message, void *user);
+void adem_log_set_hook(adem_log_fn *fn, void *user);
+
+typedef struct adem_vec3 {
+  double x, y, z;
+} adem_vec3;
+
+typedef struct adem_world adem_world;
+
+#ifdef __cplusplus
+}
+#endif
+
+#include "adem/world.h"
+#include "adem/case.h"
+#include "adem/run.h"
+
+#endif

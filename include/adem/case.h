@@ -1,0 +1,54 @@
+/* Case files: YAML read with libyaml and validated against one schema table. */
+#ifndef ADEM_CASE_H
+#define ADEM_CASE_H
+
+#include <stdio.h>
+#include "adem/adem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ADEM_PATH_MAX 4096
+
+/* What a run writes and how often. Intervals are simulated seconds; 0 switches that output off. */
+typedef struct adem_output_settings {
+  char dir[ADEM_PATH_MAX];
+  double frame_interval;      /* VTU frames + PVD */
+  double csv_interval;        /* CSV time series rows */
+  double checkpoint_interval; /* checkpoint rewrites */
+  int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
+} adem_output_settings;
+
+/* A loaded case: the world, ready to prepare, plus what the run needs. */
+typedef struct adem_case {
+  char path[ADEM_PATH_MAX];   /* file it came from, for messages */
+  char name[ADEM_NAME_MAX];
+  char *source;               /* the YAML text as read (kept for checkpoints) */
+  char **sets;                /* --set overrides applied on top of the text */
+  int nsets;
+  adem_world *world;
+  double end_time;            /* s */
+  double dt;                  /* chosen step, s */
+  int dt_auto;                /* 1 when time.step was "auto" */
+  double dt_user_ratio;       /* user dt / proposed dt (> 1 means too large) */
+  adem_step_estimate estimate;
+  adem_output_settings output;
+  uint64_t seed;
+} adem_case;
+
+/* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */
+adem_status adem_case_load_file(const char *path, const char *const *sets, int nsets,
+                                adem_case **out, adem_error *err);
+adem_status adem_case_load_string(const char *text, const char *name_for_messages,
+                                  const char *const *sets, int nsets, adem_case **out,
+                                  adem_error *err);
+void adem_case_free(adem_case *c);
+
+/* The case-file reference (every key, type, unit, default, range, doc) as Markdown. */
+void adem_case_write_reference(FILE *f);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,43 @@
+/* Running a case: stepping, output, checkpoints, progress. */
+#ifndef ADEM_RUN_H
+#define ADEM_RUN_H
+
+#include <signal.h>
+#include "adem/adem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct adem_progress {
+  double time, end_time;
+  uint64_t step, total_steps;
+  double wall_seconds;     /* since the run (or resume) started */
+  double eta_seconds;      /* < 0 while unknown */
+  double steps_per_second;
+  size_t contacts;
+} adem_progress;
+typedef void adem_progress_fn(const adem_progress *p, void *user);
+
+typedef struct adem_run_options {
+  int nthreads;                        /* 0: leave as is */
+  adem_progress_fn *progress;          /* called about once a second; may be NULL */
+  void *progress_user;
+  volatile sig_atomic_t *stop_flag;    /* set non-zero (from a signal handler) to stop cleanly */
+} adem_run_options;
+adem_run_options adem_default_run_options(void);
+
+/* Runs the case to its end time, writing frames, CSV and checkpoints into c->output.dir.
+ * On ADEM_INTERRUPTED a checkpoint has been written. On ADEM_ERR_RUNTIME the files already
+ * written are kept and err names the particle and time. */
+adem_status adem_run(adem_case *c, const adem_run_options *opt, adem_error *err);
+
+/* Checkpoints: the case text and the whole dynamic state, written atomically. */
+adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err);
+/* Rebuilds the case from a checkpoint so that adem_run continues bit for bit. */
+adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,126 @@
+/* The simulated world: materials, particles, walls, and the time stepper. */
+#ifndef ADEM_WORLD_H
+#define ADEM_WORLD_H
+
+#include "adem/adem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Normal force law of a material pair. */
+typedef enum adem_normal_model {
+  ADEM_NORMAL_HERTZ = 0, /* H8-H9 without adhesion, damping H11-H13 */
+  ADEM_NORMAL_JKR = 1    /* simplified JKR, H7-H10 */
+} adem_normal_model;
+
+/* Rolling resistance law of a material pair. */
+typedef enum adem_rolling_model {
+  ADEM_ROLLING_NONE = 0,
+  ADEM_ROLLING_DTK = 1,  /* H18-H22 */
+  ADEM_ROLLING_A = 2,    /* I7-I8 */
+  ADEM_ROLLING_C = 3,    /* Ai et al. 2011 */
+  ADEM_ROLLING_BROF = 4  /* I9-I10 */
+} adem_rolling_model;
+
+/* A material. Walls have one too; a rigid wall material has E = infinity. */
+typedef struct adem_material_def {
+  char name[ADEM_NAME_MAX];
+  double density;          /* kg/m^3 */
+  double young;            /* E, Pa (the real one; see stiffness_factor) */
+  double poisson;          /* nu, in (-1, 0.5) */
+  double restitution;      /* e, in (0, 1] */
+  double friction;         /* sliding friction coefficient mu_s */
+  double surface_energy;   /* gamma, J/m^2, per surface (work of adhesion is 2 gamma) */
+  double hysteresis;       /* adhesion hysteresis delta_gamma/gamma (DTK) */
+  double stiffness_factor; /* f = E_mod/E in (0, 1]; H24 */
+  double rolling_friction; /* eta_r (models A, C, BROF) */
+  double rolling_damping;  /* model C damping ratio delta_r */
+  int rigid;               /* 1: E = infinity (walls only) */
+} adem_material_def;
+adem_material_def adem_default_material_def(void);
+
+/* Optional override of how two materials interact. Values < 0 mean "derive from the materials". */
+typedef struct adem_interaction_def {
+  int material_a, material_b;
+  double restitution;
+  double friction;
+  adem_normal_model normal;
+  adem_rolling_model rolling;
+} adem_interaction_def;
+adem_interaction_def adem_default_interaction_def(void);
+
+typedef struct adem_particle_def {
+  adem_vec3 position, velocity, angular_velocity;
+  double radius;
+  int material;
+  int group; /* external-force group, 0 = default group */
+} adem_particle_def;
+adem_particle_def adem_default_particle_def(void);
+
+/* An infinite plane; the particles live on the side its normal points to. */
+typedef struct adem_plane_def {
+  char name[ADEM_NAME_MAX];
+  adem_vec3 point, normal;
+  adem_vec3 velocity; /* translation velocity, enters the contact's relative velocity */
+  int material;
+} adem_plane_def;
+adem_plane_def adem_default_plane_def(void);
+
+/* Summed state of the world, computed on demand. Energies in J. */
+typedef struct adem_diagnostics {
+  double time;
+  double kinetic, rotational, potential, elastic;
+  double dissipated; /* energy balance: E_total(0) - E_total(t) */
+  size_t contacts_pp, contacts_pw;
+  double max_overlap_ratio; /* max over contacts of overlap / smaller radius */
+} adem_diagnostics;
+
+adem_world *adem_world_create(void);
+void adem_world_free(adem_world *w);
+
+int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err);
+int adem_world_find_material(const adem_world *w, const char *name);
+int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err);
+int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force);
+int adem_world_find_group(const adem_world *w, const char *name);
+/* Returns the new particle's stable id, or -1 with err set. */
+int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, adem_error *err);
+int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err);
+/* Six planes facing inwards, named NAME.xmin, NAME.xmax, ... */
+int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
+                       adem_error *err);
+
+void adem_world_set_gravity(adem_world *w, adem_vec3 g);
+void adem_world_set_threads(adem_world *w, int nthreads);
+void adem_world_set_skin(adem_world *w, double skin_fraction); /* skin as a fraction of max diameter */
+void adem_world_set_max_overlap_ratio(adem_world *w, double ratio);
+void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape check */
+void adem_world_use_brute_force(adem_world *w, int on);
+
+/* Time step from the Hertz collision time and the Rayleigh time (notes section 6). */
+typedef struct adem_step_estimate {
+  double v_ref;        /* impact speed the collision time is evaluated at, m/s */
+  double t_collision;  /* shortest Hertz collision time over material pairs, s */
+  double t_rayleigh;   /* shortest Rayleigh time, s */
+  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh) */
+} adem_step_estimate;
+adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref);
+void adem_world_set_dt(adem_world *w, double dt);
+double adem_world_dt(const adem_world *w);
+
+/* Validates the set-up (overlaps, particles outside walls), derives pair tables, builds the
+ * neighbour lists and computes the first forces. Call once before stepping. */
+adem_status adem_world_prepare(adem_world *w, adem_error *err);
+/* Advances n steps. Stops early with ADEM_ERR_RUNTIME on NaN, runaway overlap or escape. */
+adem_status adem_world_step(adem_world *w, uint64_t n, adem_error *err);
+
+double adem_world_time(const adem_world *w);
+uint64_t adem_world_step_count(const adem_world *w);
+size_t adem_world_particle_count(const adem_world *w);
+adem_diagnostics adem_world_diagnostics(const adem_world *w);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

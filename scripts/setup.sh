@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# One-step set-up on a fresh Debian 12 machine (as root):
+#   scripts/setup.sh demo   install what is missing, build (Release), run the flagship example
+#   scripts/setup.sh test   install what is missing, build (Release), run the whole test suite
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+what=${1:-demo}
+packages=(build-essential cmake pkg-config libyaml-dev libcmocka-dev libomp-dev gnuplot-nox)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "adem setup: installing ${missing[*]}"
+  sudo_cmd=""
+  [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+  $sudo_cmd apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$jobs"
+
+case "$what" in
+  demo)
+    ./build/adem run cases/pour.yaml --out out/pour
+    echo "adem setup: frames in out/pour/particles.pvd (open in ParaView), plot in out/pour/energy.png"
+    ;;
+  test)
+    ctest --test-dir build --output-on-failure -j"$jobs"
+    ;;
+  *)
+    echo "usage: scripts/setup.sh demo|test" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,178 @@
+/* Contact forces. One pass computes every candidate pair's force and torques into the pair
+ * lists; a second pass sums them per particle in a fixed order. Conventions (physics notes 2-3):
+ * n points from i to j (or from the particle into the wall), the overlap is positive in contact,
+ * positive normal force is repulsive, and w = v_i,c - v_j,c is the velocity of i's contact point
+ * relative to j's. */
+#include <math.h>
+#include <string.h>
+
+#include "contact/hertz.h"
+#include "contact/tangential.h"
+#include "parallel.h"
+#include "world.h"
+
+/* What a contact law needs about the two bodies at one contact. */
+typedef struct contact_geometry {
+  adem_vec3 n;     /* unit normal from i to j */
+  double delta;    /* overlap, > 0 */
+  double R;        /* effective radius (H2; wall: r_i) */
+  double mstar;    /* effective mass (wall: m_i) */
+  adem_vec3 w;     /* relative velocity of the contact points, i minus j */
+} contact_geometry;
+
+typedef struct contact_result {
+  adem_vec3 force;   /* on i */
+  double elastic;    /* stored energy, J */
+} contact_result;
+
+/* Normal + tangential force of one contact (H9, H11-H17), updating its history. */
+static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
+                                           adem_contact_history *h, double dt) {
+  contact_result r;
+  double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
+  adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
+
+  double f_elastic, e_elastic;
+  switch (it->normal) {
+    case ADEM_NORMAL_HERTZ:
+    default:
+      f_elastic = adem_hertz_force(it->E, g->R, g->delta);
+      e_elastic = adem_hertz_energy(it->E, g->R, g->delta);
+      break;
+  }
+  double Sn = adem_hertz_normal_stiffness(it->E, g->R, g->delta);
+  double cn = adem_damping_coefficient(it->beta, Sn, g->mstar);
+  double fn = f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
+
+  double St = adem_hertz_tangential_stiffness(it->G, g->R, g->delta);
+  double ct = adem_damping_coefficient(it->beta, St, g->mstar);
+  double f_limit = it->friction * fabs(f_elastic); /* H17 with F_C = 0 (no adhesion) */
+  bool sliding;
+  adem_vec3 ft = adem_tangential_force(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);
+
+  r.force = v3_axpy(ft, -fn, g->n);
+  r.elastic = e_elastic + 0.5 * St * v3_norm2(h->tangential);
+  return r;
+}
+
+static void particle_pairs(adem_world *w) {
+  adem_particles *p = &w->p;
+  adem_pair_list *l = &w->pp;
+  int nthreads = w->nthreads;
+  double dt = w->dt;
+  size_t np = l->n;
+  ADEM_PARALLEL_FOR
+  for (size_t k = 0; k < np; ++k) {
+    size_t i = l->a[k], j = l->b[k];
+    adem_vec3 d = v3_sub(p->pos[j], p->pos[i]);
+    double ri = p->radius[i], rj = p->radius[j];
+    double rsum = ri + rj;
+    double dist2 = v3_norm2(d);
+    if (dist2 >= rsum * rsum) {
+      l->touching[k] = false;
+      memset(&l->hist[k], 0, sizeof l->hist[k]);
+      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+      l->elastic[k] = 0.0;
+      l->overlap_ratio[k] = 0.0;
+      continue;
+    }
+    double dist = sqrt(dist2);
+    contact_geometry g;
+    g.n = v3_scale(d, 1.0 / dist);
+    g.delta = rsum - dist;
+    g.R = ri * rj / rsum;
+    g.mstar = 1.0 / (p->inv_mass[i] + p->inv_mass[j]);
+    /* contact points: i's at +r_i n, j's at -r_j n */
+    adem_vec3 spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
+    g.w = v3_add(v3_sub(p->vel[i], p->vel[j]), v3_cross(spin, g.n));
+    const adem_interaction *it = adem_world_interaction(w, p->material[i], p->material[j]);
+    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
+    l->touching[k] = true;
+    l->force_a[k] = r.force;
+    l->torque_a[k] = v3_cross(v3_scale(g.n, ri), ft);
+    l->torque_b[k] = v3_cross(v3_scale(g.n, rj), ft);
+    l->elastic[k] = r.elastic;
+    l->overlap_ratio[k] = g.delta / (ri < rj ? ri : rj);
+  }
+}
+
+static void wall_pairs(adem_world *w) {
+  adem_particles *p = &w->p;
+  adem_pair_list *l = &w->pw;
+  int nthreads = w->nthreads;
+  double dt = w->dt;
+  size_t np = l->n;
+  ADEM_PARALLEL_FOR
+  for (size_t k = 0; k < np; ++k) {
+    size_t i = l->a[k];
+    const adem_plane_def *pl = &w->planes[l->b[k]].def;
+    double ri = p->radius[i];
+    double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
+    if (dist >= ri) {
+      l->touching[k] = false;
+      memset(&l->hist[k], 0, sizeof l->hist[k]);
+      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+      l->elastic[k] = 0.0;
+      l->overlap_ratio[k] = 0.0;
+      continue;
+    }
+    contact_geometry g;
+    g.n = v3_neg(pl->normal);
+    g.delta = ri - dist;
+    g.R = ri;
+    g.mstar = 1.0 / p->inv_mass[i];
+    g.w = v3_add(v3_sub(p->vel[i], pl->velocity), v3_cross(v3_scale(p->omega[i], ri), g.n));
+    const adem_interaction *it = adem_world_interaction(w, p->material[i], pl->material);
+    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
+    l->touching[k] = true;
+    l->force_a[k] = r.force;
+    l->torque_a[k] = v3_cross(v3_scale(g.n, ri), ft);
+    l->torque_b[k] = v3_zero();
+    l->elastic[k] = r.elastic;
+    l->overlap_ratio[k] = g.delta / ri;
+  }
+}
+
+/* Per-particle sums in the order of the gather lists: body forces first, then particle
+ * contacts by increasing pair index, then wall contacts. */
+static void sum_per_particle(adem_world *w) {
+  adem_particles *p = &w->p;
+  const adem_neighbors *nb = &w->nb;
+  const adem_pair_list *pp = &w->pp, *pw = &w->pw;
+  int nthreads = w->nthreads;
+  size_t n = p->n;
+  adem_vec3 g = w->gravity;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
+    adem_vec3 t = v3_zero();
+    for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
+      uint32_t code = nb->pp_entries[e];
+      size_t k = code >> 1;
+      if (!pp->touching[k]) continue;
+      if (code & 1u) {
+        f = v3_sub(f, pp->force_a[k]);
+        t = v3_add(t, pp->torque_b[k]);
+      } else {
+        f = v3_add(f, pp->force_a[k]);
+        t = v3_add(t, pp->torque_a[k]);
+      }
+    }
+    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
+      size_t k = nb->pw_entries[e];
+      if (!pw->touching[k]) continue;
+      f = v3_add(f, pw->force_a[k]);
+      t = v3_add(t, pw->torque_a[k]);
+    }
+    p->force[i] = f;
+    p->torque[i] = t;
+  }
+}
+
+void adem_contacts_compute(adem_world *w) {
+  particle_pairs(w);
+  wall_pairs(w);
+  sum_per_particle(w);
+}

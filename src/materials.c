@@ -1,0 +1,181 @@
+/* Materials and the table of material pairs (H2, H12, H15, H24). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact/hertz.h"
+#include "log.h"
+#include "world.h"
+
+adem_material_def adem_default_material_def(void) {
+  adem_material_def d;
+  memset(&d, 0, sizeof d);
+  d.density = 2500.0;
+  d.young = 1e7;
+  d.poisson = 0.25;
+  d.restitution = 0.5;
+  d.friction = 0.5;
+  d.stiffness_factor = 1.0;
+  return d;
+}
+
+adem_interaction_def adem_default_interaction_def(void) {
+  adem_interaction_def d;
+  d.material_a = d.material_b = -1;
+  d.restitution = -1.0;
+  d.friction = -1.0;
+  d.normal = ADEM_NORMAL_HERTZ;
+  d.rolling = ADEM_ROLLING_NONE;
+  return d;
+}
+
+/* Compliance terms: a rigid material contributes nothing (E = infinity). */
+static double young_compliance(const adem_material *m, bool modified) {
+  if (m->def.rigid) return 0.0;
+  double E = modified ? m->young_mod : m->def.young;
+  return (1.0 - m->def.poisson * m->def.poisson) / E;
+}
+
+static double shear_compliance(const adem_material *m, bool modified) {
+  if (m->def.rigid) return 0.0;
+  double G = modified ? m->shear_mod : m->def.young / (2.0 * (1.0 + m->def.poisson));
+  return (2.0 - m->def.poisson) / G;
+}
+
+static adem_interaction derive_pair(const adem_material *a, const adem_material *b) {
+  adem_interaction it;
+  memset(&it, 0, sizeof it);
+  double cE = young_compliance(a, true) + young_compliance(b, true); /* H2 */
+  double cG = shear_compliance(a, true) + shear_compliance(b, true); /* H15 */
+  it.E = cE > 0.0 ? 1.0 / cE : INFINITY;
+  it.G = cG > 0.0 ? 1.0 / cG : INFINITY;
+  double cEr = young_compliance(a, false) + young_compliance(b, false);
+  double cGr = shear_compliance(a, false) + shear_compliance(b, false);
+  it.E_real = cEr > 0.0 ? 1.0 / cEr : INFINITY;
+  it.G_real = cGr > 0.0 ? 1.0 / cGr : INFINITY;
+  /* Mixing rules where the case gives no pair value: the mean of the two materials. */
+  it.restitution = 0.5 * (a->def.restitution + b->def.restitution);
+  it.friction = 0.5 * (a->def.friction + b->def.friction);
+  it.gamma = 0.5 * (a->gamma_mod + b->gamma_mod);
+  it.gamma_real = 0.5 * (a->def.surface_energy + b->def.surface_energy);
+  it.hysteresis = 0.5 * (a->def.hysteresis + b->def.hysteresis);
+  it.rolling_friction_a = a->def.rolling_friction;
+  it.rolling_friction_b = b->def.rolling_friction;
+  it.rolling_damping = 0.5 * (a->def.rolling_damping + b->def.rolling_damping);
+  it.normal = ADEM_NORMAL_HERTZ;
+  it.rolling = ADEM_ROLLING_NONE;
+  return it;
+}
+
+adem_status adem_materials_derive(adem_world *w, adem_error *err) {
+  int nm = w->nmaterials;
+  for (int k = 0; k < nm; ++k) {
+    adem_material *m = &w->materials[k];
+    double f = m->def.stiffness_factor;
+    m->young_mod = f * m->def.young; /* H24: E_mod = f E */
+    m->shear_mod = m->young_mod / (2.0 * (1.0 + m->def.poisson));
+    m->gamma_mod = m->def.surface_energy * pow(f, 0.4); /* H24: gamma_mod = gamma f^(2/5) */
+  }
+  free(w->interactions);
+  w->interactions = calloc((size_t)nm * (size_t)nm, sizeof *w->interactions);
+  if (!w->interactions && nm > 0) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b)
+      w->interactions[(size_t)a * nm + b] = derive_pair(&w->materials[a], &w->materials[b]);
+  for (int k = 0; k < w->ninteraction_defs; ++k) {
+    const adem_interaction_def *d = &w->interaction_defs[k];
+    adem_interaction *p[2] = {&w->interactions[(size_t)d->material_a * nm + d->material_b],
+                              &w->interactions[(size_t)d->material_b * nm + d->material_a]};
+    for (int s = 0; s < 2; ++s) {
+      if (d->restitution > 0.0) {
+        p[s]->restitution = d->restitution;
+        p[s]->set_restitution = true;
+      }
+      if (d->friction >= 0.0) {
+        p[s]->friction = d->friction;
+        p[s]->set_friction = true;
+      }
+      p[s]->normal = d->normal;
+      p[s]->rolling = d->rolling;
+    }
+  }
+  for (size_t k = 0; k < (size_t)nm * nm; ++k)
+    w->interactions[k].beta = adem_damping_beta(w->interactions[k].restitution);
+  return ADEM_OK;
+}
+
+int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err) {
+  if (adem_world_find_material(w, def->name) >= 0) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s' is defined twice", def->name);
+    return -1;
+  }
+  if (!def->rigid && !(def->young > 0.0)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s': Young's modulus must be > 0", def->name);
+    return -1;
+  }
+  if (!(def->poisson > -1.0 && def->poisson < 0.5)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s': Poisson ratio %g is outside (-1, 0.5)",
+                   def->name, def->poisson);
+    return -1;
+  }
+  if (!(def->restitution > 0.0 && def->restitution <= 1.0)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s': restitution %g is outside (0, 1]",
+                   def->name, def->restitution);
+    return -1;
+  }
+  if (!(def->stiffness_factor > 0.0 && def->stiffness_factor <= 1.0)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s': stiffness factor %g is outside (0, 1]",
+                   def->name, def->stiffness_factor);
+    return -1;
+  }
+  if (def->friction < 0.0 || def->surface_energy < 0.0 || def->hysteresis < 0.0 ||
+      def->rolling_friction < 0.0 || def->rolling_damping < 0.0) {
+    adem_error_set(err, ADEM_ERR_INPUT,
+                   "material '%s': friction, surface energy, hysteresis and rolling parameters "
+                   "must be >= 0", def->name);
+    return -1;
+  }
+  if (w->nmaterials >= 65535) {
+    adem_error_set(err, ADEM_ERR_INPUT, "too many materials");
+    return -1;
+  }
+  adem_material *m = realloc(w->materials, (size_t)(w->nmaterials + 1) * sizeof *m);
+  if (!m) {
+    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    return -1;
+  }
+  w->materials = m;
+  memset(&m[w->nmaterials], 0, sizeof *m);
+  m[w->nmaterials].def = *def;
+  w->prepared = false;
+  return w->nmaterials++;
+}
+
+int adem_world_find_material(const adem_world *w, const char *name) {
+  for (int k = 0; k < w->nmaterials; ++k)
+    if (strcmp(w->materials[k].def.name, name) == 0) return k;
+  return -1;
+}
+
+int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err) {
+  if (def->material_a < 0 || def->material_a >= w->nmaterials || def->material_b < 0 ||
+      def->material_b >= w->nmaterials) {
+    adem_error_set(err, ADEM_ERR_INPUT, "interaction names a material that does not exist");
+    return -1;
+  }
+  if (def->restitution > 1.0 || def->restitution == 0.0) {
+    adem_error_set(err, ADEM_ERR_INPUT, "interaction restitution %g is outside (0, 1]",
+                   def->restitution);
+    return -1;
+  }
+  adem_interaction_def *d =
+      realloc(w->interaction_defs, (size_t)(w->ninteraction_defs + 1) * sizeof *d);
+  if (!d) {
+    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    return -1;
+  }
+  w->interaction_defs = d;
+  d[w->ninteraction_defs] = *def;
+  w->prepared = false;
+  return w->ninteraction_defs++;
+}

@@ -1,0 +1,366 @@
+/* Neighbour search: particles sorted by cell of a uniform grid, a Verlet list with a skin, and
+ * contact history carried across rebuilds by the pair's stable ids. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "parallel.h"
+#include "world.h"
+
+/* History of a touching pair, keyed by ids (or id and wall index). */
+typedef struct saved_history {
+  uint64_t ka, kb;
+  adem_contact_history h;
+} saved_history;
+
+static int compare_saved(const void *x, const void *y) {
+  const saved_history *a = x, *b = y;
+  if (a->ka != b->ka) return a->ka < b->ka ? -1 : 1;
+  if (a->kb != b->kb) return a->kb < b->kb ? -1 : 1;
+  return 0;
+}
+
+static const saved_history *find_saved(const saved_history *s, size_t n, uint64_t ka, uint64_t kb) {
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    const saved_history *m = &s[mid];
+    if (m->ka < ka || (m->ka == ka && m->kb < kb))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return (lo < n && s[lo].ka == ka && s[lo].kb == kb) ? &s[lo] : NULL;
+}
+
+/* Copies out the history of every touching pair, sorted by key. */
+static saved_history *save_history(const adem_world *w, const adem_pair_list *l, bool walls,
+                                   size_t *count) {
+  size_t m = 0;
+  for (size_t k = 0; k < l->n; ++k) m += l->touching[k];
+  saved_history *s = malloc((m + 1) * sizeof *s);
+  if (!s) return NULL;
+  size_t j = 0;
+  for (size_t k = 0; k < l->n; ++k) {
+    if (!l->touching[k]) continue;
+    s[j].ka = w->p.id[l->a[k]];
+    s[j].kb = walls ? l->b[k] : w->p.id[l->b[k]];
+    s[j].h = l->hist[k];
+    ++j;
+  }
+  qsort(s, m, sizeof *s, compare_saved);
+  *count = m;
+  return s;
+}
+
+static void restore_history(const adem_world *w, adem_pair_list *l, bool walls,
+                            const saved_history *s, size_t ns) {
+  int nthreads = w->nthreads;
+  const uint64_t *id = w->p.id;
+  ADEM_PARALLEL_FOR
+  for (size_t k = 0; k < l->n; ++k) {
+    uint64_t kb = walls ? l->b[k] : id[l->b[k]];
+    const saved_history *h = find_saved(s, ns, id[l->a[k]], kb);
+    if (h) {
+      l->hist[k] = h->h;
+      l->touching[k] = true;
+    } else {
+      memset(&l->hist[k], 0, sizeof l->hist[k]);
+      l->touching[k] = false;
+    }
+    l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+    l->elastic[k] = 0.0;
+    l->overlap_ratio[k] = 0.0;
+  }
+}
+
+static adem_status grow_size_t(size_t **p, size_t *cap, size_t need) {
+  if (need <= *cap) return ADEM_OK;
+  size_t c = need + need / 4 + 16;
+  size_t *q = realloc(*p, c * sizeof *q);
+  if (!q) return ADEM_ERR_NOMEM;
+  *p = q;
+  *cap = c;
+  return ADEM_OK;
+}
+
+static adem_status grow_u32(uint32_t **p, size_t *cap, size_t need) {
+  if (need <= *cap) return ADEM_OK;
+  size_t c = need + need / 4 + 16;
+  uint32_t *q = realloc(*p, c * sizeof *q);
+  if (!q) return ADEM_ERR_NOMEM;
+  *p = q;
+  *cap = c;
+  return ADEM_OK;
+}
+
+/* Cell coordinates of a point, clamped to the grid. */
+static inline void cell_coords(const adem_neighbors *nb, adem_vec3 x, int c[3]) {
+  double inv = 1.0 / nb->cell_size;
+  c[0] = (int)((x.x - nb->origin.x) * inv);
+  c[1] = (int)((x.y - nb->origin.y) * inv);
+  c[2] = (int)((x.z - nb->origin.z) * inv);
+  for (int d = 0; d < 3; ++d) {
+    if (c[d] >= nb->dims[d]) c[d] = nb->dims[d] - 1;
+    if (c[d] < 0) c[d] = 0;
+  }
+}
+
+/* Lays the grid over the particles' bounding box and sorts particles by cell. */
+static adem_status sort_by_cell(adem_world *w, double cell) {
+  adem_particles *p = &w->p;
+  adem_neighbors *nb = &w->nb;
+  size_t n = p->n;
+  adem_vec3 lo = p->pos[0], hi = p->pos[0];
+  for (size_t i = 1; i < n; ++i) {
+    adem_vec3 x = p->pos[i];
+    lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
+    hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+  }
+  /* Few cells per particle at most: a sparse or spread-out system gets coarser cells. */
+  size_t max_cells = 8 * n + 1024;
+  for (;;) {
+    double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+    size_t total = 1;
+    bool fits = true;
+    for (int d = 0; d < 3; ++d) {
+      double c = floor(ext[d] / cell) + 1.0;
+      if (c > (double)max_cells) {
+        fits = false;
+        break;
+      }
+      nb->dims[d] = (int)c;
+      total *= (size_t)c;
+      if (total > max_cells) {
+        fits = false;
+        break;
+      }
+    }
+    if (fits) {
+      nb->ncells = total;
+      break;
+    }
+    cell *= 1.5;
+  }
+  nb->origin = lo;
+  nb->cell_size = cell;
+
+  if (grow_size_t(&nb->cell_start, &nb->cell_cap, nb->ncells + 1)) return ADEM_ERR_NOMEM;
+  size_t *cell_of = malloc(n * sizeof *cell_of);
+  size_t *perm = malloc(n * sizeof *perm);
+  if (!cell_of || !perm) {
+    free(cell_of);
+    free(perm);
+    return ADEM_ERR_NOMEM;
+  }
+  int nthreads = w->nthreads;
+  size_t nx = (size_t)nb->dims[0], ny = (size_t)nb->dims[1];
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    int c[3];
+    cell_coords(nb, p->pos[i], c);
+    cell_of[i] = ((size_t)c[2] * ny + (size_t)c[1]) * nx + (size_t)c[0];
+  }
+  /* Counting sort, stable: the order inside a cell keeps the previous order. */
+  size_t *start = nb->cell_start;
+  memset(start, 0, (nb->ncells + 1) * sizeof *start);
+  for (size_t i = 0; i < n; ++i) start[cell_of[i] + 1]++;
+  for (size_t c = 0; c < nb->ncells; ++c) start[c + 1] += start[c];
+  for (size_t i = 0; i < n; ++i) perm[start[cell_of[i]]++] = i;
+  /* start[c] now holds the end of cell c; shift back to starts. */
+  for (size_t c = nb->ncells; c > 0; --c) start[c] = start[c - 1];
+  start[0] = 0;
+  free(cell_of);
+  adem_status st = adem_particles_permute(p, perm);
+  free(perm);
+  return st;
+}
+
+static inline bool pair_close(const adem_particles *p, size_t i, size_t j, double skin) {
+  adem_vec3 d = v3_sub(p->pos[j], p->pos[i]);
+  double cut = p->radius[i] + p->radius[j] + skin;
+  return v3_norm2(d) < cut * cut;
+}
+
+/* Counts (pass 0) or writes (pass 1) the particle pairs of particle i. */
+static size_t particle_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
+  const adem_particles *p = &w->p;
+  const adem_neighbors *nb = &w->nb;
+  size_t count = 0;
+  double skin = nb->skin;
+  if (nb->brute_force) {
+    for (size_t j = i + 1; j < p->n; ++j) {
+      if (!pair_close(p, i, j, skin)) continue;
+      if (out) {
+        bool lower = p->id[i] < p->id[j];
+        out->a[at + count] = (uint32_t)(lower ? i : j);
+        out->b[at + count] = (uint32_t)(lower ? j : i);
+      }
+      ++count;
+    }
+    return count;
+  }
+  int c0[3];
+  cell_coords(nb, p->pos[i], c0);
+  int nx = nb->dims[0], ny = nb->dims[1], nz = nb->dims[2];
+  for (int cz = c0[2] - 1; cz <= c0[2] + 1; ++cz) {
+    if (cz < 0 || cz >= nz) continue;
+    for (int cy = c0[1] - 1; cy <= c0[1] + 1; ++cy) {
+      if (cy < 0 || cy >= ny) continue;
+      for (int cx = c0[0] - 1; cx <= c0[0] + 1; ++cx) {
+        if (cx < 0 || cx >= nx) continue;
+        size_t cell = ((size_t)cz * (size_t)ny + (size_t)cy) * (size_t)nx + (size_t)cx;
+        size_t jb = nb->cell_start[cell], je = nb->cell_start[cell + 1];
+        if (jb < i + 1) jb = i + 1; /* each pair once, from its lower index */
+        for (size_t j = jb; j < je; ++j) {
+          if (!pair_close(p, i, j, skin)) continue;
+          if (out) {
+            bool lower = p->id[i] < p->id[j];
+            out->a[at + count] = (uint32_t)(lower ? i : j);
+            out->b[at + count] = (uint32_t)(lower ? j : i);
+          }
+          ++count;
+        }
+      }
+    }
+  }
+  return count;
+}
+
+static size_t wall_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
+  size_t count = 0;
+  adem_vec3 x = w->p.pos[i];
+  double reach = w->p.radius[i] + w->nb.skin;
+  for (int k = 0; k < w->nplanes; ++k) {
+    const adem_plane_def *pl = &w->planes[k].def;
+    double d = v3_dot(v3_sub(x, pl->point), pl->normal);
+    if (d < reach) {
+      if (out) {
+        out->a[at + count] = (uint32_t)i;
+        out->b[at + count] = (uint32_t)k;
+      }
+      ++count;
+    }
+  }
+  return count;
+}
+
+typedef size_t pairs_of_fn(const adem_world *w, size_t i, adem_pair_list *out, size_t at);
+
+/* Two passes over particles (count, then fill at prefix offsets): the list order is fixed by
+ * particle index alone, whatever the number of threads. */
+static adem_status build_list(adem_world *w, adem_pair_list *l, pairs_of_fn *pairs_of,
+                              size_t *offsets) {
+  size_t n = w->p.n;
+  int nthreads = w->nthreads;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) offsets[i + 1] = pairs_of(w, i, NULL, 0);
+  offsets[0] = 0;
+  for (size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
+  if (adem_pair_list_reserve(l, offsets[n])) return ADEM_ERR_NOMEM;
+  l->n = offsets[n];
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) pairs_of(w, i, l, offsets[i]);
+  return ADEM_OK;
+}
+
+adem_status adem_neighbors_gather(adem_world *w) {
+  adem_neighbors *nb = &w->nb;
+  size_t n = w->p.n;
+  if (grow_size_t(&nb->pp_start, &nb->pp_start_cap, n + 1)) return ADEM_ERR_NOMEM;
+  if (grow_size_t(&nb->pw_start, &nb->pw_start_cap, n + 1)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pp_entries, &nb->pp_entries_cap, 2 * w->pp.n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pw_entries, &nb->pw_entries_cap, w->pw.n)) return ADEM_ERR_NOMEM;
+
+  size_t *s = nb->pp_start;
+  memset(s, 0, (n + 1) * sizeof *s);
+  for (size_t k = 0; k < w->pp.n; ++k) {
+    s[w->pp.a[k] + 1]++;
+    s[w->pp.b[k] + 1]++;
+  }
+  for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
+  for (size_t k = 0; k < w->pp.n; ++k) {
+    nb->pp_entries[s[w->pp.a[k]]++] = (uint32_t)(k << 1);
+    nb->pp_entries[s[w->pp.b[k]]++] = (uint32_t)(k << 1 | 1u);
+  }
+  for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
+  s[0] = 0;
+
+  s = nb->pw_start;
+  memset(s, 0, (n + 1) * sizeof *s);
+  for (size_t k = 0; k < w->pw.n; ++k) s[w->pw.a[k] + 1]++;
+  for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
+  for (size_t k = 0; k < w->pw.n; ++k) nb->pw_entries[s[w->pw.a[k]]++] = (uint32_t)k;
+  for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
+  s[0] = 0;
+  return ADEM_OK;
+}
+
+adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
+  adem_particles *p = &w->p;
+  adem_neighbors *nb = &w->nb;
+  size_t n = p->n;
+  if (2 * w->pp.n + 2 >= UINT32_MAX || n >= UINT32_MAX)
+    return adem_error_set(err, ADEM_ERR_NOMEM, "too many particles or pairs for 32-bit indices");
+
+  size_t nsaved_pp = 0, nsaved_pw = 0;
+  saved_history *saved_pp = save_history(w, &w->pp, false, &nsaved_pp);
+  saved_history *saved_pw = save_history(w, &w->pw, true, &nsaved_pw);
+  size_t *offsets = malloc((n + 1) * sizeof *offsets);
+  adem_status st = ADEM_OK;
+  if (!saved_pp || !saved_pw || !offsets) {
+    st = ADEM_ERR_NOMEM;
+    goto done;
+  }
+
+  double rmax = 0.0;
+  for (size_t i = 0; i < n; ++i) rmax = fmax(rmax, p->radius[i]);
+  nb->skin = nb->skin_fraction * 2.0 * rmax;
+
+  if (n > 0 && !nb->brute_force) {
+    st = sort_by_cell(w, 2.0 * rmax + nb->skin);
+    if (st) goto done;
+  }
+  st = build_list(w, &w->pp, particle_pairs_of, offsets);
+  if (!st) st = build_list(w, &w->pw, wall_pairs_of, offsets);
+  if (st) goto done;
+  restore_history(w, &w->pp, false, saved_pp, nsaved_pp);
+  restore_history(w, &w->pw, true, saved_pw, nsaved_pw);
+  st = adem_neighbors_gather(w);
+  if (st) goto done;
+  memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos);
+  nb->rebuilds++;
+done:
+  free(saved_pp);
+  free(saved_pw);
+  free(offsets);
+  if (st) return adem_error_set(err, st, "out of memory building the neighbour list");
+  return ADEM_OK;
+}
+
+bool adem_neighbors_need_rebuild(const adem_world *w) {
+  const adem_particles *p = &w->p;
+  double half = 0.5 * w->nb.skin;
+  double limit = half * half;
+  double worst = 0.0;
+  int nthreads = w->nthreads;
+  size_t n = p->n;
+  ADEM_PARALLEL_FOR_MAX(worst)
+  for (size_t i = 0; i < n; ++i) {
+    double d2 = v3_norm2(v3_sub(p->pos[i], p->pos_at_build[i]));
+    worst = d2 > worst ? d2 : worst;
+  }
+  return worst > limit;
+}
+
+void adem_neighbors_free(adem_neighbors *nb) {
+  free(nb->cell_start);
+  free(nb->pp_start);
+  free(nb->pw_start);
+  free(nb->pp_entries);
+  free(nb->pw_entries);
+  nb->cell_start = nb->pp_start = nb->pw_start = NULL;
+  nb->pp_entries = nb->pw_entries = NULL;
+  nb->cell_cap = nb->pp_start_cap = nb->pw_start_cap = nb->pp_entries_cap = nb->pw_entries_cap = 0;
+}

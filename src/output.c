@@ -1,0 +1,577 @@
+#include "output.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <inttypes.h>
+#include <spawn.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "fileio.h"
+#include "log.h"
+#include "world.h"
+
+extern char **environ;
+
+_Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
+
+/* ---------------------------------------------------------------- VTU */
+
+static int little_endian(void) {
+  const uint16_t one = 1;
+  unsigned char b;
+  memcpy(&b, &one, 1);
+  return b == 1;
+}
+
+/* A block of appended data: UInt64 byte count, then the bytes. */
+static int put_block_header(FILE *f, uint64_t nbytes) { return fwrite(&nbytes, 8, 1, f) == 1; }
+
+static int put_raw(FILE *f, const void *data, size_t nbytes) {
+  return nbytes == 0 || fwrite(data, 1, nbytes, f) == nbytes;
+}
+
+/* Arrays that must be converted or generated are written through a small buffer. */
+enum { CHUNK = 4096 };
+
+static int put_material(FILE *f, const uint16_t *m, size_t n) {
+  int32_t buf[CHUNK];
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t k = n - i < CHUNK ? n - i : CHUNK;
+    for (size_t j = 0; j < k; ++j) buf[j] = m[i + j];
+    if (fwrite(buf, sizeof buf[0], k, f) != k) return 0;
+  }
+  return 1;
+}
+
+/* connectivity (first = 0) or offsets (first = 1): 0..n-1 or 1..n. */
+static int put_counting(FILE *f, size_t n, int64_t first) {
+  int64_t buf[CHUNK];
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t k = n - i < CHUNK ? n - i : CHUNK;
+    for (size_t j = 0; j < k; ++j) buf[j] = (int64_t)(i + j) + first;
+    if (fwrite(buf, sizeof buf[0], k, f) != k) return 0;
+  }
+  return 1;
+}
+
+static int put_types(FILE *f, size_t n) {
+  uint8_t buf[CHUNK];
+  memset(buf, 1, sizeof buf); /* VTK_VERTEX */
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t k = n - i < CHUNK ? n - i : CHUNK;
+    if (fwrite(buf, 1, k, f) != k) return 0;
+  }
+  return 1;
+}
+
+adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err) {
+  const adem_particles *p = &w->p;
+  const size_t n = p->n;
+  /* Arrays in the order they are appended; offsets follow from the sizes. */
+  struct {
+    const char *name, *type;
+    int ncomp;
+    size_t elem;
+  } arr[] = {
+      {"radius", "Float64", 1, 8},           {"id", "Int64", 1, 8},
+      {"material", "Int32", 1, 4},           {"velocity", "Float64", 3, 8},
+      {"angular_velocity", "Float64", 3, 8}, {"force", "Float64", 3, 8},
+      {"position", "Float64", 3, 8},         {"connectivity", "Int64", 1, 8},
+      {"offsets", "Int64", 1, 8},            {"types", "UInt8", 1, 1},
+  };
+  enum { NARR = sizeof arr / sizeof arr[0] };
+  uint64_t offset[NARR], off = 0;
+  for (int k = 0; k < NARR; ++k) {
+    offset[k] = off;
+    off += 8 + (uint64_t)n * (uint64_t)arr[k].ncomp * arr[k].elem;
+  }
+
+  adem_afile af;
+  adem_status st = adem_fileio_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.f;
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
+          "header_type=\"UInt64\">\n"
+          "  <UnstructuredGrid>\n"
+          "    <FieldData>\n"
+          "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+          "format=\"ascii\">%.17g</DataArray>\n"
+          "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" "
+          "format=\"ascii\">%" PRIu64 "</DataArray>\n"
+          "    </FieldData>\n"
+          "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n"
+          "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n",
+          little_endian() ? "LittleEndian" : "BigEndian", w->time, w->step, n, n);
+  for (int k = 0; k < NARR; ++k) {
+    if (k == 6) fprintf(f, "      </PointData>\n      <Points>\n");
+    if (k == 7) fprintf(f, "      </Points>\n      <Cells>\n");
+    fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\" ", arr[k].type, arr[k].name);
+    if (arr[k].ncomp > 1) fprintf(f, "NumberOfComponents=\"%d\" ", arr[k].ncomp);
+    fprintf(f, "format=\"appended\" offset=\"%" PRIu64 "\"/>\n", offset[k]);
+  }
+  fprintf(f,
+          "      </Cells>\n"
+          "    </Piece>\n"
+          "  </UnstructuredGrid>\n"
+          "  <AppendedData encoding=\"raw\">\n"
+          "   _");
+  int ok = 1;
+  for (int k = 0; k < NARR && ok; ++k) {
+    size_t nbytes = n * (size_t)arr[k].ncomp * arr[k].elem;
+    ok = put_block_header(f, nbytes);
+    if (!ok) break;
+    switch (k) {
+      case 0: ok = put_raw(f, p->radius, nbytes); break;
+      case 1: ok = put_raw(f, p->id, nbytes); break; /* ids < 2^63: same bits as Int64 */
+      case 2: ok = put_material(f, p->material, n); break;
+      case 3: ok = put_raw(f, p->vel, nbytes); break;
+      case 4: ok = put_raw(f, p->omega, nbytes); break;
+      case 5: ok = put_raw(f, p->force, nbytes); break;
+      case 6: ok = put_raw(f, p->pos, nbytes); break;
+      case 7: ok = put_counting(f, n, 0); break;
+      case 8: ok = put_counting(f, n, 1); break;
+      default: ok = put_types(f, n); break;
+    }
+  }
+  fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
+  if (!ok || ferror(f)) {
+    int e = errno ? errno : EIO;
+    adem_fileio_abort(&af);
+    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
+  }
+  return adem_fileio_commit(&af, err);
+}
+
+/* ---------------------------------------------------------------- PVD */
+
+adem_status adem_output_pvd_add(adem_pvd *pvd, double time, const char *file, adem_error *err) {
+  if (pvd->n == pvd->cap) {
+    size_t cap = pvd->cap ? 2 * pvd->cap : 64;
+    double *t = realloc(pvd->time, cap * sizeof *t);
+    if (t) pvd->time = t;
+    char **fl = realloc(pvd->file, cap * sizeof *fl);
+    if (fl) pvd->file = fl;
+    if (!t || !fl) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the PVD list");
+    pvd->cap = cap;
+  }
+  size_t len = strlen(file) + 1;
+  char *copy = malloc(len);
+  if (!copy) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the PVD list");
+  memcpy(copy, file, len);
+  pvd->time[pvd->n] = time;
+  pvd->file[pvd->n] = copy;
+  pvd->n++;
+  return ADEM_OK;
+}
+
+adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_error *err) {
+  adem_afile af;
+  adem_status st = adem_fileio_open(&af, path, err);
+  if (st) return st;
+  fprintf(af.f,
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"%s\">\n"
+          "  <Collection>\n",
+          little_endian() ? "LittleEndian" : "BigEndian");
+  for (size_t k = 0; k < pvd->n; ++k)
+    fprintf(af.f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n",
+            pvd->time[k], pvd->file[k]);
+  fprintf(af.f, "  </Collection>\n</VTKFile>\n");
+  return adem_fileio_commit(&af, err);
+}
+
+void adem_output_pvd_free(adem_pvd *pvd) {
+  for (size_t k = 0; k < pvd->n; ++k) free(pvd->file[k]);
+  free(pvd->file);
+  free(pvd->time);
+  memset(pvd, 0, sizeof *pvd);
+}
+
+/* Frame file name relative to the output folder. */
+static void frame_name(char *buf, size_t cap, size_t index) {
+  snprintf(buf, cap, "frames/particles_%06zu.vtu", index);
+}
+
+/* Reads the times of frames 0..frames_done-1 back from a PVD we wrote earlier. Entries that
+ * cannot be found get k * frame_period. */
+static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_done,
+                              double frame_period, adem_error *err) {
+  double *time = malloc((frames_done ? frames_done : 1) * sizeof *time);
+  unsigned char *found = calloc(frames_done ? frames_done : 1, 1);
+  if (!time || !found) {
+    free(time);
+    free(found);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the PVD list");
+  }
+  char *text = NULL;
+  size_t len = 0;
+  adem_error ignored;
+  size_t missing = frames_done;
+  if (adem_fileio_read_all(path, &text, &len, &ignored) == ADEM_OK) {
+    for (char *line = text; line && *line;) {
+      char *next = strchr(line, '\n');
+      if (next) *next++ = '\0';
+      const char *ts = strstr(line, "timestep=\"");
+      const char *fl = strstr(line, "file=\"frames/particles_");
+      if (ts && fl) {
+        double t = strtod(ts + 10, NULL);
+        char *end;
+        unsigned long long k = strtoull(fl + 23, &end, 10);
+        if (k < frames_done && !found[k]) {
+          time[k] = t;
+          found[k] = 1;
+          missing--;
+        }
+      }
+      line = next;
+    }
+    free(text);
+  }
+  if (missing > 0)
+    adem_log(ADEM_LOG_WARN, "%s lacks %zu of the %zu earlier frames; their times are estimated",
+             path, missing, frames_done);
+  adem_status st = ADEM_OK;
+  char name[64];
+  for (size_t k = 0; k < frames_done && !st; ++k) {
+    frame_name(name, sizeof name, k);
+    st = adem_output_pvd_add(pvd, found[k] ? time[k] : (double)k * frame_period, name, err);
+  }
+  free(time);
+  free(found);
+  return st;
+}
+
+/* ---------------------------------------------------------------- CSV */
+
+void adem_output_wall_forces(const adem_world *w, adem_vec3 *out) {
+  for (int k = 0; k < w->nplanes; ++k) out[k] = v3_zero();
+  const adem_pair_list *l = &w->pw;
+  for (size_t k = 0; k < l->n; ++k) {
+    uint32_t wall = l->b[k];
+    if (wall < (uint32_t)w->nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
+  }
+}
+
+/* Growing string for rows and headers. */
+typedef struct strbuf {
+  char *s;
+  size_t n, cap;
+  int failed;
+} strbuf;
+
+static void sb_printf(strbuf *b, const char *fmt, ...) ADEM_PRINTF(2, 3);
+static void sb_printf(strbuf *b, const char *fmt, ...) {
+  if (b->failed) return;
+  for (;;) {
+    va_list ap;
+    va_start(ap, fmt);
+    int m = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? b->cap - b->n : 0, fmt, ap);
+    va_end(ap);
+    if (m < 0) {
+      b->failed = 1;
+      return;
+    }
+    if (b->s && b->n + (size_t)m < b->cap) {
+      b->n += (size_t)m;
+      return;
+    }
+    size_t cap = b->cap ? b->cap : 256;
+    while (cap <= b->n + (size_t)m) cap *= 2;
+    char *s = realloc(b->s, cap);
+    if (!s) {
+      b->failed = 1;
+      return;
+    }
+    b->s = s;
+    b->cap = cap;
+  }
+}
+
+static char *sb_finish(strbuf *b) {
+  if (b->failed) {
+    free(b->s);
+    return NULL;
+  }
+  return b->s;
+}
+
+char *adem_output_csv_header(const adem_world *w) {
+  strbuf b = {0};
+  sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
+                "contacts_pw,max_overlap_ratio");
+  for (int k = 0; k < w->nplanes; ++k) {
+    /* Plane names come from the case file: keep the header one CSV field per column. */
+    char name[ADEM_NAME_MAX];
+    snprintf(name, sizeof name, "%s", w->planes[k].def.name);
+    if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
+    for (char *c = name; *c; ++c)
+      if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
+    sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
+  }
+  sb_printf(&b, "\n");
+  return sb_finish(&b);
+}
+
+char *adem_output_csv_row(const adem_world *w) {
+  adem_diagnostics d = adem_world_diagnostics(w);
+  strbuf b = {0};
+  /* %.17g: the times read back on resume compare exactly with the checkpoint's. */
+  sb_printf(&b, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%.17g", w->time, d.kinetic,
+            d.rotational, d.potential, d.elastic, d.dissipated, d.contacts_pp, d.contacts_pw,
+            d.max_overlap_ratio);
+  adem_vec3 *f = malloc((size_t)(w->nplanes > 0 ? w->nplanes : 1) * sizeof *f);
+  if (!f) {
+    free(b.s);
+    return NULL;
+  }
+  adem_output_wall_forces(w, f);
+  for (int k = 0; k < w->nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
+  free(f);
+  sb_printf(&b, "\n");
+  return sb_finish(&b);
+}
+
+/* One write(2) per row: a reader or a crash sees whole rows only. */
+static int write_whole(int fd, const char *s, size_t n) {
+  while (n > 0) {
+    ssize_t m = write(fd, s, n);
+    if (m < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    s += m;
+    n -= (size_t)m;
+  }
+  return 0;
+}
+
+/* Keeps the header and the complete rows with time <= t_resume, rewritten atomically. */
+static adem_status csv_truncate(const char *path, const char *header, double t_resume,
+                                adem_error *err) {
+  char *text = NULL;
+  size_t len = 0;
+  adem_error rd;
+  if (adem_fileio_read_all(path, &text, &len, &rd) != ADEM_OK) {
+    adem_log(ADEM_LOG_WARN, "%s is missing; the time series restarts at t = %.9g s", path, t_resume);
+    return adem_fileio_write_all(path, header, strlen(header), err);
+  }
+  size_t keep = 0;
+  char *nl = strchr(text, '\n');
+  if (!nl || strncmp(text, header, (size_t)(nl - text) + 1) != 0) {
+    adem_log(ADEM_LOG_WARN, "%s has another header than this case; it is started again", path);
+    free(text);
+    return adem_fileio_write_all(path, header, strlen(header), err);
+  }
+  keep = (size_t)(nl - text) + 1;
+  while (keep < len) {
+    char *end = strchr(text + keep, '\n');
+    if (!end) break; /* a partial last row is dropped */
+    char *num_end;
+    double t = strtod(text + keep, &num_end);
+    if (num_end == text + keep || !(t <= t_resume)) break;
+    keep = (size_t)(end - text) + 1;
+  }
+  adem_status st = ADEM_OK;
+  if (keep != len) st = adem_fileio_write_all(path, text, keep, err);
+  free(text);
+  return st;
+}
+
+/* ---------------------------------------------------------------- plot */
+
+/* Single-quoted gnuplot string: a quote is doubled. */
+static void gp_quote(strbuf *b, const char *s) {
+  sb_printf(b, "'");
+  for (; *s; ++s) {
+    if (*s == '\'') sb_printf(b, "''");
+    else if (*s != '\n' && *s != '\r') sb_printf(b, "%c", *s);
+  }
+  sb_printf(b, "'");
+}
+
+/* Runs "gnuplot script" with output to /dev/null and errors into errfile. Returns the exit
+ * status, 127 when gnuplot cannot be started, or -1 on another failure. */
+static int run_gnuplot(const char *script, const char *errfile) {
+  posix_spawn_file_actions_t fa;
+  if (posix_spawn_file_actions_init(&fa) != 0) return -1;
+  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, errfile, O_WRONLY | O_TRUNC, 0);
+  char *argv[] = {"gnuplot", (char *)script, NULL};
+  pid_t pid;
+  int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return rc == ENOENT ? 127 : -1;
+  int status;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return -1;
+}
+
+adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, const char *title,
+                                    adem_error *err) {
+  char *png_tmp = NULL, *script_path = NULL, *err_path = NULL;
+  adem_status st = adem_fileio_temp_next_to(png_path, &png_tmp, err);
+  if (st) return st;
+  adem_error e2;
+  if (adem_fileio_temp_next_to(png_path, &script_path, &e2) ||
+      adem_fileio_temp_next_to(png_path, &err_path, &e2)) {
+    unlink(png_tmp);
+    free(png_tmp);
+    if (script_path) {
+      unlink(script_path);
+      free(script_path);
+    }
+    return adem_error_set(err, e2.status, "%s", e2.message);
+  }
+
+  strbuf b = {0};
+  sb_printf(&b, "set datafile separator ','\n"
+                "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+                "  set terminal pngcairo size 1000,600 noenhanced\n"
+                "} else {\n"
+                "  set terminal png size 1000,600 noenhanced\n"
+                "}\n"
+                "set output ");
+  gp_quote(&b, png_tmp);
+  sb_printf(&b, "\nset title ");
+  gp_quote(&b, title);
+  sb_printf(&b, "\nset xlabel 'time (s)'\nset ylabel 'energy (J)'\nset key outside right\n"
+                "set grid\nf = ");
+  gp_quote(&b, csv_path);
+  /* The total is what the energy balance checks: it should only go down. */
+  sb_printf(&b, "\nplot f skip 1 using 1:2 with lines title 'kinetic', \\\n"
+                "     f skip 1 using 1:3 with lines title 'rotational', \\\n"
+                "     f skip 1 using 1:4 with lines title 'potential', \\\n"
+                "     f skip 1 using 1:5 with lines title 'elastic', \\\n"
+                "     f skip 1 using 1:6 with lines title 'dissipated', \\\n"
+                "     f skip 1 using 1:($2+$3+$4+$5) with lines lw 2 title 'total'\n");
+  char *script = sb_finish(&b);
+  int rc = -1;
+  if (script) {
+    adem_error we;
+    if (adem_fileio_write_all(script_path, script, strlen(script), &we) == ADEM_OK)
+      rc = run_gnuplot(script_path, err_path);
+    free(script);
+  }
+  if (rc == 0) {
+    st = adem_fileio_rename_into_place(png_tmp, png_path, err);
+  } else if (rc == 127) {
+    adem_log(ADEM_LOG_WARN, "gnuplot was not found: %s is not drawn", png_path);
+  } else {
+    /* Say what gnuplot said: its first error line. */
+    char *msg = NULL;
+    size_t len = 0;
+    adem_error ignored;
+    if (adem_fileio_read_all(err_path, &msg, &len, &ignored) == ADEM_OK) {
+      for (char *c = msg; *c; ++c)
+        if (*c == '\n') *c = ' ';
+    }
+    adem_log(ADEM_LOG_WARN, "gnuplot failed (status %d): %s is not drawn%s%.300s", rc, png_path,
+             msg && *msg ? ": " : "", msg ? msg : "");
+    free(msg);
+  }
+  if (rc != 0 || st) unlink(png_tmp);
+  unlink(script_path);
+  unlink(err_path);
+  free(png_tmp);
+  free(script_path);
+  free(err_path);
+  return st;
+}
+
+/* ---------------------------------------------------------------- run output */
+
+adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
+                             bool csv, bool resume, size_t frames_done, double frame_period,
+                             double t_resume, adem_error *err) {
+  memset(o, 0, sizeof *o);
+  o->csv_fd = -1;
+  o->frames = frames;
+  o->csv = csv;
+  adem_status st = adem_fileio_mkdir_p(dir, err);
+  if (!st) st = adem_fileio_check_writable(dir, err);
+  if (st) return st;
+  o->dir = adem_fileio_join(dir, "");
+  o->pvd_path = adem_fileio_join(dir, "particles.pvd");
+  o->csv_path = adem_fileio_join(dir, "timeseries.csv");
+  o->png_path = adem_fileio_join(dir, "energy.png");
+  char *frames_dir = adem_fileio_join(dir, "frames");
+  if (!o->dir || !o->pvd_path || !o->csv_path || !o->png_path || !frames_dir) {
+    free(frames_dir);
+    adem_output_close(o);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  if (frames) {
+    st = adem_fileio_mkdir_p(frames_dir, err);
+    if (!st) st = adem_fileio_check_writable(frames_dir, err);
+    if (!st && resume) {
+      st = pvd_reload(&o->pvd, o->pvd_path, frames_done, frame_period, err);
+      o->next_frame = frames_done;
+      /* The PVD must not list frames the resumed run is about to rewrite. */
+      if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+    }
+  }
+  free(frames_dir);
+  if (!st && csv) {
+    char *header = adem_output_csv_header(w);
+    if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    else if (resume) st = csv_truncate(o->csv_path, header, t_resume, err);
+    else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
+    free(header);
+    if (!st) {
+      o->csv_fd = open(o->csv_path, O_WRONLY | O_APPEND | O_CLOEXEC);
+      if (o->csv_fd < 0)
+        st = adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(errno));
+    }
+  }
+  if (st) adem_output_close(o);
+  return st;
+}
+
+adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err) {
+  if (!o->frames) return ADEM_OK;
+  char name[64];
+  frame_name(name, sizeof name, o->next_frame);
+  char *path = adem_fileio_join(o->dir, name);
+  if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = adem_output_write_vtu(w, path, err);
+  free(path);
+  if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
+  if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+  if (!st) o->next_frame++;
+  return st;
+}
+
+adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err) {
+  if (!o->csv || o->csv_fd < 0) return ADEM_OK;
+  char *row = adem_output_csv_row(w);
+  if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  int e = write_whole(o->csv_fd, row, strlen(row));
+  free(row);
+  if (e) return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(e));
+  return ADEM_OK;
+}
+
+void adem_output_close(adem_output *o) {
+  if (o->csv_fd >= 0) {
+    fsync(o->csv_fd);
+    close(o->csv_fd);
+  }
+  adem_output_pvd_free(&o->pvd);
+  free(o->dir);
+  free(o->pvd_path);
+  free(o->csv_path);
+  free(o->png_path);
+  memset(o, 0, sizeof *o);
+  o->csv_fd = -1;
+}

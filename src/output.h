@@ -1,0 +1,60 @@
+/* What a run writes: VTU particle frames with a PVD collection, a CSV time series and an
+ * energy plot. Every file goes through fileio (atomic) except the CSV, which is appended one
+ * whole row per write so that a crash never leaves half a row. */
+#ifndef ADEM_OUTPUT_H
+#define ADEM_OUTPUT_H
+
+#include <stdbool.h>
+#include "adem/adem.h"
+
+/* One VTU file: UnstructuredGrid of vertex cells, raw appended binary data with UInt64 block
+ * headers; point data radius, id, material, velocity, angular_velocity, force. */
+adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err);
+
+/* The PVD collection: one (time, file) entry per frame, rewritten after each frame. */
+typedef struct adem_pvd {
+  size_t n, cap;
+  double *time;
+  char **file; /* relative to the PVD's folder */
+} adem_pvd;
+adem_status adem_output_pvd_add(adem_pvd *pvd, double time, const char *file, adem_error *err);
+adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_error *err);
+void adem_output_pvd_free(adem_pvd *pvd);
+
+/* Per-plane force that the particles exert on it (sum of -force_a over the wall pairs, in
+ * pair-list order). out has w->nplanes entries. */
+void adem_output_wall_forces(const adem_world *w, adem_vec3 *out);
+
+/* The header line of the CSV time series (with the final newline); a fresh string. */
+char *adem_output_csv_header(const adem_world *w);
+/* One CSV row (with the final newline) for the world's current state; a fresh string. */
+char *adem_output_csv_row(const adem_world *w);
+
+/* Energy-vs-time PNG from the CSV, drawn by gnuplot. A missing or failing gnuplot is only
+ * a warning (logged): the status is ADEM_OK then; ADEM_ERR_IO only if the PNG cannot be placed. */
+adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, const char *title,
+                                    adem_error *err);
+
+/* The output of one run: files under dir, the PVD entries and the open CSV. */
+typedef struct adem_output {
+  char *dir, *pvd_path, *csv_path, *png_path;
+  bool frames, csv;   /* which outputs are on */
+  adem_pvd pvd;
+  size_t next_frame;  /* index of the next VTU file */
+  int csv_fd;         /* -1 when closed */
+} adem_output;
+
+/* Creates dir (and dir/frames) and checks they can be written: ADEM_ERR_INPUT with a clear
+ * message if not. A fresh run starts new PVD and CSV files. A resumed run (resume = true) keeps
+ * the first frames_done PVD entries (missing ones are re-created with time k * frame_period) and
+ * truncates the CSV to the rows with time <= t_resume, then appends. */
+adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
+                             bool csv, bool resume, size_t frames_done, double frame_period,
+                             double t_resume, adem_error *err);
+/* Writes frames/particles_NNNNNN.vtu and rewrites the PVD. */
+adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);
+/* Appends one CSV row with a single write. */
+adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err);
+void adem_output_close(adem_output *o);
+
+#endif

@@ -1,0 +1,41 @@
+/* Flat arrays of candidate contacts and their history. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "world.h"
+
+#define GROW(field)                                                    \
+  do {                                                                 \
+    void *q = realloc(l->field, cap * sizeof *l->field);               \
+    if (!q) return ADEM_ERR_NOMEM;                                     \
+    l->field = q;                                                      \
+  } while (0)
+
+adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap) {
+  if (cap <= l->cap) return ADEM_OK;
+  cap = cap + cap / 4 + 16; /* headroom: the list is rebuilt often with similar sizes */
+  GROW(a);
+  GROW(b);
+  GROW(hist);
+  GROW(touching);
+  GROW(force_a);
+  GROW(torque_a);
+  GROW(torque_b);
+  GROW(elastic);
+  GROW(overlap_ratio);
+  l->cap = cap;
+  return ADEM_OK;
+}
+
+void adem_pair_list_free(adem_pair_list *l) {
+  free(l->a);
+  free(l->b);
+  free(l->hist);
+  free(l->touching);
+  free(l->force_a);
+  free(l->torque_a);
+  free(l->torque_b);
+  free(l->elastic);
+  free(l->overlap_ratio);
+  memset(l, 0, sizeof *l);
+}

@@ -1,0 +1,458 @@
+/* The world: set-up, velocity-Verlet stepping (H3-H4), safety checks and diagnostics. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "contact/hertz.h"
+#include "log.h"
+#include "parallel.h"
+#include "world.h"
+
+adem_world *adem_world_create(void) {
+  adem_world *w = calloc(1, sizeof *w);
+  if (!w) return NULL;
+  w->gravity = v3(0.0, 0.0, -9.81);
+  w->nthreads = adem_default_threads();
+  w->nb.skin_fraction = 0.2;
+  w->max_overlap_ratio = 0.2;
+  w->next_id = 0;
+  adem_world_add_group(w, "default", v3_zero());
+  return w;
+}
+
+void adem_world_free(adem_world *w) {
+  if (!w) return;
+  adem_particles_free(&w->p);
+  adem_pair_list_free(&w->pp);
+  adem_pair_list_free(&w->pw);
+  adem_neighbors_free(&w->nb);
+  free(w->materials);
+  free(w->interactions);
+  free(w->interaction_defs);
+  free(w->groups);
+  free(w->planes);
+  free(w);
+}
+
+adem_particle_def adem_default_particle_def(void) {
+  adem_particle_def d;
+  memset(&d, 0, sizeof d);
+  d.radius = 0.0;
+  return d;
+}
+
+adem_plane_def adem_default_plane_def(void) {
+  adem_plane_def d;
+  memset(&d, 0, sizeof d);
+  d.normal = v3(0.0, 0.0, 1.0);
+  return d;
+}
+
+int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
+  int k = adem_world_find_group(w, name);
+  if (k >= 0) {
+    w->groups[k].external_force = external_force;
+    return k;
+  }
+  adem_group *g = realloc(w->groups, (size_t)(w->ngroups + 1) * sizeof *g);
+  if (!g) return -1;
+  w->groups = g;
+  memset(&g[w->ngroups], 0, sizeof *g);
+  snprintf(g[w->ngroups].name, sizeof g->name, "%s", name);
+  g[w->ngroups].external_force = external_force;
+  return w->ngroups++;
+}
+
+int adem_world_find_group(const adem_world *w, const char *name) {
+  for (int k = 0; k < w->ngroups; ++k)
+    if (strcmp(w->groups[k].name, name) == 0) return k;
+  return -1;
+}
+
+int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, adem_error *err) {
+  if (!(def->radius > 0.0) || !isfinite(def->radius)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "particle radius %g must be > 0", def->radius);
+    return -1;
+  }
+  if (def->material < 0 || def->material >= w->nmaterials) {
+    adem_error_set(err, ADEM_ERR_INPUT, "particle material %d does not exist", def->material);
+    return -1;
+  }
+  const adem_material_def *m = &w->materials[def->material].def;
+  if (!(m->density > 0.0) || m->rigid) {
+    adem_error_set(err, ADEM_ERR_INPUT,
+                   "material '%s' cannot make particles: it needs a density > 0 and must not be "
+                   "rigid", m->name);
+    return -1;
+  }
+  if (def->group < 0 || def->group >= w->ngroups) {
+    adem_error_set(err, ADEM_ERR_INPUT, "particle group %d does not exist", def->group);
+    return -1;
+  }
+  if (!v3_isfinite(def->position) || !v3_isfinite(def->velocity) ||
+      !v3_isfinite(def->angular_velocity)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "particle position and velocities must be finite");
+    return -1;
+  }
+  adem_particles *p = &w->p;
+  if (p->n == p->cap && adem_particles_reserve(p, p->cap ? 2 * p->cap : 64)) {
+    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding particles");
+    return -1;
+  }
+  size_t i = p->n++;
+  double r = def->radius;
+  double mass = m->density * (4.0 / 3.0) * ADEM_PI * r * r * r;
+  p->pos[i] = def->position;
+  p->vel[i] = def->velocity;
+  p->omega[i] = def->angular_velocity;
+  p->force[i] = p->torque[i] = v3_zero();
+  p->radius[i] = r;
+  p->inv_mass[i] = 1.0 / mass;
+  p->inv_inertia[i] = 1.0 / (0.4 * mass * r * r); /* solid sphere */
+  p->id[i] = w->next_id++;
+  p->material[i] = (uint16_t)def->material;
+  p->group[i] = (uint16_t)def->group;
+  p->pos_at_build[i] = def->position;
+  w->prepared = false;
+  return (int64_t)p->id[i];
+}
+
+int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
+  double len = v3_norm(def->normal);
+  if (!(len > 0.0) || !isfinite(len) || !v3_isfinite(def->point)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': the normal must be finite and non-zero",
+                   def->name);
+    return -1;
+  }
+  if (def->material < 0 || def->material >= w->nmaterials) {
+    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': material does not exist", def->name);
+    return -1;
+  }
+  adem_plane *pl = realloc(w->planes, (size_t)(w->nplanes + 1) * sizeof *pl);
+  if (!pl) {
+    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    return -1;
+  }
+  w->planes = pl;
+  pl[w->nplanes].def = *def;
+  pl[w->nplanes].def.normal = v3_scale(def->normal, 1.0 / len);
+  w->prepared = false;
+  return w->nplanes++;
+}
+
+int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
+                       adem_error *err) {
+  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "box '%s': min must be below max on every axis", name);
+    return -1;
+  }
+  static const char *face[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  adem_vec3 points[6] = {lo, hi, lo, hi, lo, hi};
+  adem_vec3 normals[6] = {v3(1, 0, 0), v3(-1, 0, 0), v3(0, 1, 0),
+                          v3(0, -1, 0), v3(0, 0, 1), v3(0, 0, -1)};
+  int first = -1;
+  for (int k = 0; k < 6; ++k) {
+    adem_plane_def d = adem_default_plane_def();
+    snprintf(d.name, sizeof d.name, "%.50s.%s", name, face[k]);
+    d.point = points[k];
+    d.normal = normals[k];
+    d.material = material;
+    int idx = adem_world_add_plane(w, &d, err);
+    if (idx < 0) return -1;
+    if (first < 0) first = idx;
+  }
+  return first;
+}
+
+void adem_world_set_gravity(adem_world *w, adem_vec3 g) { w->gravity = g; }
+void adem_world_set_threads(adem_world *w, int nthreads) {
+  w->nthreads = nthreads > 0 ? nthreads : adem_default_threads();
+}
+void adem_world_set_skin(adem_world *w, double skin_fraction) {
+  w->nb.skin_fraction = skin_fraction;
+  w->prepared = false;
+}
+void adem_world_set_max_overlap_ratio(adem_world *w, double ratio) { w->max_overlap_ratio = ratio; }
+void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi) {
+  w->has_domain = true;
+  w->domain_lo = lo;
+  w->domain_hi = hi;
+}
+void adem_world_use_brute_force(adem_world *w, int on) {
+  w->nb.brute_force = on != 0;
+  w->prepared = false;
+}
+void adem_world_set_dt(adem_world *w, double dt) { w->dt = dt; }
+double adem_world_dt(const adem_world *w) { return w->dt; }
+double adem_world_time(const adem_world *w) { return w->time; }
+uint64_t adem_world_step_count(const adem_world *w) { return w->step; }
+size_t adem_world_particle_count(const adem_world *w) { return w->p.n; }
+
+/* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5). */
+static double collision_time(double mstar, double R, double E, double v) {
+  return 2.86827 * pow(mstar * mstar / (R * E * E * v), 0.2);
+}
+
+adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
+  adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY};
+  adem_world *mw = (adem_world *)w; /* derive the pair table if the caller has not prepared */
+  if (!w->interactions) adem_materials_derive(mw, NULL);
+  int nm = w->nmaterials;
+  /* Smallest particle of each material sets the shortest times (t_c and t_R scale with r). */
+  double *rmin = malloc((size_t)(nm > 0 ? nm : 1) * sizeof *rmin);
+  if (!rmin) return est;
+  for (int k = 0; k < nm; ++k) rmin[k] = INFINITY;
+  for (size_t i = 0; i < w->p.n; ++i)
+    rmin[w->p.material[i]] = fmin(rmin[w->p.material[i]], w->p.radius[i]);
+  for (int a = 0; a < nm; ++a) {
+    if (!isfinite(rmin[a])) continue;
+    const adem_material *ma = &w->materials[a];
+    double r = rmin[a];
+    double m = ma->def.density * (4.0 / 3.0) * ADEM_PI * r * r * r;
+    /* Rayleigh time with the modified shear modulus (notes section 6). */
+    double tR = ADEM_PI * r * sqrt(ma->def.density / ma->shear_mod) /
+                (0.1631 * ma->def.poisson + 0.8766);
+    est.t_rayleigh = fmin(est.t_rayleigh, tR);
+    for (int b = 0; b < nm; ++b) {
+      const adem_interaction *it = adem_world_interaction(w, a, b);
+      if (isfinite(rmin[b])) {
+        double rb = rmin[b];
+        double mb = w->materials[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
+        double tc = collision_time(m * mb / (m + mb), r * rb / (r + rb), it->E, v_ref);
+        est.t_collision = fmin(est.t_collision, tc);
+      }
+    }
+    for (int k = 0; k < w->nplanes; ++k) {
+      const adem_interaction *it = adem_world_interaction(w, a, w->planes[k].def.material);
+      est.t_collision = fmin(est.t_collision, collision_time(m, r, it->E, v_ref));
+    }
+  }
+  free(rmin);
+  est.dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh); /* about 50 steps a collision */
+  return est;
+}
+
+double adem_sum(const double *x, size_t n) {
+  /* Blocks of fixed size summed in order: the same result whatever the thread count. */
+  enum { BLOCK = 4096 };
+  double total = 0.0;
+  for (size_t b = 0; b < n; b += BLOCK) {
+    size_t e = b + BLOCK < n ? b + BLOCK : n;
+    double s = 0.0;
+    for (size_t k = b; k < e; ++k) s += x[k];
+    total += s;
+  }
+  return total;
+}
+
+static double total_energy(const adem_diagnostics *d) {
+  return d->kinetic + d->rotational + d->potential + d->elastic;
+}
+
+/* Rejects overlapping particles and particles behind a wall, naming them. */
+static adem_status check_initial_state(const adem_world *w, adem_error *err) {
+  const adem_particles *p = &w->p;
+  for (size_t k = 0; k < w->pp.n; ++k) {
+    size_t i = w->pp.a[k], j = w->pp.b[k];
+    double dist = v3_norm(v3_sub(p->pos[j], p->pos[i]));
+    double overlap = p->radius[i] + p->radius[j] - dist;
+    double tol = 1e-9 * fmin(p->radius[i], p->radius[j]);
+    if (overlap > tol)
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "initial particles overlap: id %llu at (%g, %g, %g) and id %llu at "
+                            "(%g, %g, %g) overlap by %g m; move them apart or shrink them",
+                            (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
+                            (unsigned long long)p->id[j], p->pos[j].x, p->pos[j].y, p->pos[j].z,
+                            overlap);
+  }
+  for (size_t i = 0; i < p->n; ++i)
+    for (int k = 0; k < w->nplanes; ++k) {
+      const adem_plane_def *pl = &w->planes[k].def;
+      double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
+      if (d < 0.0)
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "particle id %llu at (%g, %g, %g) is outside wall '%s' (its centre "
+                              "is %g m behind the plane)",
+                              (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
+                              pl->name, -d);
+    }
+  return ADEM_OK;
+}
+
+/* Escape check box: the case's domain, or the initial extent of particles and wall points
+ * widened generously on each side. */
+static void default_domain(adem_world *w) {
+  if (w->has_domain || w->p.n == 0) return;
+  adem_vec3 lo = w->p.pos[0], hi = lo;
+  double rmax = 0.0;
+  for (size_t i = 0; i < w->p.n; ++i) {
+    adem_vec3 x = w->p.pos[i];
+    lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
+    hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+    rmax = fmax(rmax, w->p.radius[i]);
+  }
+  for (int k = 0; k < w->nplanes; ++k) {
+    adem_vec3 x = w->planes[k].def.point;
+    lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
+    hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+  }
+  double ext = fmax(fmax(hi.x - lo.x, hi.y - lo.y), fmax(hi.z - lo.z, 100.0 * rmax));
+  w->domain_lo = v3(lo.x - ext, lo.y - ext, lo.z - ext);
+  w->domain_hi = v3(hi.x + ext, hi.y + ext, hi.z + ext);
+  w->has_domain = true;
+}
+
+adem_status adem_world_prepare(adem_world *w, adem_error *err) {
+  adem_status st = adem_materials_derive(w, err);
+  if (st) return st;
+  if (!(w->dt > 0.0)) {
+    adem_step_estimate est = adem_world_estimate_step(w, 1.0);
+    w->dt = isfinite(est.dt) ? est.dt : 1e-6;
+  }
+  st = adem_neighbors_build(w, err);
+  if (st) return st;
+  st = check_initial_state(w, err);
+  if (st) return st;
+  default_domain(w);
+  adem_contacts_compute(w);
+  adem_diagnostics d = adem_world_diagnostics(w);
+  w->energy_initial = total_energy(&d);
+  w->prepared = true;
+  return ADEM_OK;
+}
+
+/* Half kick of velocities and spins with the current forces (velocity Verlet). */
+static void kick(adem_world *w, double h) {
+  adem_particles *p = &w->p;
+  int nthreads = w->nthreads;
+  size_t n = p->n;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    p->vel[i] = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]);      /* H3 */
+    p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */
+  }
+}
+
+static void drift(adem_world *w, double dt) {
+  adem_particles *p = &w->p;
+  int nthreads = w->nthreads;
+  size_t n = p->n;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
+}
+
+/* After a step: the first particle (lowest index) with a non-finite state, an overlap above the
+ * limit, or a position outside the domain. Returns ADEM_OK when all is well. */
+static adem_status check_state(const adem_world *w, adem_error *err) {
+  const adem_particles *p = &w->p;
+  size_t n = p->n;
+  size_t bad = n;
+  int nthreads = w->nthreads;
+  /* Minimum index found is the same for every thread count. */
+#ifdef ADEM_HAVE_OPENMP
+#pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min : bad)
+#endif
+  for (size_t i = 0; i < n; ++i) {
+    bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
+    if (ok && w->has_domain) {
+      adem_vec3 x = p->pos[i];
+      ok = x.x >= w->domain_lo.x && x.x <= w->domain_hi.x && x.y >= w->domain_lo.y &&
+           x.y <= w->domain_hi.y && x.z >= w->domain_lo.z && x.z <= w->domain_hi.z;
+    }
+    if (!ok && i < bad) bad = i;
+  }
+  (void)nthreads;
+  if (bad < n) {
+    adem_vec3 x = p->pos[bad];
+    if (!v3_isfinite(x) || !v3_isfinite(p->vel[bad]) || !v3_isfinite(p->omega[bad]))
+      return adem_error_set(err, ADEM_ERR_RUNTIME,
+                            "particle id %llu has a non-finite position or velocity at t = %.9g s "
+                            "(step %llu); reduce the time step",
+                            (unsigned long long)p->id[bad], w->time, (unsigned long long)w->step);
+    return adem_error_set(err, ADEM_ERR_RUNTIME,
+                          "particle id %llu escaped the domain at t = %.9g s (step %llu): position "
+                          "(%g, %g, %g)",
+                          (unsigned long long)p->id[bad], w->time, (unsigned long long)w->step,
+                          x.x, x.y, x.z);
+  }
+  const adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  for (int s = 0; s < 2; ++s) {
+    const adem_pair_list *l = lists[s];
+    for (size_t k = 0; k < l->n; ++k) {
+      if (!(l->overlap_ratio[k] > w->max_overlap_ratio)) continue;
+      const char *other = s == 0 ? "particle" : "wall";
+      char name[ADEM_NAME_MAX + 32];
+      if (s == 0)
+        snprintf(name, sizeof name, "id %llu", (unsigned long long)p->id[l->b[k]]);
+      else
+        snprintf(name, sizeof name, "'%s'", w->planes[l->b[k]].def.name);
+      return adem_error_set(err, ADEM_ERR_RUNTIME,
+                            "particle id %llu overlaps %s %s by %.3g of its radius (limit %.3g) at "
+                            "t = %.9g s (step %llu); the time step is probably too large",
+                            (unsigned long long)p->id[l->a[k]], other, name, l->overlap_ratio[k],
+                            w->max_overlap_ratio, w->time, (unsigned long long)w->step);
+    }
+  }
+  return ADEM_OK;
+}
+
+adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
+  if (!w->prepared) {
+    adem_status st = adem_world_prepare(w, err);
+    if (st) return st;
+  }
+  double dt = w->dt;
+  for (uint64_t s = 0; s < nsteps; ++s) {
+    kick(w, 0.5 * dt);
+    drift(w, dt);
+    if (adem_neighbors_need_rebuild(w)) {
+      adem_status st = adem_neighbors_build(w, err);
+      if (st) return st;
+    }
+    adem_contacts_compute(w);
+    kick(w, 0.5 * dt);
+    w->step++;
+    w->time = (double)w->step * dt;
+    adem_status st = check_state(w, err);
+    if (st) return st;
+  }
+  return ADEM_OK;
+}
+
+adem_diagnostics adem_world_diagnostics(const adem_world *w) {
+  adem_diagnostics d;
+  memset(&d, 0, sizeof d);
+  d.time = w->time;
+  const adem_particles *p = &w->p;
+  size_t n = p->n;
+  size_t m = n > w->pp.n ? n : w->pp.n;
+  if (w->pw.n > m) m = w->pw.n;
+  double *buf = malloc((m + 1) * sizeof *buf);
+  if (!buf) return d;
+  for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
+  d.kinetic = adem_sum(buf, n);
+  for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
+  d.rotational = adem_sum(buf, n);
+  /* Potential of the constant body forces: -(m g + F_ext) . x */
+  for (size_t i = 0; i < n; ++i) {
+    adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
+                         w->groups[p->group[i]].external_force);
+    buf[i] = -v3_dot(f, p->pos[i]);
+  }
+  d.potential = adem_sum(buf, n);
+  double elastic_pp = adem_sum(w->pp.elastic, w->pp.n);
+  double elastic_pw = adem_sum(w->pw.elastic, w->pw.n);
+  d.elastic = elastic_pp + elastic_pw;
+  for (size_t k = 0; k < w->pp.n; ++k) {
+    d.contacts_pp += w->pp.touching[k];
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.overlap_ratio[k]);
+  }
+  for (size_t k = 0; k < w->pw.n; ++k) {
+    d.contacts_pw += w->pw.touching[k];
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pw.overlap_ratio[k]);
+  }
+  free(buf);
+  d.dissipated = w->prepared ? w->energy_initial - total_energy(&d) : 0.0;
+  return d;
+}

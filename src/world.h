@@ -1,0 +1,158 @@
+/* Internal layout of the world. Hot per-particle data in structure-of-arrays form; contacts in
+ * flat arrays. Only library modules and tests include this. */
+#ifndef ADEM_WORLD_INTERNAL_H
+#define ADEM_WORLD_INTERNAL_H
+
+#include <stdbool.h>
+#include "adem/adem.h"
+#include "vec3.h"
+
+/* Particle storage. Indices change when particles are reordered by grid cell; id never does. */
+typedef struct adem_particles {
+  size_t n, cap;
+  /* hot */
+  adem_vec3 *pos, *vel, *omega;
+  adem_vec3 *force, *torque; /* total force and torque at the current positions */
+  double *radius, *inv_mass, *inv_inertia;
+  /* cold */
+  uint64_t *id;
+  uint16_t *material, *group;
+  adem_vec3 *pos_at_build; /* positions when the neighbour list was built (skin check) */
+} adem_particles;
+
+/* A material after derivation: the real values plus those the contact laws use. */
+typedef struct adem_material {
+  adem_material_def def;
+  double young_mod;   /* E_mod = f E (H24) */
+  double shear_mod;   /* G_mod = E_mod / (2(1+nu)) */
+  double gamma_mod;   /* gamma f^(2/5) (H24) */
+} adem_material;
+
+/* Everything about a pair of materials that does not depend on the particles (H2, H12, H15). */
+typedef struct adem_interaction {
+  adem_normal_model normal;
+  adem_rolling_model rolling;
+  double E;       /* effective Young's modulus 1/E = sum (1-nu^2)/E_k, modified stiffness */
+  double G;       /* effective shear modulus, 1/G = sum (2-nu_k)/G_k (H15) */
+  double E_real;  /* effective modulus of the real material (f = 1) */
+  double G_real;
+  double restitution;
+  double beta;    /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double friction;
+  double gamma;     /* effective surface energy for JKR, modified (H24) */
+  double gamma_real;
+  double hysteresis;
+  double rolling_friction_a, rolling_friction_b; /* eta_r of each side (BROF uses both) */
+  double rolling_damping;
+  bool set_restitution, set_friction; /* overridden by an interaction entry */
+} adem_interaction;
+
+typedef struct adem_group {
+  char name[ADEM_NAME_MAX];
+  adem_vec3 external_force; /* N per particle, constant (H3) */
+} adem_group;
+
+typedef struct adem_plane {
+  adem_plane_def def; /* normal stored unit length */
+} adem_plane;
+
+/* Contact history carried from step to step, keyed by the pair's stable ids. */
+typedef struct adem_contact_history {
+  adem_vec3 tangential; /* accumulated tangential displacement of i relative to j (H14) */
+  adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
+} adem_contact_history;
+
+/* A list of candidate pairs within cut-off + skin: particle-particle (b is a particle index) or
+ * particle-wall (b is a wall index). Per-pair results are written by the force pass and summed
+ * per particle afterwards in a fixed order, so any thread count gives the same sums. */
+typedef struct adem_pair_list {
+  size_t n, cap;
+  uint32_t *a, *b;              /* for particle pairs, id[a] < id[b] */
+  adem_contact_history *hist;
+  bool *touching;               /* in contact after the last force pass */
+  adem_vec3 *force_a;           /* force on a (on b it is the opposite) */
+  adem_vec3 *torque_a, *torque_b;
+  double *elastic;              /* elastic energy stored in the contact, J */
+  double *overlap_ratio;        /* overlap / smaller radius */
+} adem_pair_list;
+
+typedef struct adem_neighbors {
+  double skin;           /* absolute skin distance, m */
+  double skin_fraction;  /* skin as a fraction of the largest diameter */
+  bool brute_force;      /* O(N^2) search, for tests */
+  /* cell grid */
+  adem_vec3 origin;
+  double cell_size;
+  int dims[3];
+  size_t ncells;
+  size_t *cell_start;    /* ncells + 1; particles are sorted by cell */
+  size_t cell_cap;
+  /* per-particle gather lists: entries (pair index << 1 | side) for pp; pair index for pw */
+  size_t *pp_start, *pw_start;
+  uint32_t *pp_entries, *pw_entries;
+  size_t pp_start_cap, pw_start_cap, pp_entries_cap, pw_entries_cap;
+  uint64_t rebuilds;
+} adem_neighbors;
+
+struct adem_world {
+  adem_particles p;
+  adem_material *materials;
+  int nmaterials;
+  adem_interaction *interactions; /* nmaterials x nmaterials, symmetric */
+  adem_interaction_def *interaction_defs;
+  int ninteraction_defs;
+  adem_group *groups;
+  int ngroups;
+  adem_plane *planes;
+  int nplanes;
+
+  adem_vec3 gravity;
+  double dt, time;
+  uint64_t step;
+  uint64_t next_id;
+  int nthreads;
+
+  adem_neighbors nb;
+  adem_pair_list pp, pw;
+
+  /* safety limits */
+  double max_overlap_ratio;   /* stop when a contact overlaps more than this fraction */
+  bool has_domain;
+  adem_vec3 domain_lo, domain_hi;
+
+  /* energy bookkeeping */
+  double energy_initial;      /* E_total at prepare */
+  bool prepared;
+  bool warned_extforce;
+};
+
+/* Derives materials and the pair table (materials.c). */
+adem_status adem_materials_derive(adem_world *w, adem_error *err);
+static inline const adem_interaction *adem_world_interaction(const adem_world *w, int a, int b) {
+  return &w->interactions[(size_t)a * (size_t)w->nmaterials + (size_t)b];
+}
+
+/* Particle arrays (particles.c). */
+adem_status adem_particles_reserve(adem_particles *p, size_t cap);
+void adem_particles_free(adem_particles *p);
+/* Reorders every per-particle array by perm: new index k holds old particle perm[k]. */
+adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
+
+/* Pair lists (pairs.c). */
+adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap);
+void adem_pair_list_free(adem_pair_list *l);
+
+/* Neighbour search (neighbors.c). */
+adem_status adem_neighbors_build(adem_world *w, adem_error *err);
+bool adem_neighbors_need_rebuild(const adem_world *w);
+/* Rebuilds the per-particle gather lists from the pair lists (after a build or a checkpoint load). */
+adem_status adem_neighbors_gather(adem_world *w);
+void adem_neighbors_free(adem_neighbors *nb);
+
+/* Forces (contacts.c): fills the pair lists' per-pair results and sums p.force / p.torque. */
+void adem_contacts_compute(adem_world *w);
+
+/* Deterministic sum: fixed blocks, independent of the thread count. */
+double adem_sum(const double *x, size_t n);
+
+#endif
