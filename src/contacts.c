@@ -32,19 +32,20 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
   adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
 
+  double a = adem_hertz_radius(g->R, g->delta);
   double f_elastic, e_elastic;
   switch (it->normal) {
     case ADEM_NORMAL_HERTZ:
     default:
-      f_elastic = adem_hertz_force(it->E, g->R, g->delta);
-      e_elastic = adem_hertz_energy(it->E, g->R, g->delta);
+      f_elastic = adem_hertz_force(it->E, a, g->delta);
+      e_elastic = adem_hertz_energy(it->E, a, g->delta);
       break;
   }
-  double Sn = adem_hertz_normal_stiffness(it->E, g->R, g->delta);
+  double Sn = adem_hertz_normal_stiffness(it->E, a);
   double cn = adem_damping_coefficient(it->beta, Sn, g->mstar);
   double fn = f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
 
-  double St = adem_hertz_tangential_stiffness(it->G, g->R, g->delta);
+  double St = adem_hertz_tangential_stiffness(it->G, a);
   double ct = adem_damping_coefficient(it->beta, St, g->mstar);
   double f_limit = it->friction * fabs(f_elastic); /* H17 with F_C = 0 (no adhesion) */
   bool sliding;

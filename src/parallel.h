@@ -12,8 +12,8 @@
 #define ADEM_STR(x) #x
 static inline int adem_default_threads(void) { return omp_get_max_threads(); }
 #else
-#define ADEM_PARALLEL_FOR
-#define ADEM_PARALLEL_FOR_MAX(var)
+#define ADEM_PARALLEL_FOR (void)nthreads;
+#define ADEM_PARALLEL_FOR_MAX(var) (void)nthreads;
 static inline int adem_default_threads(void) { return 1; }
 #endif
 

@@ -6,25 +6,24 @@
 #include <math.h>
 #include "vec3.h"
 
-/* Elastic Hertz force (4/3) E sqrt(R) delta^(3/2): H9 with a = sqrt(R delta). */
-static inline double adem_hertz_force(double E, double R, double delta) {
-  return (4.0 / 3.0) * E * sqrt(R) * delta * sqrt(delta);
+/* Hertz contact radius a = sqrt(R delta); the laws below take it so it is computed once. */
+static inline double adem_hertz_radius(double R, double delta) { return sqrt(R * delta); }
+
+/* Elastic force 4 E a^3 / (3 R) = (4/3) E a delta (H9 without adhesion). */
+static inline double adem_hertz_force(double E, double a, double delta) {
+  return (4.0 / 3.0) * E * a * delta;
 }
 
-/* Elastic energy stored at overlap delta: the integral of the force, (8/15) E sqrt(R) delta^(5/2). */
-static inline double adem_hertz_energy(double E, double R, double delta) {
-  return (8.0 / 15.0) * E * sqrt(R) * delta * delta * sqrt(delta);
+/* Elastic energy stored at overlap delta, the integral of the force: (8/15) E a delta^2. */
+static inline double adem_hertz_energy(double E, double a, double delta) {
+  return (8.0 / 15.0) * E * a * delta * delta;
 }
 
-/* Normal tangent stiffness S_n = 2 E sqrt(R delta) (H13). */
-static inline double adem_hertz_normal_stiffness(double E, double R, double delta) {
-  return 2.0 * E * sqrt(R * delta);
-}
+/* Normal tangent stiffness S_n = 2 E sqrt(R delta) = 2 E a (H13). */
+static inline double adem_hertz_normal_stiffness(double E, double a) { return 2.0 * E * a; }
 
-/* Tangential stiffness S_t = 8 G sqrt(R delta) (H14). */
-static inline double adem_hertz_tangential_stiffness(double G, double R, double delta) {
-  return 8.0 * G * sqrt(R * delta);
-}
+/* Tangential stiffness S_t = 8 G sqrt(R delta) = 8 G a (H14). */
+static inline double adem_hertz_tangential_stiffness(double G, double a) { return 8.0 * G * a; }
 
 /* beta = ln e / sqrt(ln^2 e + pi^2) (H12); 0 for e = 1, negative otherwise. */
 static inline double adem_damping_beta(double e) {
