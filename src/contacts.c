@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "contact/hertz.h"
+#include "contact/jkr.h"
 #include "contact/tangential.h"
 #include "parallel.h"
 #include "world.h"
@@ -32,9 +33,16 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
   adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
 
-  double a = adem_hertz_radius(g->R, g->delta);
-  double f_elastic, e_elastic;
+  double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
+  double f_elastic, e_elastic, f_critical = 0.0;
   switch (it->normal) {
+    case ADEM_NORMAL_JKR: {
+      double a_jkr = adem_jkr_contact_radius(it->gamma, g->R, it->E, g->delta); /* H10 */
+      f_elastic = adem_jkr_force(it->gamma, g->R, it->E, a_jkr);                 /* H8-H9 */
+      e_elastic = adem_jkr_energy(it->gamma, g->R, it->E, a_jkr);
+      f_critical = adem_jkr_critical_force(it->gamma, g->R);
+      break;
+    }
     case ADEM_NORMAL_HERTZ:
     default:
       f_elastic = adem_hertz_force(it->E, a, g->delta);
@@ -47,7 +55,7 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   double St = adem_hertz_tangential_stiffness(it->G, a);
   double ct = adem_damping_coefficient(it->beta, St, g->mstar);
-  double f_limit = it->friction * fabs(f_elastic); /* H17 with F_C = 0 (no adhesion) */
+  double f_limit = it->friction * fabs(f_elastic + 2.0 * f_critical); /* H17 */
   bool sliding;
   adem_vec3 ft = adem_tangential_force(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);
 

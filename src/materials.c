@@ -56,8 +56,9 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   /* Mixing rules where the case gives no pair value: the mean of the two materials. */
   it.restitution = 0.5 * (a->def.restitution + b->def.restitution);
   it.friction = 0.5 * (a->def.friction + b->def.friction);
-  it.gamma = 0.5 * (a->gamma_mod + b->gamma_mod);
-  it.gamma_real = 0.5 * (a->def.surface_energy + b->def.surface_energy);
+  /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). */
+  it.gamma = sqrt(a->gamma_mod * b->gamma_mod);
+  it.gamma_real = sqrt(a->def.surface_energy * b->def.surface_energy);
   it.hysteresis = 0.5 * (a->def.hysteresis + b->def.hysteresis);
   it.rolling_friction_a = a->def.rolling_friction;
   it.rolling_friction_b = b->def.rolling_friction;

@@ -1,0 +1,63 @@
+/* Simplified JKR adhesion (H7-H10, notes section 2). Pure functions.
+ *
+ * The contact radius a(delta) is the largest real root of H10,
+ *   a^4 - 2 R delta a^2 - (4 pi gamma / E) R^2 a + R^2 delta^2 = 0,
+ * equivalently delta = a^2/R - 2 sqrt(pi gamma a / E). With u = sqrt(a) and c = sqrt(pi gamma/E)
+ * this is the depressed quartic u^4 - 2 c R u - R delta = 0, solved in closed form by Ferrari's
+ * method: its resolvent cubic m^3 + R delta m - c^2 R^2 / 2 = 0 has one positive root for
+ * delta >= 0 (Cardano, written without cancellation), and then
+ *   u = (s + sqrt(4 c R / s - s^2)) / 2,  s = sqrt(2 m),  a = u^2. */
+#ifndef ADEM_CONTACT_JKR_H
+#define ADEM_CONTACT_JKR_H
+
+#include <math.h>
+#include "vec3.h"
+
+/* Critical force F_C = 3 pi gamma R (notes section 1). */
+static inline double adem_jkr_critical_force(double gamma, double R) {
+  return 3.0 * ADEM_PI * gamma * R;
+}
+
+/* Equilibrium contact radius a0 = (9 pi gamma R^2 / E)^(1/3) (H7). */
+static inline double adem_jkr_a0(double gamma, double R, double E) {
+  return cbrt(9.0 * ADEM_PI * gamma * R * R / E);
+}
+
+/* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). */
+static inline double adem_jkr_contact_radius(double gamma, double R, double E, double delta) {
+  double c2 = ADEM_PI * gamma / E; /* c^2 */
+  double P = R * delta;
+  double Q = -0.5 * c2 * R * R; /* < 0 */
+  /* Cardano: m = A + B with A = cbrt(-Q/2 + sqrt(Q^2/4 + P^3/27)), A B = -P/3. The sum A + B
+   * cancels badly for large P; m = -Q / (A^2 - AB + B^2) does not (all terms positive). */
+  double disc = 0.25 * Q * Q + P * P * P / 27.0;
+  double A = cbrt(-0.5 * Q + sqrt(disc > 0.0 ? disc : 0.0));
+  double B = -P / (3.0 * A);
+  double m = -Q / (A * A - A * B + B * B);
+  double s = sqrt(2.0 * m);
+  double root = 4.0 * sqrt(c2) * R / s - s * s;
+  double u = 0.5 * (s + sqrt(root > 0.0 ? root : 0.0));
+  return u * u;
+}
+
+/* Elastic normal force at contact radius a, positive repulsive: 4 E a^3/(3R) - 4 sqrt(pi gamma E
+ * a^3) (H8 + H9). */
+static inline double adem_jkr_force(double gamma, double R, double E, double a) {
+  double a3 = a * a * a;
+  return 4.0 * E * a3 / (3.0 * R) - 4.0 * sqrt(ADEM_PI * gamma * E * a3);
+}
+
+/* Energy stored in the contact relative to the state at delta = 0 where it forms:
+ * Phi(a) - Phi(a(0)) with Phi = 8 E a^5/(15 R^2) - (8/3) sqrt(pi gamma E) a^(7/2)/R + 2 pi gamma a^2,
+ * the integral of the force over the overlap. */
+static inline double adem_jkr_potential(double gamma, double R, double E, double a) {
+  double k = sqrt(ADEM_PI * gamma * E);
+  return 8.0 * E * pow(a, 5.0) / (15.0 * R * R) - (8.0 / 3.0) * k * pow(a, 3.5) / R +
+         2.0 * ADEM_PI * gamma * a * a;
+}
+static inline double adem_jkr_energy(double gamma, double R, double E, double a) {
+  double a_form = cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
+  return adem_jkr_potential(gamma, R, E, a) - adem_jkr_potential(gamma, R, E, a_form);
+}
+
+#endif

@@ -1,0 +1,203 @@
+/* Running a case: stepping in chunks between output events, progress, stop requests.
+ *
+ * Output events are scheduled on step counts (every round(interval/dt) steps, and at the last
+ * step), never by comparing float times, so a run writes the same files at the same steps
+ * whether it was interrupted and resumed or not. After each chunk every event due at the current
+ * step is handled before the stop flag is looked at; a checkpoint therefore always follows the
+ * events of its own step, and a resumed run knows what was written from the step count alone. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "adem/adem.h"
+#include "fileio.h"
+#include "log.h"
+#include "output.h"
+#include "schedule.h"
+#include "world.h"
+
+/* Most steps between two looks at the stop flag. */
+enum { RUN_MAX_CHUNK = 100 };
+/* Wall seconds a chunk should take at most, so that Ctrl-C answers quickly on big systems. */
+#define RUN_CHUNK_SECONDS 0.2
+#define RUN_PROGRESS_SECONDS 1.0
+
+adem_run_options adem_default_run_options(void) {
+  adem_run_options o;
+  memset(&o, 0, sizeof o);
+  return o;
+}
+
+static double wall_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static bool due(uint64_t step, uint64_t period) { return period > 0 && step % period == 0; }
+
+/* The next step after `step` at which something must be written. */
+static uint64_t next_event(uint64_t step, uint64_t total, const uint64_t *periods, int nperiods) {
+  uint64_t next = total;
+  for (int k = 0; k < nperiods; ++k) {
+    if (periods[k] == 0) continue;
+    uint64_t e = (step / periods[k] + 1) * periods[k];
+    if (e < next) next = e;
+  }
+  return next;
+}
+
+static void report(const adem_run_options *opt, const adem_world *w, double end_time,
+                   uint64_t total, uint64_t step0, double t0) {
+  if (!opt->progress) return;
+  adem_progress p;
+  memset(&p, 0, sizeof p);
+  p.time = w->time;
+  p.end_time = end_time;
+  p.step = w->step;
+  p.total_steps = total;
+  p.wall_seconds = wall_now() - t0;
+  uint64_t done = w->step - step0;
+  p.steps_per_second = p.wall_seconds > 0.0 ? (double)done / p.wall_seconds : 0.0;
+  p.eta_seconds = -1.0;
+  if (done > 0 && p.steps_per_second > 0.0)
+    p.eta_seconds = (double)(total > w->step ? total - w->step : 0) / p.steps_per_second;
+  for (size_t k = 0; k < w->pp.n; ++k) p.contacts += w->pp.touching[k];
+  for (size_t k = 0; k < w->pw.n; ++k) p.contacts += w->pw.touching[k];
+  opt->progress(&p, opt->progress_user);
+}
+
+/* Adds what the failed run leaves behind to the world's message. */
+static void note_kept(adem_error *err, const char *dir, double t_checkpoint, bool have_checkpoint) {
+  if (!err) return;
+  size_t len = strlen(err->message);
+  if (have_checkpoint)
+    snprintf(err->message + len, sizeof err->message - len,
+             "; the output written before is kept in %s (last checkpoint at t = %.9g s)", dir,
+             t_checkpoint);
+  else
+    snprintf(err->message + len, sizeof err->message - len,
+             "; the output written before is kept in %s", dir);
+}
+
+adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
+  adem_run_options opt = opt_in ? *opt_in : adem_default_run_options();
+  adem_world *w = c->world;
+  if (opt.nthreads > 0) adem_world_set_threads(w, opt.nthreads);
+  /* A prepared world past step 0 comes from a checkpoint (or an earlier run): continue it. */
+  bool resume = w->prepared && w->step > 0;
+  const char *dir = c->output.dir[0] ? c->output.dir : ".";
+
+  /* Fail on an unwritable folder before any expensive set-up. */
+  adem_status st = adem_fileio_mkdir_p(dir, err);
+  if (!st) st = adem_fileio_check_writable(dir, err);
+  if (st) return st;
+  if (!w->prepared) {
+    if (c->dt > 0.0) adem_world_set_dt(w, c->dt);
+    st = adem_world_prepare(w, err);
+    if (st) return st;
+  }
+
+  const double dt = w->dt;
+  const uint64_t total = adem_schedule_total_steps(c->end_time, dt);
+  const uint64_t k_frame = adem_schedule_period(c->output.frame_interval, dt);
+  const uint64_t k_csv = adem_schedule_period(c->output.csv_interval, dt);
+  const uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
+  const uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
+  const uint64_t step0 = w->step;
+  if (resume && step0 >= total) {
+    adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
+    return ADEM_OK;
+  }
+  /* Frames 0, k, 2k, ... up to this step were written before the checkpoint. */
+  size_t frames_done = resume && k_frame ? (size_t)(step0 / k_frame + 1) : 0;
+
+  adem_output out;
+  st = adem_output_open(&out, dir, w, k_frame > 0, k_csv > 0, resume, frames_done,
+                        (double)k_frame * dt, w->time, err);
+  if (st) return st;
+  char *ckpt_path = adem_fileio_join(dir, "checkpoint");
+  if (!ckpt_path) {
+    adem_output_close(&out);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  bool have_ckpt = resume;
+  double t_ckpt = w->time;
+
+  if (!resume) {
+    st = adem_output_frame(&out, w, err);
+    if (!st) st = adem_output_csv_append(&out, w, err);
+  }
+  const double t0 = wall_now();
+  double last_report = t0;
+  report(&opt, w, c->end_time, total, step0, t0);
+  uint64_t chunk_cap = RUN_MAX_CHUNK;
+
+  while (!st && w->step < total) {
+    uint64_t target = next_event(w->step, total, periods, 3);
+    uint64_t n = target - w->step;
+    if (n > chunk_cap) n = chunk_cap;
+    double tc = wall_now();
+    st = adem_world_step(w, n, err);
+    double spent = wall_now() - tc;
+    if (st) {
+      if (st == ADEM_ERR_RUNTIME) note_kept(err, dir, t_ckpt, have_ckpt);
+      break;
+    }
+    /* Keep a chunk near RUN_CHUNK_SECONDS of wall time. */
+    if (spent > 0.0) {
+      double fit = RUN_CHUNK_SECONDS * (double)n / spent;
+      chunk_cap = fit >= RUN_MAX_CHUNK ? RUN_MAX_CHUNK : (fit < 1.0 ? 1 : (uint64_t)fit);
+    }
+
+    uint64_t s = w->step;
+    bool last = s >= total;
+    if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
+    if (!st && (last || due(s, k_csv))) st = adem_output_csv_append(&out, w, err);
+    if (!st && (last || due(s, k_ckpt))) {
+      st = adem_checkpoint_write(c, ckpt_path, err);
+      if (!st) {
+        have_ckpt = true;
+        t_ckpt = w->time;
+      }
+    }
+    if (st) break;
+
+    double now = wall_now();
+    if (now - last_report >= RUN_PROGRESS_SECONDS || last) {
+      report(&opt, w, c->end_time, total, step0, t0);
+      last_report = now;
+    }
+    if (!last && opt.stop_flag && *opt.stop_flag) {
+      if (!(have_ckpt && t_ckpt == w->time)) st = adem_checkpoint_write(c, ckpt_path, err);
+      if (!st)
+        st = adem_error_set(err, ADEM_INTERRUPTED,
+                            "stopped at t = %.9g s (step %llu of %llu); checkpoint written to %s",
+                            w->time, (unsigned long long)w->step, (unsigned long long)total,
+                            ckpt_path);
+      break;
+    }
+  }
+  adem_output_close(&out);
+  if (!st && c->output.plot) {
+    if (k_csv == 0) {
+      adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
+    } else {
+      char *csv = adem_fileio_join(dir, "timeseries.csv");
+      char *png = adem_fileio_join(dir, "energy.png");
+      if (csv && png) {
+        char title[ADEM_NAME_MAX + 32];
+        snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");
+        st = adem_output_plot_energy(csv, png, title, err);
+      } else {
+        st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+      }
+      free(csv);
+      free(png);
+    }
+  }
+  free(ckpt_path);
+  return st;
+}
