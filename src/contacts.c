@@ -67,7 +67,7 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 static void particle_pairs(adem_world *w) {
   adem_particles *p = &w->p;
   adem_pair_list *l = &w->pp;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   double dt = w->dt;
   size_t np = l->n;
   ADEM_PARALLEL_FOR
@@ -109,7 +109,7 @@ static void particle_pairs(adem_world *w) {
 static void wall_pairs(adem_world *w) {
   adem_particles *p = &w->p;
   adem_pair_list *l = &w->pw;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   double dt = w->dt;
   size_t np = l->n;
   ADEM_PARALLEL_FOR
@@ -150,7 +150,7 @@ static void sum_per_particle(adem_world *w) {
   adem_particles *p = &w->p;
   const adem_neighbors *nb = &w->nb;
   const adem_pair_list *pp = &w->pp, *pw = &w->pw;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   size_t n = p->n;
   adem_vec3 g = w->gravity;
   ADEM_PARALLEL_FOR

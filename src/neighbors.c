@@ -56,7 +56,7 @@ static saved_history *save_history(const adem_world *w, const adem_pair_list *l,
 
 static void restore_history(const adem_world *w, adem_pair_list *l, bool walls,
                             const saved_history *s, size_t ns) {
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   const uint64_t *id = w->p.id;
   ADEM_PARALLEL_FOR
   for (size_t k = 0; k < l->n; ++k) {
@@ -154,7 +154,7 @@ static adem_status sort_by_cell(adem_world *w, double cell) {
     free(perm);
     return ADEM_ERR_NOMEM;
   }
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   size_t nx = (size_t)nb->dims[0], ny = (size_t)nb->dims[1];
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
@@ -253,7 +253,7 @@ typedef size_t pairs_of_fn(const adem_world *w, size_t i, adem_pair_list *out, s
 static adem_status build_list(adem_world *w, adem_pair_list *l, pairs_of_fn *pairs_of,
                               size_t *offsets) {
   size_t n = w->p.n;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) offsets[i + 1] = pairs_of(w, i, NULL, 0);
   offsets[0] = 0;
@@ -344,7 +344,7 @@ bool adem_neighbors_need_rebuild(const adem_world *w) {
   double half = 0.5 * w->nb.skin;
   double limit = half * half;
   double worst = 0.0;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   size_t n = p->n;
   ADEM_PARALLEL_FOR_MAX(worst)
   for (size_t i = 0; i < n; ++i) {

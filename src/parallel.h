@@ -4,6 +4,7 @@
 #ifndef ADEM_PARALLEL_H
 #define ADEM_PARALLEL_H
 
+
 #ifdef ADEM_HAVE_OPENMP
 #include <omp.h>
 #define ADEM_PARALLEL_FOR _Pragma("omp parallel for schedule(static) num_threads(nthreads)")

@@ -14,6 +14,7 @@ adem_world *adem_world_create(void) {
   if (!w) return NULL;
   w->gravity = v3(0.0, 0.0, -9.81);
   w->nthreads = adem_default_threads();
+  w->parallel_min = 2048;
   w->nb.skin_fraction = 0.2;
   w->max_overlap_ratio = 0.2;
   w->next_id = 0;
@@ -325,7 +326,7 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
 /* Half kick of velocities and spins with the current forces (velocity Verlet). */
 static void kick(adem_world *w, double h) {
   adem_particles *p = &w->p;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   size_t n = p->n;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
@@ -336,7 +337,7 @@ static void kick(adem_world *w, double h) {
 
 static void drift(adem_world *w, double dt) {
   adem_particles *p = &w->p;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   size_t n = p->n;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
@@ -348,7 +349,7 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
   const adem_particles *p = &w->p;
   size_t n = p->n;
   size_t bad = n;
-  int nthreads = w->nthreads;
+  int nthreads = adem_world_threads(w);
   /* Minimum index found is the same for every thread count. */
 #ifdef ADEM_HAVE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min : bad)

@@ -111,6 +111,7 @@ struct adem_world {
   uint64_t step;
   uint64_t next_id;
   int nthreads;
+  size_t parallel_min; /* fewer particles than this run on one thread (waking a team costs more) */
 
   adem_neighbors nb;
   adem_pair_list pp, pw;
@@ -125,6 +126,11 @@ struct adem_world {
   bool prepared;
   bool warned_extforce;
 };
+
+/* Threads for the per-step loops; the results do not depend on it. */
+static inline int adem_world_threads(const adem_world *w) {
+  return w->p.n < w->parallel_min ? 1 : w->nthreads;
+}
 
 /* Derives materials and the pair table (materials.c). */
 adem_status adem_materials_derive(adem_world *w, adem_error *err);
