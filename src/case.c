@@ -26,9 +26,10 @@ typedef struct case_ctx {
   yaml_document_t doc;
   bool have_doc;
   const char *file;          /* name used in messages */
+  const char *stem_of;       /* file whose stem is the default case name */
   const char *const *sets;   /* the --set strings */
   int nbase;                 /* node ids 1..nbase come from the text, later ones from --set */
-  int *origin;               /* origin[id - nbase - 1]: index of the --set that made node id */
+  int *origin;               /* origin[id - nbase - 1]: the --set that made node id (-1: none) */
   size_t norigin;
   adem_error *err;
   adem_case *c;
@@ -75,7 +76,8 @@ typedef struct list_cursor {
 static void where(const case_ctx *ctx, const yaml_node_t *node, char *buf, size_t n) {
   if (node && ctx->have_doc) {
     int id = (int)(node - ctx->doc.nodes.start) + 1;
-    if (id > ctx->nbase && (size_t)(id - ctx->nbase - 1) < ctx->norigin) {
+    if (id > ctx->nbase && (size_t)(id - ctx->nbase - 1) < ctx->norigin &&
+        ctx->origin[id - ctx->nbase - 1] >= 0) {
       snprintf(buf, n, "--set %.500s", ctx->sets[ctx->origin[id - ctx->nbase - 1]]);
       return;
     }
@@ -181,9 +183,10 @@ static bool is_null(const yaml_node_t *v) {
 
 /* How a value was written, for "got ..." in messages. */
 static void node_text(const yaml_node_t *v, char *buf, size_t n) {
-  if (v->type == YAML_SEQUENCE_NODE)
-    snprintf(buf, n, "a list");
-  else if (v->type == YAML_MAPPING_NODE)
+  if (v->type == YAML_SEQUENCE_NODE) {
+    size_t k = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+    snprintf(buf, n, "a list of %zu item%s", k, k == 1 ? "" : "s");
+  } else if (v->type == YAML_MAPPING_NODE)
     snprintf(buf, n, "a mapping");
   else if (is_null(v))
     snprintf(buf, n, "no value");
@@ -381,7 +384,7 @@ static adem_status map_open(case_ctx *ctx, yaml_node_t *node, yaml_node_t *paren
       char p[KEY_PATH_MAX], d[256];
       join(p, sizeof p, path, discriminator);
       adem_schema_describe(adem_schema_find(schema_prefix, discriminator, NULL), d, sizeof d);
-      return fail(ctx, m->at, p, "required value is missing (%s)", d);
+      return fail(ctx, m->at, p, "required value is missing: expected %s", d);
     }
     return ADEM_OK;
   }
@@ -414,7 +417,7 @@ static adem_status map_open(case_ctx *ctx, yaml_node_t *node, yaml_node_t *paren
     if (!v) {
       char d[256];
       adem_schema_describe(e, d, sizeof d);
-      return fail(ctx, node, p, "required value is missing (%s)", d);
+      return fail(ctx, node, p, "required value is missing: expected %s", d);
     }
     int index;
     adem_status st = read_enum(ctx, e, v, p, &index);
@@ -433,8 +436,9 @@ static adem_status missing(case_ctx *ctx, const map_cursor *m, const adem_schema
   char d[256];
   adem_schema_describe(e, d, sizeof d);
   if (e->need == ADEM_SCHEMA_REQUIRED_IF)
-    return fail(ctx, m->at, path, "required value is missing (%s; required %s)", d, e->need_doc);
-  return fail(ctx, m->at, path, "required value is missing (%s)", d);
+    return fail(ctx, m->at, path, "required value is missing (required %s): expected %s",
+                e->need_doc, d);
+  return fail(ctx, m->at, path, "required value is missing: expected %s", d);
 }
 
 /* The schema entry and value node of key in m; fails when a required key is missing. */
@@ -801,8 +805,11 @@ static adem_status apply_set(case_ctx *ctx, const char *text) {
     yaml_node_t *tn = target ? yaml_document_get_node(doc, target) : NULL;
     bool open = !tn || is_null(tn); /* nothing there yet: walk on through a new mapping */
     int replacement = 0;
-    if (last)
+    if (last && yaml_document_get_root_node(&value))
       replacement = graft(doc, &value, 1, 0);
+    else if (last) /* "key=": no value, which validation then names */
+      replacement = yaml_document_add_scalar(doc, NULL, (const yaml_char_t *)"", 0,
+                                             YAML_PLAIN_SCALAR_STYLE);
     else if (open)
       replacement = yaml_document_add_mapping(doc, NULL, YAML_BLOCK_MAPPING_STYLE);
     if (last || open) {
@@ -826,7 +833,9 @@ static adem_status apply_set(case_ctx *ctx, const char *text) {
       }
       target = replacement;
     }
-    join(walked, sizeof walked, walked, seg);
+    char parent[KEY_PATH_MAX];
+    snprintf(parent, sizeof parent, "%s", walked);
+    join(walked, sizeof walked, parent, seg);
     if (last) break;
     node = target;
     seg = dot + 1;
@@ -845,7 +854,8 @@ static adem_status apply_sets(case_ctx *ctx, int nsets) {
       int *o = realloc(ctx->origin, (size_t)(after - ctx->nbase) * sizeof *o);
       if (!o) return nomem(ctx);
       ctx->origin = o;
-      for (int id = before + 1; id <= after; ++id) o[id - ctx->nbase - 1] = k;
+      /* A root mapping made for an empty file stands for the file: -1. */
+      for (int id = before + 1; id <= after; ++id) o[id - ctx->nbase - 1] = id == 1 ? -1 : k;
       ctx->norigin = (size_t)(after - ctx->nbase);
     }
   }
@@ -911,12 +921,14 @@ static adem_status flush_spheres(case_ctx *ctx, size_t first, int material, int 
   return ADEM_OK;
 }
 
-/* Uniform cell grid over spheres of ctx, for overlap queries in O(1). Cells are at least as wide
- * as the largest sum of two radii, so overlapping spheres sit in neighbouring cells; centres
- * outside the grid are clamped to its border cells, which keeps that true. */
+/* Uniform cell grid over spheres of ctx, for overlap queries in O(1). Queries are spheres of
+ * radius <= reach; cells are at least 2 reach wide. A sphere of radius R is filed in every cell
+ * its box widened by max(0, R + reach - h) touches (one cell unless it is large), so a sphere
+ * that overlaps a query always sits in the query's cell or a neighbouring one. Centres outside
+ * the grid are clamped to its border cells, which keeps that true. */
 typedef struct sphere_grid {
   adem_vec3 lo;
-  double inv_h;
+  double h, inv_h, reach;
   int dims[3];
   int64_t *head; /* per cell: first entry or -1 */
   int64_t *next; /* per entry */
@@ -924,7 +936,8 @@ typedef struct sphere_grid {
   size_t n, cap;
 } sphere_grid;
 
-static adem_status grid_init(sphere_grid *g, adem_vec3 lo, adem_vec3 hi, double h, size_t expected) {
+static adem_status grid_init(sphere_grid *g, adem_vec3 lo, adem_vec3 hi, double h, double reach,
+                             size_t expected) {
   memset(g, 0, sizeof *g);
   double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
   double limit = 8.0 * (double)expected + 4096.0; /* cells: about one per sphere */
@@ -937,7 +950,9 @@ static adem_status grid_init(sphere_grid *g, adem_vec3 lo, adem_vec3 hi, double 
   }
   for (int k = 0; k < 3; ++k) g->dims[k] = (int)(floor(fmax(ext[k], 0.0) / h) + 1.0);
   g->lo = lo;
+  g->h = h;
   g->inv_h = 1.0 / h;
+  g->reach = reach;
   size_t ncells = (size_t)cells;
   g->head = malloc(ncells * sizeof *g->head);
   if (!g->head) return ADEM_ERR_NOMEM;
@@ -969,45 +984,55 @@ static size_t grid_index(const sphere_grid *g, const int c[3]) {
 }
 
 static adem_status grid_insert(sphere_grid *g, const case_ctx *ctx, size_t i) {
-  if (g->n == g->cap) {
-    size_t cap = g->cap ? 2 * g->cap : 1024;
-    int64_t *next = realloc(g->next, cap * sizeof *next);
-    if (next) g->next = next;
-    size_t *sphere = realloc(g->sphere, cap * sizeof *sphere);
-    if (sphere) g->sphere = sphere;
-    if (!next || !sphere) return ADEM_ERR_NOMEM;
-    g->cap = cap;
-  }
-  int c[3];
-  grid_cell(g, ctx->pos[i], c);
-  size_t cell = grid_index(g, c);
-  g->sphere[g->n] = i;
-  g->next[g->n] = g->head[cell];
-  g->head[cell] = (int64_t)g->n;
-  g->n++;
+  double e = fmax(0.0, ctx->rad[i] + g->reach - g->h);
+  int a[3], b[3];
+  grid_cell(g, v3_sub(ctx->pos[i], v3(e, e, e)), a);
+  grid_cell(g, v3_add(ctx->pos[i], v3(e, e, e)), b);
+  for (int z = a[2]; z <= b[2]; ++z)
+    for (int y = a[1]; y <= b[1]; ++y)
+      for (int x = a[0]; x <= b[0]; ++x) {
+        if (g->n == g->cap) {
+          size_t cap = g->cap ? 2 * g->cap : 1024;
+          int64_t *next = realloc(g->next, cap * sizeof *next);
+          if (next) g->next = next;
+          size_t *sphere = realloc(g->sphere, cap * sizeof *sphere);
+          if (sphere) g->sphere = sphere;
+          if (!next || !sphere) return ADEM_ERR_NOMEM;
+          g->cap = cap;
+        }
+        int c[3] = {x, y, z};
+        size_t cell = grid_index(g, c);
+        g->sphere[g->n] = i;
+        g->next[g->n] = g->head[cell];
+        g->head[cell] = (int64_t)g->n;
+        g->n++;
+      }
   return ADEM_OK;
 }
 
-/* Index (in ctx) of a sphere overlapping the sphere (p, r), or -1. Touching is not overlapping. */
+/* Index (in ctx) of a sphere overlapping the sphere (p, r), or -1. Touching is not overlapping.
+ * The query's own cell first: that is where a rejected try usually finds its overlap. */
 static int64_t grid_overlap(const sphere_grid *g, const case_ctx *ctx, adem_vec3 p, double r) {
+  static const int order[27][3] = {
+      {0, 0, 0},   {-1, 0, 0},  {1, 0, 0},   {0, -1, 0},  {0, 1, 0},   {0, 0, -1},  {0, 0, 1},
+      {-1, -1, 0}, {1, -1, 0},  {-1, 1, 0},  {1, 1, 0},   {-1, 0, -1}, {1, 0, -1},  {0, -1, -1},
+      {0, 1, -1},  {-1, 0, 1},  {1, 0, 1},   {0, -1, 1},  {0, 1, 1},   {-1, -1, -1}, {1, -1, -1},
+      {-1, 1, -1}, {1, 1, -1},  {-1, -1, 1}, {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
   int c[3];
   grid_cell(g, p, c);
-  int64_t found = -1;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        int q[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
-        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g->dims[0] || q[1] >= g->dims[1] ||
-            q[2] >= g->dims[2])
-          continue;
-        for (int64_t e = g->head[grid_index(g, q)]; e >= 0; e = g->next[e]) {
-          size_t j = g->sphere[e];
-          double s = r + ctx->rad[j];
-          if (v3_norm2(v3_sub(p, ctx->pos[j])) < s * s && (found < 0 || (int64_t)j < found))
-            found = (int64_t)j;
-        }
-      }
-  return found;
+  for (int k = 0; k < 27; ++k) {
+    int q[3] = {c[0] + order[k][0], c[1] + order[k][1], c[2] + order[k][2]};
+    if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g->dims[0] || q[1] >= g->dims[1] ||
+        q[2] >= g->dims[2])
+      continue;
+    for (int64_t e = g->head[grid_index(g, q)]; e >= 0; e = g->next[e]) {
+      size_t j = g->sphere[e];
+      double s = r + ctx->rad[j];
+      adem_vec3 d = v3_sub(p, ctx->pos[j]);
+      if (d.x * d.x + d.y * d.y + d.z * d.z < s * s) return (int64_t)j;
+    }
+  }
+  return -1;
 }
 
 /* ---- sections ---- */
@@ -1306,7 +1331,7 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
       hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
     }
     sphere_grid g;
-    if (grid_init(&g, lo, hi, 2.0 * rmax, l.n)) return nomem(ctx);
+    if (grid_init(&g, lo, hi, 2.0 * rmax, rmax, l.n)) return nomem(ctx);
     for (size_t i = first; i < ctx->n && !st; ++i) {
       int64_t j = grid_overlap(&g, ctx, ctx->pos[i], ctx->rad[i]);
       if (j >= 0) {
@@ -1370,7 +1395,7 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   if (n > MAX_SET_SPHERES)
     return fail(ctx, m->node, m->path, "would create %.3g spheres (at most %.0g per set)", n,
                 MAX_SET_SPHERES);
-  if (count > capacity)
+  if ((double)count > capacity)
     adem_log(ADEM_LOG_WARN, "%s: the lattice box holds %.0f spheres; count asks for %llu", m->path,
              capacity, (unsigned long long)count);
   size_t first = ctx->n, total = (size_t)n, nxy = (size_t)nx * (size_t)ny;
@@ -1440,6 +1465,11 @@ static adem_status draw_radii(case_ctx *ctx, const map_cursor *m, adem_rng *rng,
   return ADEM_OK;
 }
 
+static int compare_descending(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x < y) - (x > y);
+}
+
 static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_index, int mat,
                                 int group) {
   adem_vec3 lo, hi, v, w;
@@ -1468,21 +1498,23 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
     free(radii);
     return st;
   }
-  double rnew = 0;
-  for (size_t k = 0; k < count; ++k) rnew = fmax(rnew, radii[k]);
-  double h = fmax(2.0 * rnew, rnew + ctx->rmax);
-  h = fmax(h, cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
+  /* Largest first: the big spheres find room while the box is empty, the small fill the gaps. */
+  qsort(radii, count, sizeof *radii, compare_descending);
+  double rnew = count ? radii[0] : 0.0;
+  double h = fmax(2.0 * rnew, cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
   adem_vec3 glo = v3_sub(lo, v3(h, h, h)), ghi = v3_add(hi, v3(h, h, h));
   sphere_grid g;
-  if (grid_init(&g, glo, ghi, h, count)) {
+  if (grid_init(&g, glo, ghi, h, rnew, count)) {
     free(radii);
     return nomem(ctx);
   }
-  /* Spheres of earlier sets whose centres are farther than h from the box cannot overlap. */
+  /* Spheres of earlier sets that reach the box. */
   for (size_t i = 0; i < ctx->n && !st; ++i) {
     adem_vec3 p = ctx->pos[i];
-    if (p.x >= glo.x && p.y >= glo.y && p.z >= glo.z && p.x <= ghi.x && p.y <= ghi.y && p.z <= ghi.z)
-      if (grid_insert(&g, ctx, i)) st = nomem(ctx);
+    double e = ctx->rad[i] + rnew;
+    if (p.x > lo.x - e && p.y > lo.y - e && p.z > lo.z - e && p.x < hi.x + e && p.y < hi.y + e &&
+        p.z < hi.z + e && grid_insert(&g, ctx, i))
+      st = nomem(ctx);
   }
   size_t first = ctx->n, placed = 0;
   uint64_t attempts = 0;
@@ -1617,7 +1649,7 @@ static adem_status build(case_ctx *ctx) {
   if ((st = map_open(ctx, yaml_document_get_root_node(&ctx->doc), NULL, "", "", NULL, &root)))
     return st;
   if ((st = get_string(ctx, &root, "name", c->name, sizeof c->name, &node))) return st;
-  if (!node) file_stem(c->path, c->name, sizeof c->name);
+  if (!node) file_stem(ctx->stem_of, c->name, sizeof c->name);
   if ((st = get_uint(ctx, &root, "seed", &c->seed, NULL))) return st;
   if ((st = get_map(ctx, &root, "time", &time))) return st; /* required: report it early */
   if ((st = get_number(ctx, &time, "end", &c->end_time, NULL))) return st;
@@ -1707,6 +1739,7 @@ adem_status adem_case_load_string(const char *text, const char *name_for_message
   case_ctx ctx;
   memset(&ctx, 0, sizeof ctx);
   ctx.file = c->path;
+  ctx.stem_of = name_for_messages ? c->path : "case";
   ctx.err = err;
   ctx.c = c;
   adem_status st = ADEM_OK;

@@ -48,8 +48,8 @@ static const adem_schema_entry schema[] = {
     {"interactions[].normal", NULL, ENUM, "", "hertz", NULL, .choices = "hertz|jkr", .doc = "Normal force law: Hertz with damping, or simplified JKR adhesion."},
     {"interactions[].rolling", NULL, ENUM, "", "none", NULL, .choices = "none|dtk|model_a|model_c|brof", .doc = "Rolling resistance law."},
 
-    {"groups", NULL, LIST, "", NULL, NULL, .doc = "Named groups of particles with a constant external force; group `default` always exists (no force)."},
-    {"groups[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; `default` is reserved."},
+    {"groups", NULL, LIST, "", NULL, NULL, .doc = "Named groups of particles with a constant external force; group `default` always exists (no force unless listed)."},
+    {"groups[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; `default` sets the force of the particles without a `group`."},
     {"groups[].external_force", NULL, VEC3, "N", "[0, 0, 0]", NULL, .doc = "Constant force on every particle of the group."},
 
     {"particles", NULL, LIST, "", NULL, NULL, GE(1), REQ, .discriminator = "type", .doc = "Particle sets, created in order; each has a `type`."},
@@ -89,14 +89,14 @@ static const adem_schema_entry schema[] = {
     {"walls[].max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner of the box; greater than `min` in every component."},
 
     {"gravity", NULL, VEC3, "m/s^2", "[0, 0, -9.81]", NULL, .doc = "Gravitational acceleration."},
-    {"domain", NULL, MAP, "", NULL, "see below", .doc = "Box the particles must stay in; a particle leaving it stops the run (escape check)."},
+    {"domain", NULL, MAP, "", NULL, "derived, see above", .doc = "Box the particles must stay in; a particle leaving it stops the run (escape check)."},
     {"domain.min", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner."},
     {"domain.max", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
 
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
     {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh). A larger step is allowed with a warning."},
-    {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see below."},
+    {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see above."},
 
     {"neighbor", NULL, MAP, "", NULL, NULL, .doc = "Neighbour search."},
     {"neighbor.skin", NULL, NUM, "", "0.2", NULL, GT(0), .doc = "Verlet skin as a fraction of the largest particle diameter."},
@@ -301,6 +301,8 @@ static void md_row(FILE *f, const adem_schema_entry *e) {
     fprintf(f, "`%s`", e->def);
   else if (e->def_doc)
     fputs(e->def_doc, f);
+  else if (e->type == ADEM_SCHEMA_MAP || e->type == ADEM_SCHEMA_LIST)
+    fputs("optional", f);
   else
     fputs("none", f);
   char range[64];
@@ -358,20 +360,27 @@ void adem_schema_write_markdown(FILE *f) {
         "0.1 m/s), where v0 is the largest initial speed of a particle or a plane wall and H is the "
         "extent, along gravity, of the bounding box of the particles and the walls (box corners and "
         "plane points).\n"
-        "- **Time step** (`time.step: auto`): dt = min(t_collision/50, 0.2 t_Rayleigh), with the "
-        "Hertz collision time of the stiffest material pair at v_ref. A given `time.step` larger "
-        "than that is used, with a warning saying by how much it exceeds the proposal.\n"
+        "- **Time step** (`time.step: auto`): dt = min(t_collision/50, 0.2 t_Rayleigh): the "
+        "shortest Hertz collision time at v_ref and the shortest Rayleigh time over the material "
+        "pairs in use (particle-particle and particle-wall), each for the smallest sphere of its "
+        "material. A given `time.step` larger than that is used, with a warning saying by how much "
+        "it exceeds the proposal.\n"
         "- **Domain** (no `domain`): the bounding box B of the particles (whole spheres) and the "
         "walls (box corners and plane points), widened on every side by the largest of: the longest "
         "side of B, 10 largest diameters, and v0 t_end + |g| t_end^2 / 2.\n"
         "- **Lattice**: centres at min + radius + i spacing along each axis for as long as the "
         "whole sphere stays inside the box; filled x first, then y, then z.\n"
-        "- **Random fill**: radii are drawn first, then each sphere is tried at uniform random "
-        "positions (whole sphere inside the box) until it overlaps neither a sphere already placed "
-        "by this or an earlier set; the same `seed` gives the same spheres. Normal and lognormal "
-        "radii outside (0, half the box's smallest side] are redrawn; a lognormal radius with mean m "
+        "- **Random fill**: radii are drawn first and placed largest first; each sphere is tried at "
+        "uniform random positions (whole sphere inside the box) until it overlaps no sphere already "
+        "placed by this or an earlier set. Each random set draws from its own stream of `seed`: "
+        "the same seed gives the same spheres (bit for bit on every platform for `constant` and "
+        "`uniform` radii; `normal` and `lognormal` also use the C library's log, cos and exp). "
+        "Normal and lognormal radii outside (0, half the box's smallest side] are redrawn; a lognormal radius with mean m "
         "and standard deviation s has sigma^2 = ln(1 + s^2/m^2), mu = ln m - sigma^2/2.\n"
-        "- **Output intervals** default to fractions of `time.end`.\n\n",
+        "- **Output intervals** default to fractions of `time.end`.\n\n"
+        "Spheres of an explicit `list` must not overlap each other (the loader names both). "
+        "Overlaps between spheres of different sets, and spheres behind a wall, are reported when "
+        "the run starts.\n\n",
         f);
 
   fputs("## Top-level keys\n\n", f);
