@@ -1314,7 +1314,7 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
   for (size_t i = 0; i < l.n; ++i) {
     map_cursor m;
     adem_vec3 x, v, w;
-    double r;
+    double r = 0.0;
     if ((st = list_item(ctx, &l, i, &m))) return st;
     if ((st = get_vec3(ctx, &m, "position", &x, NULL))) return st;
     if ((st = get_number(ctx, &m, "radius", &r, NULL))) return st;
@@ -1363,7 +1363,7 @@ static double lattice_sites(double lo, double hi, double r, double s) {
 }
 
 static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, int group) {
-  double r, s;
+  double r = 0.0, s = 0.0;
   adem_vec3 lo, hi, v, w;
   uint64_t count;
   yaml_node_t *s_node, *hi_node, *count_node;
@@ -1416,7 +1416,7 @@ static adem_status draw_radii(case_ctx *ctx, const map_cursor *m, adem_rng *rng,
   char path[KEY_PATH_MAX];
   yaml_node_t *node;
   if (!strcmp(d.variant, "constant")) {
-    double r;
+    double r = 0.0;
     if ((st = get_number(ctx, &d, "value", &r, &node))) return st;
     if (r > rfit) {
       join(path, sizeof path, d.path, "value");
@@ -1427,7 +1427,7 @@ static adem_status draw_radii(case_ctx *ctx, const map_cursor *m, adem_rng *rng,
     return ADEM_OK;
   }
   if (!strcmp(d.variant, "uniform")) {
-    double a, b;
+    double a = 0.0, b = 0.0;
     if ((st = get_number(ctx, &d, "min", &a, NULL))) return st;
     if ((st = get_number(ctx, &d, "max", &b, &node))) return st;
     join(path, sizeof path, d.path, "max");
@@ -1450,7 +1450,7 @@ static adem_status draw_radii(case_ctx *ctx, const map_cursor *m, adem_rng *rng,
   }
   for (size_t k = 0; k < count; ++k) {
     int tries = 0;
-    double r;
+    double r = 0.0;
     do {
       if (++tries > 1000)
         return fail(ctx, d.node, d.path,

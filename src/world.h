@@ -94,6 +94,8 @@ typedef struct adem_neighbors {
   uint64_t rebuilds;
 } adem_neighbors;
 
+/* Every field that changes while stepping must also be saved and restored in checkpoint.c
+ * (tests/golden/test_restart.c fails otherwise). */
 struct adem_world {
   adem_particles p;
   adem_material *materials;

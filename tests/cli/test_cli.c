@@ -1,0 +1,336 @@
+/* The adem command on bad input and on a failing run: the exit status says what kind of failure
+ * it was (2 bad input, 3 run failed) and the message names the problem, so that a user can fix
+ * the case without reading the source. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+/* A valid case: two glass spheres above a floor. Tests derive bad cases by replacing text. */
+static const char *const base_case =
+    "name: cli\n"
+    "materials:\n"
+    "  - name: glass\n"
+    "    density: 2500\n"
+    "    youngs_modulus: 1.0e7\n"
+    "    poisson_ratio: 0.3\n"
+    "    restitution: 0.5\n"
+    "    friction: 0.3\n"
+    "particles:\n"
+    "  - type: list\n"
+    "    material: glass\n"
+    "    spheres:\n"
+    "      - {position: [0, 0, 0.01], radius: 0.001}\n"
+    "      - {position: [0.005, 0, 0.01], radius: 0.001}\n"
+    "walls:\n"
+    "  - type: plane\n"
+    "    name: floor\n"
+    "    material: glass\n"
+    "    point: [0, 0, 0]\n"
+    "    normal: [0, 0, 1]\n"
+    "time:\n"
+    "  end: 0.001\n"
+    "output:\n"
+    "  frame_interval: 0.0005\n"
+    "  csv_interval: 0.0001\n";
+
+/* base_case with the first `from` replaced by `to`; a fresh string. */
+static char *replaced(const char *text, const char *from, const char *to) {
+  const char *at = strstr(text, from);
+  assert_non_null(at);
+  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
+  char *s = malloc(n);
+  assert_non_null(s);
+  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+  return s;
+}
+
+static char *path_in_tmp(const char *name) {
+  size_t n = strlen(tmpdir) + strlen(name) + 2;
+  char *p = malloc(n);
+  assert_non_null(p);
+  snprintf(p, n, "%s/%s", tmpdir, name);
+  return p;
+}
+
+static char *write_case(const char *name, const char *text) {
+  char *p = path_in_tmp(name);
+  FILE *f = fopen(p, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+  return p;
+}
+
+/* Runs `adem ARGS` with stdout and stderr captured; returns the exit status, *out the text. */
+static int adem(char **out, const char *fmt, ...) {
+  char args[4096], cmd[8192];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(args, sizeof args, fmt, ap);
+  va_end(ap);
+  char *log = path_in_tmp("output.txt");
+  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
+  int status = system(cmd);
+  assert_true(status != -1 && WIFEXITED(status));
+  FILE *f = fopen(log, "r");
+  assert_non_null(f);
+  static char buf[1 << 16];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  buf[n] = '\0';
+  fclose(f);
+  free(log);
+  *out = buf;
+  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
+  return WEXITSTATUS(status);
+}
+
+/* Case-insensitive substring. */
+static int mentions(const char *text, const char *word) {
+  size_t n = strlen(word);
+  for (const char *s = text; *s; ++s) {
+    size_t k = 0;
+    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
+    if (k == n) return 1;
+  }
+  return 0;
+}
+
+#define assert_mentions(text, word)                                         \
+  do {                                                                      \
+    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text);     \
+  } while (0)
+
+static int file_exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0 && st.st_size > 0;
+}
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_cli_XXXXXX");
+  return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+/* Runs `adem check` and `adem run` on a case made from base_case by one replacement; both must
+ * exit 2 and name the problem. */
+static void expect_bad_case(const char *from, const char *to, const char *word1, const char *word2) {
+  char *text = replaced(base_case, from, to);
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 2);
+  assert_mentions(out, "error");
+  assert_mentions(out, word1);
+  if (word2) assert_mentions(out, word2);
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_bad'", path, tmpdir), 2);
+  assert_mentions(out, word1);
+  free(text);
+  free(path);
+}
+
+/* Claim: the valid base case passes check and runs (exit 0), so the failures below come from
+ * the one change each makes. */
+static void test_valid_case(void **state) {
+  (void)state;
+  char *path = write_case("ok.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "collision time");
+  assert_mentions(out, "rayleigh");
+  assert_mentions(out, "glass-glass");
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_ok'", path, tmpdir), 0);
+  char *f = path_in_tmp("out_ok/frames/particles_000000.vtu");
+  assert_true(file_exists(f));
+  free(f);
+  f = path_in_tmp("out_ok/particles.pvd");
+  assert_true(file_exists(f));
+  free(f);
+  f = path_in_tmp("out_ok/timeseries.csv");
+  assert_true(file_exists(f));
+  free(f);
+  f = path_in_tmp("out_ok/checkpoint");
+  assert_true(file_exists(f));
+  free(f);
+  /* and it resumes from its final checkpoint without doing anything */
+  assert_int_equal(adem(&out, "run --quiet --resume '%s/out_ok/checkpoint'", tmpdir), 0);
+  free(path);
+}
+
+static void test_help_and_version(void **state) {
+  (void)state;
+  char *out;
+  assert_int_equal(adem(&out, "--help"), 0);
+  assert_mentions(out, "exit status");
+  assert_mentions(out, "adem run");
+  assert_int_equal(adem(&out, "run --help"), 0);
+  assert_mentions(out, "--resume");
+  assert_mentions(out, "--threads");
+  assert_int_equal(adem(&out, "check --help"), 0);
+  assert_mentions(out, "rayleigh");
+  assert_int_equal(adem(&out, "--version"), 0);
+  assert_mentions(out, "adem 0.");
+  assert_int_equal(adem(&out, "frobnicate"), 2);
+  assert_mentions(out, "unknown command");
+  assert_int_equal(adem(&out, "run --no-such-option x.yaml"), 2);
+  assert_mentions(out, "--no-such-option");
+  assert_int_equal(adem(&out, "run x.yaml --threads zero"), 2);
+  assert_mentions(out, "--threads");
+}
+
+static void test_unknown_key(void **state) {
+  (void)state;
+  expect_bad_case("name: cli\n", "name: cli\ncolour: red\n", "colour", NULL);
+}
+
+static void test_wrong_type(void **state) {
+  (void)state;
+  expect_bad_case("  end: 0.001\n", "  end: soon\n", "end", "soon");
+}
+
+static void test_missing_required(void **state) {
+  (void)state;
+  expect_bad_case("  end: 0.001\n", "  step: auto\n", "end", NULL);
+}
+
+static void test_radius_not_positive(void **state) {
+  (void)state;
+  expect_bad_case("radius: 0.001}", "radius: -0.001}", "radius", NULL);
+  expect_bad_case("radius: 0.001}", "radius: 0}", "radius", NULL);
+}
+
+static void test_density_not_positive(void **state) {
+  (void)state;
+  expect_bad_case("density: 2500", "density: 0", "density", NULL);
+}
+
+static void test_poisson_out_of_range(void **state) {
+  (void)state;
+  expect_bad_case("poisson_ratio: 0.3", "poisson_ratio: 0.6", "poisson", "0.6");
+}
+
+static void test_restitution_out_of_range(void **state) {
+  (void)state;
+  expect_bad_case("restitution: 0.5", "restitution: 0", "restitution", NULL);
+  expect_bad_case("restitution: 0.5", "restitution: 1.5", "restitution", "1.5");
+}
+
+static void test_overlapping_particles(void **state) {
+  (void)state;
+  expect_bad_case("[0.005, 0, 0.01]", "[0.0015, 0, 0.01]", "overlap", NULL);
+}
+
+static void test_particle_outside_walls(void **state) {
+  (void)state;
+  expect_bad_case("[0.005, 0, 0.01]", "[0.005, 0, -0.01]", "outside", "floor");
+}
+
+static void test_missing_file(void **state) {
+  (void)state;
+  char *out;
+  assert_int_equal(adem(&out, "check '%s/no_such_case.yaml'", tmpdir), 2);
+  assert_mentions(out, "no_such_case.yaml");
+  assert_int_equal(adem(&out, "run '%s/no_such_case.yaml'", tmpdir), 2);
+  assert_mentions(out, "no_such_case.yaml");
+  assert_int_equal(adem(&out, "run --resume '%s/no_such_folder/checkpoint'", tmpdir), 2);
+  assert_mentions(out, "no_such_folder");
+}
+
+/* A file that is not a checkpoint, and a checkpoint cut short, are refused with exit 2. */
+static void test_bad_checkpoint(void **state) {
+  (void)state;
+  char *path = write_case("ok2.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_ck'", path, tmpdir), 0);
+  assert_int_equal(adem(&out, "run --resume '%s'", path), 2);
+  assert_mentions(out, "not a");
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "head -c 300 '%s/out_ck/checkpoint' > '%s/out_ck/cut' && mv '%s/out_ck/cut' '%s/out_ck/checkpoint'",
+           tmpdir, tmpdir, tmpdir, tmpdir);
+  assert_int_equal(system(cmd), 0);
+  assert_int_equal(adem(&out, "run --resume '%s/out_ck'", tmpdir), 2);
+  assert_mentions(out, "truncated");
+  free(path);
+}
+
+static void test_output_not_writable(void **state) {
+  (void)state;
+  char *path = write_case("ok3.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "run '%s' --out /proc/adem_cannot_write", path), 2);
+  assert_mentions(out, "/proc/adem_cannot_write");
+  assert_mentions(out, "cannot be written");
+  /* a folder below a regular file */
+  assert_int_equal(adem(&out, "run '%s' --out '%s/sub'", path, path), 2);
+  assert_mentions(out, "cannot be written");
+  assert_mentions(out, "not a directory");
+  free(path);
+}
+
+/* Claim: a run that blows up exits 3, names the particle and the time, and keeps the frames
+ * and the checkpoint written before the failure. Two spheres meet head-on at 40 m/s with an
+ * overlap limit of 0.1 % of the radius. */
+static void test_runtime_failure(void **state) {
+  (void)state;
+  char *t1 = replaced(base_case, "radius: 0.001}\n      - {position: [0.005, 0, 0.01], radius: 0.001}",
+                      "radius: 0.001, velocity: [20, 0, 0]}\n"
+                      "      - {position: [0.005, 0, 0.01], radius: 0.001, velocity: [-20, 0, 0]}");
+  char *t2 = replaced(t1, "output:\n", "gravity: [0, 0, 0]\nlimits:\n  max_overlap_ratio: 0.001\n"
+                                       "output:\n  checkpoint_interval: 0.00002\n");
+  char *t3 = replaced(t2, "frame_interval: 0.0005", "frame_interval: 0.00002");
+  char *path = write_case("boom.yaml", t3);
+  char *out;
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_boom'", path, tmpdir), 3);
+  assert_mentions(out, "error");
+  assert_mentions(out, "particle id");
+  assert_mentions(out, "t = ");
+  char *f = path_in_tmp("out_boom/frames/particles_000000.vtu");
+  assert_true(file_exists(f));
+  free(f);
+  f = path_in_tmp("out_boom/checkpoint");
+  assert_true(file_exists(f));
+  free(f);
+  /* resuming replays the same failure: exit 3 again */
+  assert_int_equal(adem(&out, "run --quiet --resume '%s/out_boom'", tmpdir), 3);
+  free(t1);
+  free(t2);
+  free(t3);
+  free(path);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_valid_case),
+      cmocka_unit_test(test_help_and_version),
+      cmocka_unit_test(test_unknown_key),
+      cmocka_unit_test(test_wrong_type),
+      cmocka_unit_test(test_missing_required),
+      cmocka_unit_test(test_radius_not_positive),
+      cmocka_unit_test(test_density_not_positive),
+      cmocka_unit_test(test_poisson_out_of_range),
+      cmocka_unit_test(test_restitution_out_of_range),
+      cmocka_unit_test(test_overlapping_particles),
+      cmocka_unit_test(test_particle_outside_walls),
+      cmocka_unit_test(test_missing_file),
+      cmocka_unit_test(test_bad_checkpoint),
+      cmocka_unit_test(test_output_not_writable),
+      cmocka_unit_test(test_runtime_failure),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}

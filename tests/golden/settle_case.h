@@ -1,0 +1,93 @@
+/* The golden tests' case: 300 frictional spheres of mixed sizes falling into a box and settling,
+ * 2000 steps. Soft (E = 1 MPa) so that within 14 ms the bed forms: many contacts with
+ * tangential history, and many neighbour-list rebuilds before and after the halfway point. */
+#ifndef ADEM_TEST_SETTLE_CASE_H
+#define ADEM_TEST_SETTLE_CASE_H
+
+#include <string.h>
+
+#include "adem/adem.h"
+#include "world.h"
+
+#define SETTLE_STEPS 2000
+
+static const char *const settle_case =
+    "name: settle\n"
+    "seed: 7\n"
+    "materials:\n"
+    "  - name: glass\n"
+    "    density: 2500\n"
+    "    youngs_modulus: 1.0e6\n"
+    "    poisson_ratio: 0.3\n"
+    "    restitution: 0.5\n"
+    "    friction: 0.5\n"
+    "  - name: steel\n"
+    "    rigid: true\n"
+    "    friction: 0.4\n"
+    "particles:\n"
+    "  - type: random\n"
+    "    material: glass\n"
+    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
+    "    min: [0, 0, 0]\n"
+    "    max: [0.015, 0.015, 0.02]\n"
+    "    count: 300\n"
+    "    velocity: [0.05, -0.03, -0.5]\n"
+    "walls:\n"
+    "  - type: box\n"
+    "    name: box\n"
+    "    material: steel\n"
+    "    min: [0, 0, 0]\n"
+    "    max: [0.015, 0.015, 0.05]\n"
+    "time:\n"
+    "  end: 0.014\n"
+    "  step: 7.0e-6\n"
+    "output:\n"
+    "  frame_interval: 0.0035\n"
+    "  csv_interval: 0.00035\n"
+    "  checkpoint_interval: 0\n";
+
+/* Bit-for-bit equality of everything that carries the motion forward. */
+static inline int settle_same_state(const adem_world *a, const adem_world *b, const char **what) {
+  const adem_particles *p = &a->p, *q = &b->p;
+  size_t n = p->n;
+#define SAME(cond, name) \
+  if (!(cond)) {         \
+    *what = name;        \
+    return 0;            \
+  }
+  SAME(n == q->n, "particle count");
+  SAME(a->step == b->step, "step");
+  SAME(memcmp(&a->time, &b->time, sizeof a->time) == 0, "time");
+  SAME(memcmp(p->id, q->id, n * sizeof *p->id) == 0, "particle order (ids)");
+  SAME(memcmp(p->pos, q->pos, n * sizeof *p->pos) == 0, "positions");
+  SAME(memcmp(p->vel, q->vel, n * sizeof *p->vel) == 0, "velocities");
+  SAME(memcmp(p->omega, q->omega, n * sizeof *p->omega) == 0, "angular velocities");
+  SAME(memcmp(p->force, q->force, n * sizeof *p->force) == 0, "forces");
+  SAME(memcmp(p->torque, q->torque, n * sizeof *p->torque) == 0, "torques");
+  const adem_pair_list *la[2] = {&a->pp, &a->pw}, *lb[2] = {&b->pp, &b->pw};
+  for (int s = 0; s < 2; ++s) {
+    SAME(la[s]->n == lb[s]->n, s ? "wall pair count" : "particle pair count");
+    size_t m = la[s]->n;
+    SAME(memcmp(la[s]->a, lb[s]->a, m * sizeof *la[s]->a) == 0 &&
+             memcmp(la[s]->b, lb[s]->b, m * sizeof *la[s]->b) == 0,
+         s ? "wall pairs" : "particle pairs");
+    SAME(memcmp(la[s]->hist, lb[s]->hist, m * sizeof *la[s]->hist) == 0,
+         s ? "wall contact history" : "particle contact history");
+    SAME(memcmp(la[s]->touching, lb[s]->touching, m * sizeof *la[s]->touching) == 0,
+         "touching flags");
+  }
+#undef SAME
+  return 1;
+}
+
+/* Contacts whose tangential spring is loaded: the test is void without them. */
+static inline size_t settle_loaded_contacts(const adem_world *w) {
+  size_t k, count = 0;
+  for (k = 0; k < w->pp.n; ++k)
+    if (w->pp.touching[k] && w->pp.hist[k].tangential.x != 0.0) ++count;
+  for (k = 0; k < w->pw.n; ++k)
+    if (w->pw.touching[k] && w->pw.hist[k].tangential.x != 0.0) ++count;
+  return count;
+}
+
+#endif
