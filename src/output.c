@@ -1,21 +1,19 @@
 #include "output.h"
+#include "plot.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "fileio.h"
 #include "log.h"
 #include "world.h"
 
-extern char **environ;
 
 _Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
 
@@ -386,106 +384,32 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
 
 /* ---------------------------------------------------------------- plot */
 
-/* Single-quoted gnuplot string: a quote is doubled. */
-static void gp_quote(strbuf *b, const char *s) {
-  sb_printf(b, "'");
-  for (; *s; ++s) {
-    if (*s == '\'') sb_printf(b, "''");
-    else if (*s != '\n' && *s != '\r') sb_printf(b, "%c", *s);
-  }
-  sb_printf(b, "'");
-}
-
-/* Runs "gnuplot script" with output to /dev/null and errors into errfile. Returns the exit
- * status, 127 when gnuplot cannot be started, or -1 on another failure. */
-static int run_gnuplot(const char *script, const char *errfile) {
-  posix_spawn_file_actions_t fa;
-  if (posix_spawn_file_actions_init(&fa) != 0) return -1;
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, errfile, O_WRONLY | O_TRUNC, 0);
-  char *argv[] = {"gnuplot", (char *)script, NULL};
-  pid_t pid;
-  int rc = posix_spawnp(&pid, "gnuplot", &fa, NULL, argv, environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) return rc == ENOENT ? 127 : -1;
-  int status;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return -1;
-}
-
 adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, const char *title,
                                     adem_error *err) {
-  char *png_tmp = NULL, *script_path = NULL, *err_path = NULL;
-  adem_status st = adem_fileio_temp_next_to(png_path, &png_tmp, err);
-  if (st) return st;
-  adem_error e2;
-  if (adem_fileio_temp_next_to(png_path, &script_path, &e2) ||
-      adem_fileio_temp_next_to(png_path, &err_path, &e2)) {
-    unlink(png_tmp);
-    free(png_tmp);
-    if (script_path) {
-      unlink(script_path);
-      free(script_path);
-    }
-    return adem_error_set(err, e2.status, "%s", e2.message);
+  size_t qn = 2 * (strlen(csv_path) + strlen(title)) + 8;
+  char *qcsv = malloc(qn), *qtitle = malloc(qn);
+  if (!qcsv || !qtitle) {
+    free(qcsv);
+    free(qtitle);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-
   strbuf b = {0};
-  sb_printf(&b, "set datafile separator ','\n"
-                "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
-                "  set terminal pngcairo size 1000,600 noenhanced\n"
-                "} else {\n"
-                "  set terminal png size 1000,600 noenhanced\n"
-                "}\n"
-                "set output ");
-  gp_quote(&b, png_tmp);
-  sb_printf(&b, "\nset title ");
-  gp_quote(&b, title);
-  sb_printf(&b, "\nset xlabel 'time (s)'\nset ylabel 'energy (J)'\nset key outside right\n"
-                "set grid\nf = ");
-  gp_quote(&b, csv_path);
+  sb_printf(&b, "set title %s\nset xlabel 'time (s)'\nset ylabel 'energy (J)'\n"
+                "set key outside right\nset grid\nf = %s\n",
+            adem_plot_quote(title, qtitle, qn), adem_plot_quote(csv_path, qcsv, qn));
   /* The total is what the energy balance checks: it should only go down. */
-  sb_printf(&b, "\nplot f skip 1 using 1:2 with lines title 'kinetic', \\\n"
+  sb_printf(&b, "plot f skip 1 using 1:2 with lines title 'kinetic', \\\n"
                 "     f skip 1 using 1:3 with lines title 'rotational', \\\n"
                 "     f skip 1 using 1:4 with lines title 'potential', \\\n"
                 "     f skip 1 using 1:5 with lines title 'elastic', \\\n"
                 "     f skip 1 using 1:6 with lines title 'dissipated', \\\n"
                 "     f skip 1 using 1:($2+$3+$4+$5) with lines lw 2 title 'total'\n");
-  char *script = sb_finish(&b);
-  int rc = -1;
-  if (script) {
-    adem_error we;
-    if (adem_fileio_write_all(script_path, script, strlen(script), &we) == ADEM_OK)
-      rc = run_gnuplot(script_path, err_path);
-    free(script);
-  }
-  if (rc == 0) {
-    st = adem_fileio_rename_into_place(png_tmp, png_path, err);
-  } else if (rc == 127) {
-    adem_log(ADEM_LOG_WARN, "gnuplot was not found: %s is not drawn", png_path);
-  } else {
-    /* Say what gnuplot said: its first error line. */
-    char *msg = NULL;
-    size_t len = 0;
-    adem_error ignored;
-    if (adem_fileio_read_all(err_path, &msg, &len, &ignored) == ADEM_OK) {
-      for (char *c = msg; *c; ++c)
-        if (*c == '\n') *c = ' ';
-    }
-    adem_log(ADEM_LOG_WARN, "gnuplot failed (status %d): %s is not drawn%s%.300s", rc, png_path,
-             msg && *msg ? ": " : "", msg ? msg : "");
-    free(msg);
-  }
-  if (rc != 0 || st) unlink(png_tmp);
-  unlink(script_path);
-  unlink(err_path);
-  free(png_tmp);
-  free(script_path);
-  free(err_path);
+  free(qcsv);
+  free(qtitle);
+  char *body = sb_finish(&b);
+  if (!body) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = adem_plot_png(png_path, 1000, 600, body, err);
+  free(body);
   return st;
 }
 
