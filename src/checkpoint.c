@@ -87,6 +87,8 @@ static void put_pairs(ck_writer *wr, const adem_pair_list *l) {
   put_array(wr, l->force_a, n, sizeof *l->force_a);
   put_array(wr, l->torque_a, n, sizeof *l->torque_a);
   put_array(wr, l->torque_b, n, sizeof *l->torque_b);
+  put_array(wr, l->rolling_a, n, sizeof *l->rolling_a);
+  put_array(wr, l->rolling_capacity, n, sizeof *l->rolling_capacity);
   put_array(wr, l->elastic, n, sizeof *l->elastic);
   put_array(wr, l->overlap_ratio, n, sizeof *l->overlap_ratio);
 }
@@ -174,6 +176,7 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_array(&wr, p->material, n, sizeof *p->material);
   put_array(&wr, p->group, n, sizeof *p->group);
   put_array(&wr, p->pos_at_build, n, sizeof *p->pos_at_build);
+  put_array(&wr, p->rolling_torque, n, sizeof *p->rolling_torque);
 
   put_pairs(&wr, &w->pp);
   put_pairs(&wr, &w->pw);
@@ -270,6 +273,8 @@ static adem_status get_pairs(ck_reader *rd, adem_pair_list *l, adem_error *err) 
   get_array(rd, l->force_a, l->n, sizeof *l->force_a);
   get_array(rd, l->torque_a, l->n, sizeof *l->torque_a);
   get_array(rd, l->torque_b, l->n, sizeof *l->torque_b);
+  get_array(rd, l->rolling_a, l->n, sizeof *l->rolling_a);
+  get_array(rd, l->rolling_capacity, l->n, sizeof *l->rolling_capacity);
   get_array(rd, l->elastic, l->n, sizeof *l->elastic);
   get_array(rd, l->overlap_ratio, l->n, sizeof *l->overlap_ratio);
   return ADEM_OK;
@@ -399,6 +404,7 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   get_array(rd, p->material, p->n, sizeof *p->material);
   get_array(rd, p->group, p->n, sizeof *p->group);
   get_array(rd, p->pos_at_build, p->n, sizeof *p->pos_at_build);
+  get_array(rd, p->rolling_torque, p->n, sizeof *p->rolling_torque);
   if (rd->short_read) goto truncated;
 
   if ((st = get_pairs(rd, &w->pp, err)) || (st = get_pairs(rd, &w->pw, err))) {

@@ -8,6 +8,7 @@
 
 #include "contact/hertz.h"
 #include "contact/jkr.h"
+#include "contact/rolling.h"
 #include "contact/tangential.h"
 #include "parallel.h"
 #include "world.h"
@@ -19,12 +20,65 @@ typedef struct contact_geometry {
   double R;        /* effective radius (H2; wall: r_i) */
   double mstar;    /* effective mass (wall: m_i) */
   adem_vec3 w;     /* relative velocity of the contact points, i minus j */
+  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n */
+  double ri, rj;   /* radii; rj = 0 for a wall */
+  double inertia_r; /* model C rolling inertia I_r (Ai et al. 2011) */
 } contact_geometry;
 
 typedef struct contact_result {
-  adem_vec3 force;   /* on i */
-  double elastic;    /* stored energy, J */
+  adem_vec3 force;    /* on i */
+  adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
+  double capacity;    /* BROF resistance this contact offers, e_c |F_n| */
+  double elastic;     /* stored energy, J */
 } contact_result;
+
+/* Rolling resistance of one contact (notes section 4). f_load is the normal load |F_el + 2F_C|,
+ * a_jkr the JKR contact radius (DTK only), Sn the normal stiffness (model C). */
+static inline void contact_rolling(const adem_interaction *it, const contact_geometry *g,
+                                   adem_contact_history *h, double dt, double f_load,
+                                   double a_jkr, double Sn, double vn, contact_result *r) {
+  bool wall = g->rj == 0.0;
+  double R_r = wall ? g->ri : g->ri * g->rj / (g->ri + g->rj);
+  /* A wall contact uses the particle's eta_r; a particle pair the mean of the two. */
+  double eta = wall ? it->rolling_friction_a : 0.5 * (it->rolling_friction_a + it->rolling_friction_b);
+  r->rolling = v3_zero();
+  r->capacity = 0.0;
+  switch (it->rolling) {
+    case ADEM_ROLLING_A: /* I7-I8 */
+      r->rolling = adem_rolling_model_a(g->omega_rel, eta * R_r, f_load);
+      break;
+    case ADEM_ROLLING_C: {
+      double k_r = 2.25 * Sn * eta * eta * R_r * R_r;
+      double c_r = it->rolling_damping * 2.0 * sqrt(g->inertia_r * k_r);
+      r->rolling = adem_rolling_model_c(&h->rolling, g->n, g->omega_rel, dt, k_r,
+                                        eta * R_r * f_load, c_r);
+      break;
+    }
+    case ADEM_ROLLING_BROF: { /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
+      double e_c = it->rolling_friction_a * g->ri;
+      if (!wall) e_c = fmin(e_c, it->rolling_friction_b * g->rj);
+      r->capacity = e_c * f_load;
+      break;
+    }
+    case ADEM_ROLLING_DTK: {
+      /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2). */
+      double f_c = adem_jkr_critical_force(it->gamma_real, g->R);
+      double a0_real = adem_jkr_a0(it->gamma_real, g->R, it->E_real);
+      double a0_mod = adem_jkr_a0(it->gamma, g->R, it->E);
+      double ratio = a_jkr / a0_mod;
+      double k_r = 4.0 * f_c * ratio * sqrt(ratio);            /* H20 */
+      double xi_crit = a0_real / 12.0 * it->hysteresis;        /* H22 */
+      double size_factor = wall ? 1.0 : (g->rj - g->ri) / (g->ri + g->rj);
+      adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
+      adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R, size_factor, vt);
+      r->rolling = adem_rolling_dtk(&h->rolling, g->n, v_l, dt, k_r, xi_crit);
+      break;
+    }
+    case ADEM_ROLLING_NONE:
+    default:
+      break;
+  }
+}
 
 /* Normal + tangential force of one contact (H9, H11-H17), updating its history. */
 static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
@@ -34,10 +88,10 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
 
   double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
-  double f_elastic, e_elastic, f_critical = 0.0;
+  double f_elastic, e_elastic, f_critical = 0.0, a_jkr = a;
   switch (it->normal) {
     case ADEM_NORMAL_JKR: {
-      double a_jkr = adem_jkr_contact_radius(it->gamma, g->R, it->E, g->delta); /* H10 */
+      a_jkr = adem_jkr_contact_radius(it->gamma, g->R, it->E, g->delta); /* H10 */
       f_elastic = adem_jkr_force(it->gamma, g->R, it->E, a_jkr);                 /* H8-H9 */
       e_elastic = adem_jkr_energy(it->gamma, g->R, it->E, a_jkr);
       f_critical = adem_jkr_critical_force(it->gamma, g->R);
@@ -55,12 +109,14 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   double St = adem_hertz_tangential_stiffness(it->G, a);
   double ct = adem_damping_coefficient(it->beta, St, g->mstar);
-  double f_limit = it->friction * fabs(f_elastic + 2.0 * f_critical); /* H17 */
+  double f_load = fabs(f_elastic + 2.0 * f_critical); /* the load the contact carries */
+  double f_limit = it->friction * f_load;               /* H17 */
   bool sliding;
   adem_vec3 ft = adem_tangential_force(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);
 
   r.force = v3_axpy(ft, -fn, g->n);
   r.elastic = e_elastic + 0.5 * St * v3_norm2(h->tangential);
+  contact_rolling(it, g, h, dt, f_load, a_jkr, Sn, vn, &r);
   return r;
 }
 
@@ -80,7 +136,8 @@ static void particle_pairs(adem_world *w) {
     if (dist2 >= rsum * rsum) {
       l->touching[k] = false;
       memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+      l->rolling_capacity[k] = 0.0;
       l->elastic[k] = 0.0;
       l->overlap_ratio[k] = 0.0;
       continue;
@@ -94,13 +151,23 @@ static void particle_pairs(adem_world *w) {
     /* contact points: i's at +r_i n, j's at -r_j n */
     adem_vec3 spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
     g.w = v3_add(v3_sub(p->vel[i], p->vel[j]), v3_cross(spin, g.n));
+    adem_vec3 om = v3_sub(p->omega[i], p->omega[j]);
+    g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+    g.ri = ri;
+    g.rj = rj;
+    /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
+    double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+    double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
+    g.inertia_r = Ici * Icj / (Ici + Icj);
     const adem_interaction *it = adem_world_interaction(w, p->material[i], p->material[j]);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
     adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
     l->touching[k] = true;
     l->force_a[k] = r.force;
-    l->torque_a[k] = v3_cross(v3_scale(g.n, ri), ft);
-    l->torque_b[k] = v3_cross(v3_scale(g.n, rj), ft);
+    l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
+    l->torque_b[k] = v3_sub(v3_cross(v3_scale(g.n, rj), ft), r.rolling);
+    l->rolling_a[k] = r.rolling;
+    l->rolling_capacity[k] = r.capacity;
     l->elastic[k] = r.elastic;
     l->overlap_ratio[k] = g.delta / (ri < rj ? ri : rj);
   }
@@ -121,7 +188,8 @@ static void wall_pairs(adem_world *w) {
     if (dist >= ri) {
       l->touching[k] = false;
       memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+      l->rolling_capacity[k] = 0.0;
       l->elastic[k] = 0.0;
       l->overlap_ratio[k] = 0.0;
       continue;
@@ -132,13 +200,19 @@ static void wall_pairs(adem_world *w) {
     g.R = ri;
     g.mstar = 1.0 / p->inv_mass[i];
     g.w = v3_add(v3_sub(p->vel[i], pl->velocity), v3_cross(v3_scale(p->omega[i], ri), g.n));
+    g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+    g.ri = ri;
+    g.rj = 0.0;
+    g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
     const adem_interaction *it = adem_world_interaction(w, p->material[i], pl->material);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
     adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
     l->touching[k] = true;
     l->force_a[k] = r.force;
-    l->torque_a[k] = v3_cross(v3_scale(g.n, ri), ft);
+    l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
     l->torque_b[k] = v3_zero();
+    l->rolling_a[k] = r.rolling;
+    l->rolling_capacity[k] = r.capacity;
     l->elastic[k] = r.elastic;
     l->overlap_ratio[k] = g.delta / ri;
   }
@@ -153,10 +227,12 @@ static void sum_per_particle(adem_world *w) {
   int nthreads = adem_world_threads(w);
   size_t n = p->n;
   adem_vec3 g = w->gravity;
+  double dt = w->dt;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
-    adem_vec3 t = v3_zero();
+    adem_vec3 t = v3_zero(), roll = v3_zero();
+    double capacity = 0.0;
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
@@ -164,19 +240,33 @@ static void sum_per_particle(adem_world *w) {
       if (code & 1u) {
         f = v3_sub(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_b[k]);
+        roll = v3_sub(roll, pp->rolling_a[k]);
       } else {
         f = v3_add(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_a[k]);
+        roll = v3_add(roll, pp->rolling_a[k]);
       }
+      capacity += pp->rolling_capacity[k];
     }
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
       if (!pw->touching[k]) continue;
       f = v3_add(f, pw->force_a[k]);
       t = v3_add(t, pw->torque_a[k]);
+      roll = v3_add(roll, pw->rolling_a[k]);
+      capacity += pw->rolling_capacity[k];
+    }
+    if (capacity > 0.0) {
+      /* BROF (I9-I10). Here omega is the half-step spin; the torque acts over the final half kick
+       * of this step and the first of the next, a full dt: -I omega/dt - t stops it exactly. */
+      adem_vec3 t_stop = v3_sub(v3_scale(p->omega[i], -1.0 / (p->inv_inertia[i] * dt)), t);
+      adem_vec3 t_brof = adem_rolling_brof(t_stop, capacity);
+      t = v3_add(t, t_brof);
+      roll = v3_add(roll, t_brof);
     }
     p->force[i] = f;
     p->torque[i] = t;
+    p->rolling_torque[i] = roll;
   }
 }
 

@@ -69,7 +69,8 @@ static void restore_history(const adem_world *w, adem_pair_list *l, bool walls,
       memset(&l->hist[k], 0, sizeof l->hist[k]);
       l->touching[k] = false;
     }
-    l->force_a[k] = l->torque_a[k] = l->torque_b[k] = v3_zero();
+    l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+    l->rolling_capacity[k] = 0.0;
     l->elastic[k] = 0.0;
     l->overlap_ratio[k] = 0.0;
   }

@@ -21,6 +21,8 @@ adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap) {
   GROW(force_a);
   GROW(torque_a);
   GROW(torque_b);
+  GROW(rolling_a);
+  GROW(rolling_capacity);
   GROW(elastic);
   GROW(overlap_ratio);
   l->cap = cap;
@@ -35,6 +37,8 @@ void adem_pair_list_free(adem_pair_list *l) {
   free(l->force_a);
   free(l->torque_a);
   free(l->torque_b);
+  free(l->rolling_a);
+  free(l->rolling_capacity);
   free(l->elastic);
   free(l->overlap_ratio);
   memset(l, 0, sizeof *l);

@@ -25,6 +25,7 @@ adem_status adem_particles_reserve(adem_particles *p, size_t cap) {
   GROW(material);
   GROW(group);
   GROW(pos_at_build);
+  GROW(rolling_torque);
   p->cap = cap;
   return ADEM_OK;
 }
@@ -42,6 +43,7 @@ void adem_particles_free(adem_particles *p) {
   free(p->material);
   free(p->group);
   free(p->pos_at_build);
+  free(p->rolling_torque);
   memset(p, 0, sizeof *p);
 }
 
@@ -68,6 +70,7 @@ adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
   permute_array(p->material, sizeof *p->material, n, perm, scratch);
   permute_array(p->group, sizeof *p->group, n, perm, scratch);
   permute_array(p->pos_at_build, sizeof *p->pos_at_build, n, perm, scratch);
+  permute_array(p->rolling_torque, sizeof *p->rolling_torque, n, perm, scratch);
   free(scratch);
   return ADEM_OK;
 }

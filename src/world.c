@@ -115,6 +115,7 @@ int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, ade
   p->material[i] = (uint16_t)def->material;
   p->group[i] = (uint16_t)def->group;
   p->pos_at_build[i] = def->position;
+  p->rolling_torque[i] = v3_zero();
   w->prepared = false;
   return (int64_t)p->id[i];
 }

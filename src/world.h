@@ -18,6 +18,7 @@ typedef struct adem_particles {
   uint64_t *id;
   uint16_t *material, *group;
   adem_vec3 *pos_at_build; /* positions when the neighbour list was built (skin check) */
+  adem_vec3 *rolling_torque; /* rolling resistance torque of the last force pass (output) */
 } adem_particles;
 
 /* A material after derivation: the real values plus those the contact laws use. */
@@ -71,7 +72,9 @@ typedef struct adem_pair_list {
   adem_contact_history *hist;
   bool *touching;               /* in contact after the last force pass */
   adem_vec3 *force_a;           /* force on a (on b it is the opposite) */
-  adem_vec3 *torque_a, *torque_b;
+  adem_vec3 *torque_a, *torque_b;  /* all contact torques, rolling included */
+  adem_vec3 *rolling_a;            /* the rolling couple on a (on b: the opposite) */
+  double *rolling_capacity;        /* BROF: e_c |F_n| this contact offers each side (I9) */
   double *elastic;              /* elastic energy stored in the contact, J */
   double *overlap_ratio;        /* overlap / smaller radius */
 } adem_pair_list;

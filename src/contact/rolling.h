@@ -1,0 +1,65 @@
+/* Rolling resistance laws (notes section 4). Pure functions: each returns the torque on particle
+ * i; particle j (or the wall) takes the opposite couple, except BROF, which Irazabal et al. define
+ * per particle. omega_rel = (omega_i - omega_j) with its component along n removed. */
+#ifndef ADEM_CONTACT_ROLLING_H
+#define ADEM_CONTACT_ROLLING_H
+
+#include <math.h>
+#include <stdbool.h>
+#include "contact/tangential.h"
+#include "vec3.h"
+
+/* Model A, constant directional torque (I7-I8): -e_c |F_n| omega_rel/|omega_rel|, e_c = eta_r R_r.
+ * It flips sign with omega_rel, so a sphere at rest sees it oscillate: that is the known flaw. */
+static inline adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, double f_normal) {
+  double norm = v3_norm(omega_rel);
+  if (norm == 0.0) return v3_zero();
+  return v3_scale(omega_rel, -e_c * fabs(f_normal) / norm);
+}
+
+/* Model C (Ai et al. 2011): elastic-plastic spring plus a dashpot that works only while the
+ * spring is below its limit. spring: the spring torque on i (history, kept in the tangent plane);
+ * k_r = 2.25 k_n eta_r^2 R_r^2, limit eta_r R_r |F_n|, damping C_r = delta_r 2 sqrt(I_r k_r). */
+static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
+                                             double dt, double k_r, double limit, double c_r) {
+  adem_vec3 m = v3_axpy(adem_tangential_project(*spring, n), -k_r * dt, omega_rel);
+  double mag2 = v3_norm2(m);
+  if (mag2 > limit * limit) {
+    m = v3_scale(m, limit / sqrt(mag2)); /* full mobilisation: plastic, no damping */
+    *spring = m;
+    return m;
+  }
+  *spring = m;
+  return v3_axpy(m, -c_r, omega_rel);
+}
+
+/* DTK rolling velocity (Marshall 2009) with n from i to j: v_L = -R (omega_i - omega_j) x n
+ * + 1/2 (r_j - r_i)/(r_i + r_j) v_S, v_S the slip velocity of i's surface relative to j's. For a
+ * wall (r_j -> infinity) the factor of v_S is 1/2. */
+static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, double R,
+                                                  double size_factor, adem_vec3 v_slip) {
+  return v3_axpy(v3_scale(v3_cross(omega_rel, n), -R), 0.5 * size_factor, v_slip);
+}
+
+/* DTK torque (H18-H22): xi += v_L dt in the tangent plane, |xi| <= xi_crit, torque on i
+ * k_r (n x xi) with k_r = 4 F_C (a/a0)^(3/2) (H20; a/a0 of the modified material, section 3.2). */
+static inline adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v_l, double dt,
+                                         double k_r, double xi_crit) {
+  adem_vec3 x = v3_axpy(adem_tangential_project(*xi, n), dt, v_l);
+  double mag2 = v3_norm2(x);
+  if (mag2 > xi_crit * xi_crit) x = mag2 > 0.0 ? v3_scale(x, xi_crit / sqrt(mag2)) : x; /* H22 */
+  *xi = x;
+  return v3_scale(v3_cross(n, x), k_r);
+}
+
+/* BROF (I9-I10) for one particle: t_stop is the torque that would bring its spin to zero within
+ * this step given every other torque on it; the resistance is t_stop itself when the available
+ * resistance capacity (sum of e_c |F_n| over its BROF contacts) suffices, else the capacity along
+ * t_stop. It never reverses the rotation and holds a particle at rest exactly. */
+static inline adem_vec3 adem_rolling_brof(adem_vec3 t_stop, double capacity) {
+  double mag = v3_norm(t_stop);
+  if (mag <= capacity) return t_stop;
+  return v3_scale(t_stop, capacity / mag);
+}
+
+#endif
