@@ -120,6 +120,32 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   return r;
 }
 
+/* A candidate pair out of contact: no force, and its history is forgotten. */
+static inline void clear_pair(adem_pair_list *l, size_t k) {
+  l->touching[k] = false;
+  memset(&l->hist[k], 0, sizeof l->hist[k]);
+  l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+  l->rolling_capacity[k] = 0.0;
+  l->elastic[k] = 0.0;
+  l->overlap_ratio[k] = 0.0;
+}
+
+/* Stores a contact's results. The tangential force acts at r_a n from a's centre and at -r_b n
+ * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b; the rolling couple is
+ * equal and opposite. A wall (r_b = 0) takes no torque. */
+static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
+                              const contact_result *r) {
+  adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
+  l->touching[k] = true;
+  l->force_a[k] = r->force;
+  l->torque_a[k] = v3_add(v3_cross(v3_scale(g->n, g->ri), ft), r->rolling);
+  l->torque_b[k] = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
+  l->rolling_a[k] = r->rolling;
+  l->rolling_capacity[k] = r->capacity;
+  l->elastic[k] = r->elastic;
+  l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+}
+
 static void particle_pairs(adem_world *w) {
   adem_particles *p = &w->p;
   adem_pair_list *l = &w->pp;
@@ -134,12 +160,7 @@ static void particle_pairs(adem_world *w) {
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);
     if (dist2 >= rsum * rsum) {
-      l->touching[k] = false;
-      memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-      l->rolling_capacity[k] = 0.0;
-      l->elastic[k] = 0.0;
-      l->overlap_ratio[k] = 0.0;
+      clear_pair(l, k);
       continue;
     }
     double dist = sqrt(dist2);
@@ -161,15 +182,7 @@ static void particle_pairs(adem_world *w) {
     g.inertia_r = Ici * Icj / (Ici + Icj);
     const adem_interaction *it = adem_world_interaction(w, p->material[i], p->material[j]);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
-    adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
-    l->touching[k] = true;
-    l->force_a[k] = r.force;
-    l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
-    l->torque_b[k] = v3_sub(v3_cross(v3_scale(g.n, rj), ft), r.rolling);
-    l->rolling_a[k] = r.rolling;
-    l->rolling_capacity[k] = r.capacity;
-    l->elastic[k] = r.elastic;
-    l->overlap_ratio[k] = g.delta / (ri < rj ? ri : rj);
+    store_pair(l, k, &g, &r);
   }
 }
 
@@ -186,12 +199,7 @@ static void wall_pairs(adem_world *w) {
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     if (dist >= ri) {
-      l->touching[k] = false;
-      memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-      l->rolling_capacity[k] = 0.0;
-      l->elastic[k] = 0.0;
-      l->overlap_ratio[k] = 0.0;
+      clear_pair(l, k);
       continue;
     }
     contact_geometry g;
@@ -206,15 +214,7 @@ static void wall_pairs(adem_world *w) {
     g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
     const adem_interaction *it = adem_world_interaction(w, p->material[i], pl->material);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
-    adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
-    l->touching[k] = true;
-    l->force_a[k] = r.force;
-    l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
-    l->torque_b[k] = v3_zero();
-    l->rolling_a[k] = r.rolling;
-    l->rolling_capacity[k] = r.capacity;
-    l->elastic[k] = r.elastic;
-    l->overlap_ratio[k] = g.delta / ri;
+    store_pair(l, k, &g, &r);
   }
 }
 
