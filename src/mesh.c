@@ -1,0 +1,1030 @@
+#include "mesh.h"
+
+#include <errno.h>
+#include <float.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "log.h"
+#include "vec3.h"
+
+_Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
+
+/* ---------------------------------------------------------------- transform */
+
+adem_mesh_transform adem_default_mesh_transform(void) {
+  adem_mesh_transform tf;
+  memset(&tf, 0, sizeof tf);
+  tf.scale = 1.0;
+  for (int i = 0; i < 3; ++i) tf.rotation[i][i] = 1.0;
+  return tf;
+}
+
+/* cos and sin of an angle in degrees, exact at multiples of 90 (cos(pi/2) is 6e-17 otherwise). */
+static void cos_sin_deg(double deg, double *c, double *s) {
+  double q = deg / 90.0;
+  if (q == floor(q) && fabs(q) < 1e15) {
+    long k = (long)fmod(q, 4.0);
+    if (k < 0) k += 4;
+    static const double cs[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    *c = cs[k][0];
+    *s = cs[k][1];
+    return;
+  }
+  double r = deg * (ADEM_PI / 180.0);
+  *c = cos(r);
+  *s = sin(r);
+}
+
+adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, double angle_deg,
+                                       adem_error *err) {
+  double len = v3_norm(axis);
+  if (!isfinite(len) || len == 0.0 || !isfinite(angle_deg))
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "mesh rotation needs a finite axis of non-zero length and a finite angle");
+  /* A coordinate axis stays exact: dividing (0, 0, 5) by 5 gives (0, 0, 1) exactly. */
+  double k[3] = {axis.x / len, axis.y / len, axis.z / len};
+  double c, s;
+  cos_sin_deg(angle_deg, &c, &s);
+  /* Rodrigues: R = c I + s [k]x + (1 - c) k k^T */
+  double r[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r[i][j] = (1.0 - c) * k[i] * k[j] + (i == j ? c : 0.0);
+  r[0][1] -= s * k[2];
+  r[0][2] += s * k[1];
+  r[1][0] += s * k[2];
+  r[1][2] -= s * k[0];
+  r[2][0] -= s * k[1];
+  r[2][1] += s * k[0];
+  double out[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      out[i][j] = r[i][0] * tf->rotation[0][j] + r[i][1] * tf->rotation[1][j] +
+                  r[i][2] * tf->rotation[2][j];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) tf->rotation[i][j] = out[i][j];
+  return ADEM_OK;
+}
+
+static adem_status check_transform(const adem_mesh_transform *tf, const char *path,
+                                   adem_error *err) {
+  if (!(tf->scale > 0.0) || !isfinite(tf->scale))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh scale must be finite and > 0, not %g",
+                          path, tf->scale);
+  if (!v3_isfinite(tf->translation))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh translation must be finite", path);
+  if (tf->material < 0)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is negative", path,
+                          tf->material);
+  const double(*R)[3] = tf->rotation;
+  /* A mirror would turn the winding inside out; a non-orthonormal matrix would shear. */
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double d = R[0][i] * R[0][j] + R[1][i] * R[1][j] + R[2][i] * R[2][j];
+      if (!(fabs(d - (i == j ? 1.0 : 0.0)) <= 1e-9))
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "%s: mesh rotation matrix is not orthonormal (column %d . column %d = %g)",
+                              path, i, j, d);
+    }
+  double det = R[0][0] * (R[1][1] * R[2][2] - R[1][2] * R[2][1]) -
+               R[0][1] * (R[1][0] * R[2][2] - R[1][2] * R[2][0]) +
+               R[0][2] * (R[1][0] * R[2][1] - R[1][1] * R[2][0]);
+  if (!(det > 0.0))
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: mesh rotation matrix has determinant %g: a mirror is not a rotation",
+                          path, det);
+  return ADEM_OK;
+}
+
+static adem_vec3 rotate(const double R[3][3], adem_vec3 x) {
+  return v3(R[0][0] * x.x + R[0][1] * x.y + R[0][2] * x.z,
+            R[1][0] * x.x + R[1][1] * x.y + R[1][2] * x.z,
+            R[2][0] * x.x + R[2][1] * x.y + R[2][2] * x.z);
+}
+
+/* ---------------------------------------------------------------- triangle soup */
+
+/* Triangles as read: 3 corners, the stored normal and where each came from (ASCII: line of its
+ * `facet`; binary: triangle index), in blocks that become groups. */
+typedef struct soup_block {
+  char name[ADEM_NAME_MAX];
+  size_t line; /* ASCII: line of `solid`; 0 for binary */
+  size_t first, count;
+} soup_block;
+
+typedef struct soup {
+  size_t n, cap;
+  adem_vec3 *corner; /* 3 per triangle */
+  adem_vec3 *normal;
+  size_t *where;
+  size_t nblocks, block_cap;
+  soup_block *blocks;
+} soup;
+
+static void soup_free(soup *s) {
+  free(s->corner);
+  free(s->normal);
+  free(s->where);
+  free(s->blocks);
+  memset(s, 0, sizeof *s);
+}
+
+static int soup_push(soup *s, const adem_vec3 c[3], adem_vec3 normal, size_t where) {
+  if (s->n == s->cap) {
+    size_t cap = s->cap ? 2 * s->cap : 256;
+    adem_vec3 *c2 = realloc(s->corner, 3 * cap * sizeof *c2);
+    if (c2) s->corner = c2;
+    adem_vec3 *n2 = realloc(s->normal, cap * sizeof *n2);
+    if (n2) s->normal = n2;
+    size_t *w2 = realloc(s->where, cap * sizeof *w2);
+    if (w2) s->where = w2;
+    if (!c2 || !n2 || !w2) return 0;
+    s->cap = cap;
+  }
+  memcpy(&s->corner[3 * s->n], c, 3 * sizeof *c);
+  s->normal[s->n] = normal;
+  s->where[s->n] = where;
+  s->n++;
+  return 1;
+}
+
+static soup_block *soup_block_open(soup *s, const char *name, size_t line) {
+  if (s->nblocks == s->block_cap) {
+    size_t cap = s->block_cap ? 2 * s->block_cap : 4;
+    soup_block *b = realloc(s->blocks, cap * sizeof *b);
+    if (!b) return NULL;
+    s->blocks = b;
+    s->block_cap = cap;
+  }
+  soup_block *b = &s->blocks[s->nblocks++];
+  memset(b, 0, sizeof *b);
+  snprintf(b->name, sizeof b->name, "%s", name);
+  b->line = line;
+  b->first = s->n;
+  return b;
+}
+
+/* ---------------------------------------------------------------- ASCII STL */
+
+typedef struct lexer {
+  const char *p, *end;
+  size_t line;
+  size_t last_line; /* of the last token: where "the end of the file" is reported */
+  const char *path;
+} lexer;
+
+typedef struct token {
+  const char *s;
+  size_t len, line;
+} token;
+
+static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+
+/* Next whitespace-separated token; 0 at the end of the text. */
+static int lex_next(lexer *lx, token *t) {
+  while (lx->p < lx->end && is_space(*lx->p)) {
+    if (*lx->p == '\n') lx->line++;
+    lx->p++;
+  }
+  t->line = lx->line;
+  t->s = lx->p;
+  while (lx->p < lx->end && !is_space(*lx->p)) lx->p++;
+  t->len = (size_t)(lx->p - t->s);
+  if (t->len == 0) t->line = lx->last_line;
+  lx->last_line = t->line;
+  return t->len > 0;
+}
+
+/* The rest of the current line, trimmed (the solid's name). */
+static void lex_rest_of_line(lexer *lx, char *out, size_t cap) {
+  while (lx->p < lx->end && (*lx->p == ' ' || *lx->p == '\t')) lx->p++;
+  const char *s = lx->p;
+  while (lx->p < lx->end && *lx->p != '\n') lx->p++;
+  const char *e = lx->p;
+  while (e > s && is_space(e[-1])) --e;
+  size_t n = (size_t)(e - s);
+  if (n >= cap) n = cap - 1; /* long CAD names are cut: the name is only a label */
+  memcpy(out, s, n);
+  out[n] = '\0';
+}
+
+static int tok_is(const token *t, const char *word) {
+  size_t n = strlen(word);
+  if (t->len != n) return 0;
+  for (size_t i = 0; i < n; ++i) {
+    char c = t->s[i];
+    if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+    if (c != word[i]) return 0;
+  }
+  return 1;
+}
+
+/* Quotes a token for a message: at most 40 characters. */
+static int tok_shown(const token *t) { return t->len > 40 ? 40 : (int)t->len; }
+
+static adem_status expect_word(lexer *lx, const char *word, adem_error *err) {
+  token t;
+  if (!lex_next(lx, &t))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected '%s', found the end of the file",
+                          lx->path, t.line, word);
+  if (!tok_is(&t, word))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected '%s', found '%.*s'", lx->path,
+                          t.line, word, tok_shown(&t), t.s);
+  return ADEM_OK;
+}
+
+/* A number token; coordinates must be finite, a stored normal that is not becomes zero. */
+static adem_status lex_number(lexer *lx, double *x, int coordinate, adem_error *err) {
+  token t;
+  if (!lex_next(lx, &t))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected a number, found the end of the file",
+                          lx->path, t.line);
+  char buf[128];
+  char *end = buf;
+  if (t.len < sizeof buf) {
+    memcpy(buf, t.s, t.len);
+    buf[t.len] = '\0';
+    *x = strtod(buf, &end);
+  }
+  if (t.len >= sizeof buf || end != buf + t.len)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: bad number '%.*s'", lx->path, t.line,
+                          tok_shown(&t), t.s);
+  if (!isfinite(*x)) {
+    if (coordinate)
+      return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: non-finite coordinate '%.*s'", lx->path,
+                            t.line, tok_shown(&t), t.s);
+    *x = 0.0;
+  }
+  return ADEM_OK;
+}
+
+static adem_status lex_vec3(lexer *lx, adem_vec3 *v, int coordinate, adem_error *err) {
+  adem_status st = lex_number(lx, &v->x, coordinate, err);
+  if (!st) st = lex_number(lx, &v->y, coordinate, err);
+  if (!st) st = lex_number(lx, &v->z, coordinate, err);
+  return st;
+}
+
+static adem_status oom(adem_error *err, const char *path) {
+  return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory reading %s", path);
+}
+
+/* solid NAME (facet normal n n n / outer loop / vertex x y z (3x) / endloop / endfacet)* endsolid,
+ * one or more times. Keywords in any case. */
+static adem_status parse_ascii(const char *path, const char *text, size_t n, soup *s,
+                               adem_error *err) {
+  lexer lx = {text, text + n, 1, 1, path};
+  token t;
+  if (!lex_next(&lx, &t) || !tok_is(&t, "solid"))
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'solid'", path, t.line);
+  for (;;) {
+    /* inside a solid, just after the keyword */
+    char name[ADEM_NAME_MAX];
+    size_t solid_line = t.line;
+    lex_rest_of_line(&lx, name, sizeof name);
+    soup_block *b = soup_block_open(s, name, solid_line);
+    if (!b) return oom(err, path);
+    for (;;) {
+      if (!lex_next(&lx, &t))
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "%s:%zu: the file ends inside solid '%s' (line %zu): 'endsolid' is missing",
+                              path, t.line, name, solid_line);
+      if (tok_is(&t, "endsolid")) {
+        char ignored[ADEM_NAME_MAX];
+        lex_rest_of_line(&lx, ignored, sizeof ignored);
+        break;
+      }
+      if (!tok_is(&t, "facet"))
+        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'facet' or 'endsolid', found '%.*s'",
+                              path, t.line, tok_shown(&t), t.s);
+      size_t facet_line = t.line;
+      adem_vec3 normal, c[3];
+      adem_status st = expect_word(&lx, "normal", err);
+      if (!st) st = lex_vec3(&lx, &normal, 0, err);
+      if (!st) st = expect_word(&lx, "outer", err);
+      if (!st) st = expect_word(&lx, "loop", err);
+      if (st) return st;
+      int nv = 0;
+      for (;;) {
+        if (!lex_next(&lx, &t))
+          return adem_error_set(err, ADEM_ERR_INPUT,
+                                "%s:%zu: expected 'vertex' or 'endloop', found the end of the file",
+                                path, t.line);
+        if (!tok_is(&t, "vertex")) break;
+        if (nv == 3)
+          return adem_error_set(err, ADEM_ERR_INPUT,
+                                "%s:%zu: facet (line %zu) has more than 3 vertices", path, t.line,
+                                facet_line);
+        st = lex_vec3(&lx, &c[nv++], 1, err);
+        if (st) return st;
+      }
+      if (!tok_is(&t, "endloop"))
+        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'vertex' or 'endloop', found '%.*s'",
+                              path, t.line, tok_shown(&t), t.s);
+      if (nv != 3)
+        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: facet (line %zu) has %d vertices, expected 3",
+                              path, t.line, facet_line, nv);
+      st = expect_word(&lx, "endfacet", err);
+      if (st) return st;
+      if (!soup_push(s, c, normal, facet_line)) return oom(err, path);
+      s->blocks[s->nblocks - 1].count++;
+    }
+    if (!lex_next(&lx, &t)) return ADEM_OK;
+    if (!tok_is(&t, "solid"))
+      return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'solid' or the end of the file, found '%.*s'",
+                            path, t.line, tok_shown(&t), t.s);
+  }
+}
+
+/* ---------------------------------------------------------------- binary STL */
+
+static uint32_t get_u32le(const unsigned char *b) {
+  return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+static float get_f32le(const unsigned char *b) {
+  uint32_t u = get_u32le(b);
+  float f;
+  memcpy(&f, &u, sizeof f);
+  return f;
+}
+
+/* 80-byte header, UInt32 count, then per triangle 12 float32 (normal, 3 vertices) and a UInt16. */
+static adem_status parse_binary(const char *path, const unsigned char *data, size_t size, soup *s,
+                                adem_error *err) {
+  uint32_t n = get_u32le(data + 80);
+  uint64_t expected = 84 + 50 * (uint64_t)n;
+  if ((uint64_t)size < expected) {
+    uint64_t k = (size - 84) / 50;
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: binary STL truncated: the header announces %" PRIu32
+                          " triangles (%" PRIu64 " bytes) but the file has %zu bytes; triangle %" PRIu64
+                          " (byte offset %" PRIu64 ") is incomplete",
+                          path, n, expected, size, k, 84 + 50 * k);
+  }
+  if ((uint64_t)size > expected)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: binary STL size mismatch: the header announces %" PRIu32
+                          " triangles (%" PRIu64 " bytes) but the file has %zu bytes (extra data at byte offset %" PRIu64 ")",
+                          path, n, expected, size, expected);
+  if (!soup_block_open(s, "", 0)) return oom(err, path);
+  for (uint32_t i = 0; i < n; ++i) {
+    const unsigned char *t = data + 84 + 50 * (size_t)i;
+    double v[12];
+    for (int k = 0; k < 12; ++k) {
+      v[k] = (double)get_f32le(t + 4 * k);
+      if (k >= 3 && !isfinite(v[k]))
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "%s: triangle %" PRIu32 " (byte offset %zu): non-finite coordinate %g",
+                              path, i, (size_t)(t - data) + 4 * (size_t)k, v[k]);
+    }
+    adem_vec3 normal = v3(v[0], v[1], v[2]);
+    if (!v3_isfinite(normal)) normal = v3_zero();
+    adem_vec3 c[3] = {v3(v[3], v[4], v[5]), v3(v[6], v[7], v[8]), v3(v[9], v[10], v[11])};
+    if (!soup_push(s, c, normal, i)) return oom(err, path);
+    s->blocks[0].count++;
+  }
+  return ADEM_OK;
+}
+
+/* ASCII if it starts with `solid`, has no NUL byte and has the keywords early on. A binary header
+ * may also start with "solid" (some exporters write it), but its count and floats bring NULs. */
+static int looks_ascii(const char *data, size_t size) {
+  size_t i = 0;
+  while (i < size && is_space(data[i])) ++i;
+  if (size - i < 5 || strncmp(data + i, "solid", 5) != 0) return 0;
+  size_t probe = size < 4096 ? size : 4096;
+  if (memchr(data, '\0', probe)) return 0;
+  /* the NUL that read_all appends makes strstr safe on the whole text */
+  return strstr(data, "facet") != NULL || strstr(data, "endsolid") != NULL;
+}
+
+/* ---------------------------------------------------------------- building the mesh */
+
+/* The file name without folders and its last extension. */
+static void file_stem(const char *path, char *out, size_t cap) {
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  const char *dot = strrchr(base, '.');
+  size_t n = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+  if (n >= cap) n = cap - 1;
+  memcpy(out, base, n);
+  out[n] = '\0';
+}
+
+typedef struct corner_key {
+  double x, y, z;
+  size_t seq; /* old vertices first (their index), then the new corners */
+} corner_key;
+
+static int compare_corner(const void *pa, const void *pb) {
+  const corner_key *a = pa, *b = pb;
+  if (a->x != b->x) return a->x < b->x ? -1 : 1;
+  if (a->y != b->y) return a->y < b->y ? -1 : 1;
+  if (a->z != b->z) return a->z < b->z ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+typedef struct edge_rec {
+  uint32_t lo, hi, t, k;
+} edge_rec;
+
+static int compare_edge(const void *pa, const void *pb) {
+  const edge_rec *a = pa, *b = pb;
+  if (a->lo != b->lo) return a->lo < b->lo ? -1 : 1;
+  if (a->hi != b->hi) return a->hi < b->hi ? -1 : 1;
+  if (a->t != b->t) return a->t < b->t ? -1 : 1;
+  return a->k < b->k ? -1 : a->k > b->k;
+}
+
+static uint32_t uf_find(uint32_t *parent, uint32_t x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+/* Kind of edge k of triangle t towards the neighbour whose far vertex is w, seen from t's normal
+ * side: w's height above t's plane (y) against its distance beyond the edge (x). */
+static adem_mesh_edge_kind classify_edge(const adem_mesh *m, uint32_t t, int k, uint32_t w,
+                                         double tan_flat, int *flat_decided) {
+  adem_vec3 a = m->vert[m->tri[t][k]], b = m->vert[m->tri[t][(k + 1) % 3]];
+  adem_vec3 n = m->normal[t];
+  adem_vec3 inward = v3_cross(n, v3_sub(b, a)); /* into t: the interior is left of a->b */
+  double len = v3_norm(inward);
+  adem_vec3 d = v3_sub(m->vert[w], a);
+  double x = v3_dot(d, inward) / len, y = v3_dot(d, n);
+  if (flat_decided) *flat_decided = x < 0.0 && fabs(y) <= tan_flat * -x;
+  if (y < 0.0) return ADEM_MESH_EDGE_CONVEX;
+  return ADEM_MESH_EDGE_CONCAVE; /* y == 0 with x >= 0 is a fin folded onto t: not flat */
+}
+
+static uint32_t far_vertex(const adem_mesh *m, uint32_t u, uint32_t va, uint32_t vb) {
+  for (int j = 0; j < 3; ++j)
+    if (m->tri[u][j] != va && m->tri[u][j] != vb) return m->tri[u][j];
+  return m->tri[u][0];
+}
+
+/* Vertex-triangle incidence, edge adjacency and kinds, flat regions and flat vertices, all from
+ * vert and tri. Replaces the topology arrays of m; returns 0 when out of memory. */
+static int build_topology(adem_mesh *m, size_t *nonmanifold) {
+  size_t nv = m->nverts, nt = m->ntris;
+  size_t *vt_start = calloc(nv + 1, sizeof *vt_start);
+  uint32_t *vt_tri = malloc((3 * nt + 1) * sizeof *vt_tri);
+  int32_t(*adj)[3] = malloc((nt + 1) * sizeof *adj);
+  uint8_t(*kind)[3] = malloc((nt + 1) * sizeof *kind);
+  uint32_t(*edge_id)[3] = malloc((nt + 1) * sizeof *edge_id);
+  uint32_t *region = malloc((nt + 1) * sizeof *region);
+  uint8_t *vert_flat = malloc(nv + 1);
+  edge_rec *e = malloc((3 * nt + 1) * sizeof *e);
+  int ok = vt_start && vt_tri && adj && kind && edge_id && region && vert_flat && e;
+  if (!ok) goto fail;
+
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) vt_start[m->tri[t][k] + 1]++;
+  for (size_t v = 0; v < nv; ++v) vt_start[v + 1] += vt_start[v];
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) vt_tri[vt_start[m->tri[t][k]]++] = (uint32_t)t;
+  for (size_t v = nv; v > 0; --v) vt_start[v] = vt_start[v - 1];
+  vt_start[0] = 0;
+
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      uint32_t a = m->tri[t][k], b = m->tri[t][(k + 1) % 3];
+      e[3 * t + (size_t)k] = (edge_rec){a < b ? a : b, a < b ? b : a, (uint32_t)t, (uint32_t)k};
+    }
+  qsort(e, 3 * nt, sizeof *e, compare_edge);
+
+  double flat = m->flat_angle > 0.0 ? m->flat_angle : ADEM_MESH_FLAT_ANGLE;
+  double tan_flat = tan(flat);
+  size_t nedges = 0, nonman = 0;
+  for (size_t i = 0; i < 3 * nt;) {
+    size_t j = i + 1;
+    while (j < 3 * nt && e[j].lo == e[i].lo && e[j].hi == e[i].hi) ++j;
+    for (size_t r = i; r < j; ++r) {
+      edge_id[e[r].t][e[r].k] = (uint32_t)nedges;
+      adj[e[r].t][e[r].k] = -1;
+      kind[e[r].t][e[r].k] = j - i == 1 ? ADEM_MESH_EDGE_BORDER : ADEM_MESH_EDGE_NONMANIFOLD;
+    }
+    if (j - i == 2) {
+      uint32_t t = e[i].t, u = e[i + 1].t;
+      int kt = (int)e[i].k, ku = (int)e[i + 1].k;
+      adj[t][kt] = (int32_t)u;
+      adj[u][ku] = (int32_t)t;
+      /* Flatness is decided once, from the lower triangle, so both sides agree. */
+      int is_flat = 0;
+      adem_mesh_edge_kind ct = classify_edge(m, t, kt, far_vertex(m, u, e[i].lo, e[i].hi),
+                                             tan_flat, &is_flat);
+      adem_mesh_edge_kind cu = classify_edge(m, u, ku, far_vertex(m, t, e[i].lo, e[i].hi),
+                                             tan_flat, NULL);
+      kind[t][kt] = (uint8_t)(is_flat ? ADEM_MESH_EDGE_FLAT : ct);
+      kind[u][ku] = (uint8_t)(is_flat ? ADEM_MESH_EDGE_FLAT : cu);
+    } else if (j - i > 2) {
+      nonman++;
+    }
+    nedges++;
+    i = j;
+  }
+
+  /* Flat regions: union of triangles across flat edges, rooted at the smallest index. */
+  for (size_t t = 0; t < nt; ++t) region[t] = (uint32_t)t;
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (kind[t][k] != ADEM_MESH_EDGE_FLAT) continue;
+      uint32_t a = uf_find(region, (uint32_t)t), b = uf_find(region, (uint32_t)adj[t][k]);
+      if (a < b) region[b] = a;
+      else if (b < a) region[a] = b;
+    }
+  for (size_t t = 0; t < nt; ++t) region[t] = uf_find(region, (uint32_t)t);
+
+  memset(vert_flat, 1, nv + 1);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (kind[t][k] != ADEM_MESH_EDGE_FLAT) {
+        vert_flat[m->tri[t][k]] = 0;
+        vert_flat[m->tri[t][(k + 1) % 3]] = 0;
+      }
+
+  free(e);
+  free(m->vt_start);
+  free(m->vt_tri);
+  free(m->adj);
+  free(m->edge_kind);
+  free(m->edge_id);
+  free(m->region);
+  free(m->vert_flat);
+  m->vt_start = vt_start;
+  m->vt_tri = vt_tri;
+  m->adj = adj;
+  m->edge_kind = kind;
+  m->edge_id = edge_id;
+  m->region = region;
+  m->vert_flat = vert_flat;
+  m->nedges = nedges;
+  *nonmanifold = nonman;
+  return 1;
+fail:
+  free(vt_start);
+  free(vt_tri);
+  free(adj);
+  free(kind);
+  free(edge_id);
+  free(region);
+  free(vert_flat);
+  free(e);
+  return 0;
+}
+
+static void mesh_free_arrays(adem_mesh *m) {
+  free(m->vert);
+  free(m->vert_flat);
+  free(m->vt_start);
+  free(m->vt_tri);
+  free(m->tri);
+  free(m->normal);
+  free(m->area);
+  free(m->group);
+  free(m->region);
+  free(m->adj);
+  free(m->edge_kind);
+  free(m->edge_id);
+  free(m->groups);
+}
+
+void adem_mesh_free(adem_mesh *mesh) {
+  if (!mesh) return;
+  mesh_free_arrays(mesh);
+  memset(mesh, 0, sizeof *mesh);
+}
+
+int adem_mesh_find_group(const adem_mesh *mesh, const char *name) {
+  for (int g = 0; g < mesh->ngroups; ++g)
+    if (strcmp(mesh->groups[g].name, name) == 0) return g;
+  return -1;
+}
+
+/* Appends the soup's blocks as groups. Builds a new mesh beside the old one and swaps it in, so
+ * that a failure leaves mesh untouched. Messages name the facet's line (ascii) or the triangle. */
+static adem_status append_soup(adem_mesh *mesh, const soup *s, const adem_mesh_transform *tf,
+                               const char *path, int ascii, adem_error *err) {
+  size_t nold_v = mesh->nverts, nold_t = mesh->ntris, n = s->n;
+  if (nold_t + n >= INT32_MAX || nold_v + 3 * n >= UINT32_MAX)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: too many triangles for 32-bit indices", path);
+
+  /* Transformed corners, checked: a huge scale could overflow. */
+  adem_vec3 *x = malloc((3 * n + 1) * sizeof *x);
+  corner_key *keys = malloc((nold_v + 3 * n + 1) * sizeof *keys);
+  size_t *rep = malloc((nold_v + 3 * n + 1) * sizeof *rep);
+  uint32_t *id = malloc((nold_v + 3 * n + 1) * sizeof *id);
+  unsigned char *keep = malloc(n + 1);
+  adem_mesh nm;
+  memset(&nm, 0, sizeof nm);
+  adem_status st = ADEM_OK;
+  if (!x || !keys || !rep || !id || !keep) goto nomem;
+
+  for (size_t c = 0; c < 3 * n; ++c) {
+    x[c] = v3_add(rotate(tf->rotation, v3_scale(s->corner[c], tf->scale)), tf->translation);
+    if (!v3_isfinite(x[c])) {
+      if (ascii)
+        st = adem_error_set(err, ADEM_ERR_INPUT,
+                            "%s:%zu: a vertex is not finite after the transform (scale %g)", path,
+                            s->where[c / 3], tf->scale);
+      else
+        st = adem_error_set(err, ADEM_ERR_INPUT,
+                            "%s: triangle %zu (byte offset %zu): a vertex is not finite after the transform (scale %g)",
+                            path, s->where[c / 3], 84 + 50 * s->where[c / 3], tf->scale);
+      goto done;
+    }
+  }
+
+  /* Exactly equal points become one vertex; an equal old vertex keeps its index. Vertices of
+   * own_vertices groups are joined by nobody else, and such a group joins nobody. */
+  unsigned char *excluded = calloc(nold_v + 1, 1);
+  if (!excluded) goto nomem;
+  for (int g = 0; g < mesh->ngroups; ++g) {
+    const adem_mesh_group *gr = &mesh->groups[g];
+    if (!gr->own_vertices) continue;
+    for (uint32_t v = gr->vert_first; v < gr->vert_first + gr->vert_count; ++v) excluded[v] = 1;
+  }
+  for (size_t v = 0; v < nold_v; ++v)
+    keys[v] = (corner_key){mesh->vert[v].x, mesh->vert[v].y, mesh->vert[v].z, v};
+  for (size_t c = 0; c < 3 * n; ++c) keys[nold_v + c] = (corner_key){x[c].x, x[c].y, x[c].z, nold_v + c};
+  qsort(keys, nold_v + 3 * n, sizeof *keys, compare_corner);
+  for (size_t i = 0; i < nold_v + 3 * n;) {
+    size_t j = i + 1;
+    while (j < nold_v + 3 * n && keys[j].x == keys[i].x && keys[j].y == keys[i].y &&
+           keys[j].z == keys[i].z)
+      ++j;
+    /* runs are sorted by seq: old vertices first, then the new corners */
+    size_t shared = SIZE_MAX, first_new = SIZE_MAX;
+    for (size_t r = i; r < j; ++r) {
+      size_t q = keys[r].seq;
+      if (q < nold_v && !excluded[q] && !tf->own_vertices && shared == SIZE_MAX) shared = q;
+      if (q >= nold_v && first_new == SIZE_MAX) first_new = q;
+    }
+    for (size_t r = i; r < j; ++r) {
+      size_t q = keys[r].seq;
+      rep[q] = q < nold_v ? q : shared != SIZE_MAX ? shared : first_new;
+    }
+    i = j;
+  }
+  free(excluded);
+
+  /* Degenerate: a repeated vertex, or an area at the rounding level of its longest edge. */
+  size_t kept = 0, dropped = 0, disagreed = 0;
+  for (size_t t = 0; t < n; ++t) {
+    size_t r0 = rep[nold_v + 3 * t], r1 = rep[nold_v + 3 * t + 1], r2 = rep[nold_v + 3 * t + 2];
+    adem_vec3 a = x[3 * t], b = x[3 * t + 1], c = x[3 * t + 2];
+    double cr = v3_norm(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    double l2 = fmax(v3_norm2(v3_sub(b, a)), fmax(v3_norm2(v3_sub(c, b)), v3_norm2(v3_sub(a, c))));
+    keep[t] = !(r0 == r1 || r1 == r2 || r0 == r2 || !(cr > 64.0 * DBL_EPSILON * l2));
+    kept += keep[t];
+    dropped += !keep[t];
+  }
+
+  size_t nv = nold_v, nt = nold_t + kept;
+  nm.vert = malloc((nold_v + 3 * kept + 1) * sizeof *nm.vert);
+  nm.tri = malloc((nt + 1) * sizeof *nm.tri);
+  nm.normal = malloc((nt + 1) * sizeof *nm.normal);
+  nm.area = malloc((nt + 1) * sizeof *nm.area);
+  nm.group = malloc((nt + 1) * sizeof *nm.group);
+  nm.groups = malloc(((size_t)mesh->ngroups + s->nblocks + 1) * sizeof *nm.groups);
+  if (!nm.vert || !nm.tri || !nm.normal || !nm.area || !nm.group || !nm.groups) goto nomem;
+  if (nold_v) memcpy(nm.vert, mesh->vert, nold_v * sizeof *nm.vert);
+  if (nold_t) {
+    memcpy(nm.tri, mesh->tri, nold_t * sizeof *nm.tri);
+    memcpy(nm.normal, mesh->normal, nold_t * sizeof *nm.normal);
+    memcpy(nm.area, mesh->area, nold_t * sizeof *nm.area);
+    memcpy(nm.group, mesh->group, nold_t * sizeof *nm.group);
+  }
+  if (mesh->ngroups) memcpy(nm.groups, mesh->groups, (size_t)mesh->ngroups * sizeof *nm.groups);
+  nm.ngroups = mesh->ngroups;
+
+  for (size_t v = 0; v < nold_v; ++v) id[v] = (uint32_t)v;
+  for (size_t c = 0; c < 3 * n; ++c) id[nold_v + c] = UINT32_MAX;
+  size_t at = nold_t;
+  for (size_t bi = 0; bi < s->nblocks; ++bi) {
+    const soup_block *b = &s->blocks[bi];
+    adem_mesh_group *g = &nm.groups[nm.ngroups];
+    memcpy(g->name, b->name, sizeof g->name);
+    g->material = tf->material;
+    g->own_vertices = tf->own_vertices != 0;
+    g->first = (uint32_t)at;
+    g->vert_first = (uint32_t)nv;
+    for (size_t t = b->first; t < b->first + b->count; ++t) {
+      if (!keep[t]) continue;
+      for (int k = 0; k < 3; ++k) {
+        size_t r = rep[nold_v + 3 * t + (size_t)k];
+        if (id[r] == UINT32_MAX) {
+          id[r] = (uint32_t)nv;
+          nm.vert[nv++] = x[r - nold_v]; /* r is a new corner: an old vertex has its id */
+        }
+        nm.tri[at][k] = id[r];
+      }
+      adem_vec3 p0 = nm.vert[nm.tri[at][0]], p1 = nm.vert[nm.tri[at][1]], p2 = nm.vert[nm.tri[at][2]];
+      adem_vec3 cr = v3_cross(v3_sub(p1, p0), v3_sub(p2, p0));
+      double len = v3_norm(cr);
+      nm.normal[at] = v3_scale(cr, 1.0 / len);
+      nm.area[at] = 0.5 * len;
+      nm.group[at] = (uint32_t)nm.ngroups;
+      /* The stored normal only turns with the rotation; zero means "not given". */
+      adem_vec3 sn = rotate(tf->rotation, s->normal[t]);
+      if (v3_dot(sn, nm.normal[at]) < 0.0) disagreed++;
+      at++;
+    }
+    g->count = (uint32_t)(at - g->first);
+    g->vert_count = (uint32_t)(nv - g->vert_first);
+    nm.ngroups++;
+    if (g->count == 0)
+      adem_log(ADEM_LOG_WARN, "%s: mesh group '%s' has no triangles", path, g->name);
+  }
+  nm.nverts = nv;
+  nm.ntris = nt;
+  nm.flat_angle = mesh->flat_angle;
+  size_t nonman = 0;
+  if (!build_topology(&nm, &nonman)) goto nomem;
+  nm.normals_disagreed = mesh->normals_disagreed + disagreed;
+  nm.degenerate_dropped = mesh->degenerate_dropped + dropped;
+  nm.nonmanifold_edges = nonman;
+
+  if (dropped)
+    adem_log(ADEM_LOG_WARN, "%s: dropped %zu degenerate triangles (zero area or a repeated vertex) of %zu",
+             path, dropped, n);
+  if (disagreed)
+    adem_log(ADEM_LOG_WARN,
+             "%s: %zu of %zu stored normals point against the vertex order; the vertex order "
+             "(right-hand rule) is used",
+             path, disagreed, kept);
+  if (nonman > mesh->nonmanifold_edges)
+    adem_log(ADEM_LOG_WARN, "%s: %zu edges are shared by three or more triangles", path,
+             nonman - mesh->nonmanifold_edges);
+  mesh_free_arrays(mesh);
+  *mesh = nm;
+  memset(&nm, 0, sizeof nm);
+  goto done;
+nomem:
+  st = oom(err, path);
+done:
+  mesh_free_arrays(&nm);
+  free(x);
+  free(keys);
+  free(rep);
+  free(id);
+  free(keep);
+  return st;
+}
+
+/* Group names: the given one, else the solid's, else the stem; PREFIX.SOLID for several blocks.
+ * A name already in the mesh or in this file is an error. */
+static adem_status name_blocks(const adem_mesh *mesh, soup *s, const char *path,
+                               const char *group_name, int ascii, adem_error *err) {
+  char stem[ADEM_NAME_MAX];
+  file_stem(path, stem, sizeof stem);
+  const char *prefix = group_name && *group_name ? group_name : stem;
+  for (size_t b = 0; b < s->nblocks; ++b) {
+    soup_block *bl = &s->blocks[b];
+    char solid[ADEM_NAME_MAX];
+    memcpy(solid, bl->name, sizeof solid);
+    /* Composed at full length, then cut: a long name only labels output. */
+    char full[2 * ADEM_NAME_MAX + 24];
+    if (s->nblocks == 1)
+      snprintf(full, sizeof full, "%s", group_name && *group_name ? group_name : *solid ? solid : stem);
+    else if (*solid)
+      snprintf(full, sizeof full, "%s.%s", prefix, solid);
+    else
+      snprintf(full, sizeof full, "%s.%zu", prefix, b + 1);
+    size_t len = strlen(full);
+    if (len >= sizeof bl->name) len = sizeof bl->name - 1;
+    memcpy(bl->name, full, len);
+    bl->name[len] = '\0';
+    int dup = adem_mesh_find_group(mesh, bl->name) >= 0;
+    for (size_t c = 0; c < b && !dup; ++c) dup = strcmp(s->blocks[c].name, bl->name) == 0;
+    if (dup) {
+      if (ascii)
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "%s:%zu: mesh group name '%s' is already used; give each file or solid a distinct name",
+                              path, bl->line, bl->name);
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "%s: mesh group name '%s' is already used; give each file a distinct name",
+                            path, bl->name);
+    }
+  }
+  return ADEM_OK;
+}
+
+adem_status adem_mesh_load_stl(const char *path, const adem_mesh_transform *tf,
+                               const char *group_name, adem_mesh *mesh, adem_error *err) {
+  adem_mesh_transform def = adem_default_mesh_transform();
+  if (!tf) tf = &def;
+  adem_status st = check_transform(tf, path, err);
+  if (st) return st;
+  char *data = NULL;
+  size_t size = 0;
+  st = adem_fileio_read_all(path, &data, &size, err);
+  if (st) return st;
+  soup s;
+  memset(&s, 0, sizeof s);
+  int ascii = 0;
+  /* An ASCII file cannot pass the size test by accident: text bytes at 80..83 announce at least
+   * 0x09090909 triangles, a file of 7.5 GB. */
+  if (size >= 84 && (uint64_t)size == 84 + 50 * (uint64_t)get_u32le((const unsigned char *)data + 80))
+    st = parse_binary(path, (const unsigned char *)data, size, &s, err);
+  else if (looks_ascii(data, size)) {
+    ascii = 1;
+    st = parse_ascii(path, data, size, &s, err);
+  } else if (size >= 84)
+    st = parse_binary(path, (const unsigned char *)data, size, &s, err);
+  else
+    st = adem_error_set(err, ADEM_ERR_INPUT,
+                        "%s: not an STL file: %zu bytes is too short for a binary STL (84-byte "
+                        "header) and the text is not 'solid ... facet ... endsolid'",
+                        path, size);
+  free(data);
+  if (!st) st = name_blocks(mesh, &s, path, group_name, ascii, err);
+  if (!st) st = append_soup(mesh, &s, tf, path, ascii, err);
+  soup_free(&s);
+  return st;
+}
+
+adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,
+                                    const adem_vec3 *stored_normals, size_t ntri,
+                                    const char *group_name, int material, int own_vertices,
+                                    adem_error *err) {
+  const char *name = group_name && *group_name ? group_name : "mesh";
+  if (adem_mesh_find_group(mesh, name) >= 0)
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh group name '%s' is already used", name);
+  adem_mesh_transform tf = adem_default_mesh_transform();
+  tf.material = material;
+  tf.own_vertices = own_vertices;
+  adem_status st = check_transform(&tf, name, err);
+  if (st) return st;
+  soup s;
+  memset(&s, 0, sizeof s);
+  soup_block *b = soup_block_open(&s, name, 0);
+  if (!b) return oom(err, name);
+  for (size_t t = 0; t < ntri && !st; ++t) {
+    for (int k = 0; k < 3; ++k)
+      if (!v3_isfinite(corners[3 * t + (size_t)k]))
+        st = adem_error_set(err, ADEM_ERR_INPUT, "mesh group '%s': triangle %zu has a non-finite vertex",
+                            name, t);
+    adem_vec3 sn = stored_normals && v3_isfinite(stored_normals[t]) ? stored_normals[t] : v3_zero();
+    if (!st && !soup_push(&s, &corners[3 * t], sn, t)) st = oom(err, name);
+    if (!st) s.blocks[0].count++;
+  }
+  if (!st) st = append_soup(mesh, &s, &tf, name, 0, err);
+  soup_free(&s);
+  return st;
+}
+
+/* ---------------------------------------------------------------- queries */
+
+adem_status adem_mesh_translate_group(adem_mesh *mesh, int group, adem_vec3 d, adem_error *err) {
+  if (group < 0 || group >= mesh->ngroups)
+    return adem_error_set(err, ADEM_ERR_INPUT, "no mesh group %d", group);
+  const adem_mesh_group *g = &mesh->groups[group];
+  if (!g->own_vertices)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "mesh group '%s' shares vertices with other groups: load it with "
+                          "own_vertices to move it",
+                          g->name);
+  for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v)
+    mesh->vert[v] = v3_add(mesh->vert[v], d);
+  return ADEM_OK;
+}
+
+void adem_mesh_bounds(const adem_mesh *mesh, adem_vec3 *lo, adem_vec3 *hi) {
+  if (mesh->nverts == 0) {
+    *lo = *hi = v3_zero();
+    return;
+  }
+  adem_vec3 l = mesh->vert[0], h = mesh->vert[0];
+  for (size_t v = 1; v < mesh->nverts; ++v) {
+    adem_vec3 x = mesh->vert[v];
+    l = v3(fmin(l.x, x.x), fmin(l.y, x.y), fmin(l.z, x.z));
+    h = v3(fmax(h.x, x.x), fmax(h.y, x.y), fmax(h.z, x.z));
+  }
+  *lo = l;
+  *hi = h;
+}
+
+double adem_mesh_area(const adem_mesh *mesh, int group) {
+  double a = 0.0;
+  for (size_t t = 0; t < mesh->ntris; ++t)
+    if (group < 0 || mesh->group[t] == (uint32_t)group) a += mesh->area[t];
+  return a;
+}
+
+/* ---------------------------------------------------------------- VTU */
+
+static int little_endian(void) {
+  const uint16_t one = 1;
+  unsigned char b;
+  memcpy(&b, &one, 1);
+  return b == 1;
+}
+
+enum { CHUNK = 1024 };
+
+/* Cell or connectivity arrays generated chunk by chunk. */
+static int put_cell_array(FILE *f, const adem_mesh *m, const double *face_force, int which) {
+  size_t nt = m->ntris;
+  for (size_t i = 0; i < nt; i += CHUNK) {
+    size_t k = nt - i < CHUNK ? nt - i : CHUNK;
+    union {
+      int32_t i32[CHUNK];
+      int64_t i64[3 * CHUNK];
+      double f64[3 * CHUNK];
+      uint8_t u8[CHUNK];
+    } buf;
+    size_t bytes = 0;
+    for (size_t j = 0; j < k; ++j) {
+      size_t t = i + j;
+      adem_vec3 fc = face_force ? v3(face_force[3 * t], face_force[3 * t + 1], face_force[3 * t + 2])
+                                : v3_zero();
+      switch (which) {
+        case 0: buf.i32[j] = (int32_t)m->group[t]; bytes = 4 * k; break;
+        case 1: memcpy(&buf.f64[3 * j], &m->normal[t], 24); bytes = 24 * k; break;
+        case 2: memcpy(&buf.f64[3 * j], &fc, 24); bytes = 24 * k; break;
+        case 3: buf.f64[j] = v3_norm(fc) / m->area[t]; bytes = 8 * k; break; /* pressure */
+        case 4:
+          for (int c = 0; c < 3; ++c) buf.i64[3 * j + (size_t)c] = (int64_t)m->tri[t][c];
+          bytes = 24 * k;
+          break;
+        case 5: buf.i64[j] = 3 * (int64_t)(t + 1); bytes = 8 * k; break; /* offsets */
+        default: buf.u8[j] = 5; bytes = k; break;                         /* VTK_TRIANGLE */
+      }
+    }
+    if (fwrite(&buf, 1, bytes, f) != bytes) return 0;
+  }
+  return 1;
+}
+
+adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
+                                adem_error *err) {
+  size_t nt = mesh->ntris, nv = mesh->nverts;
+  /* Arrays in the order they are appended; `points` is the one per-vertex array. */
+  struct {
+    const char *name, *type;
+    int ncomp;
+    size_t count, elem;
+  } arr[] = {
+      {"group", "Int32", 1, nt, 4},        {"normal", "Float64", 3, nt, 8},
+      {"force", "Float64", 3, nt, 8},      {"pressure", "Float64", 1, nt, 8},
+      {"points", "Float64", 3, nv, 8},     {"connectivity", "Int64", 3, nt, 8},
+      {"offsets", "Int64", 1, nt, 8},      {"types", "UInt8", 1, nt, 1},
+  };
+  enum { NARR = sizeof arr / sizeof arr[0] };
+  uint64_t offset[NARR], off = 0;
+  for (int k = 0; k < NARR; ++k) {
+    offset[k] = off;
+    off += 8 + (uint64_t)arr[k].count * (uint64_t)arr[k].ncomp * arr[k].elem;
+  }
+  adem_afile af;
+  adem_status st = adem_fileio_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.f;
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
+          "header_type=\"UInt64\">\n"
+          "  <UnstructuredGrid>\n"
+          "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n"
+          "      <CellData Scalars=\"pressure\" Vectors=\"force\">\n",
+          little_endian() ? "LittleEndian" : "BigEndian", nv, nt);
+  for (int k = 0; k < NARR; ++k) {
+    if (k == 4) fprintf(f, "      </CellData>\n      <Points>\n");
+    if (k == 5) fprintf(f, "      </Points>\n      <Cells>\n");
+    /* connectivity is 3 Int64 per cell but one component in VTK's eyes */
+    fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\" ", arr[k].type, arr[k].name);
+    if (arr[k].ncomp > 1 && k != 5) fprintf(f, "NumberOfComponents=\"%d\" ", arr[k].ncomp);
+    fprintf(f, "format=\"appended\" offset=\"%" PRIu64 "\"/>\n", offset[k]);
+  }
+  fprintf(f,
+          "      </Cells>\n"
+          "    </Piece>\n"
+          "  </UnstructuredGrid>\n"
+          "  <AppendedData encoding=\"raw\">\n"
+          "   _");
+  int ok = 1;
+  for (int k = 0; k < NARR && ok; ++k) {
+    uint64_t nbytes = (uint64_t)arr[k].count * (uint64_t)arr[k].ncomp * arr[k].elem;
+    ok = fwrite(&nbytes, 8, 1, f) == 1;
+    if (!ok) break;
+    if (k == 4)
+      ok = nv == 0 || fwrite(mesh->vert, sizeof *mesh->vert, nv, f) == nv;
+    else
+      ok = put_cell_array(f, mesh, face_force, k < 4 ? k : k - 1);
+  }
+  fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
+  if (!ok || ferror(f)) {
+    int e = errno ? errno : EIO;
+    adem_fileio_abort(&af);
+    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
+  }
+  return adem_fileio_commit(&af, err);
+}

@@ -1,0 +1,130 @@
+/* Triangle-mesh walls: STL reading (ASCII and binary) with a transform applied at load, shared
+ * vertices, edge adjacency with flat/convex/concave edges and flat regions, and a VTU writer.
+ * Sphere-triangle geometry and the one-contact-per-region rule are in contact/triangle.h. */
+#ifndef ADEM_MESH_H
+#define ADEM_MESH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "adem/adem.h"
+
+/* Largest deviation from coplanar (radians) for an edge to count as flat. STL stores float32
+ * coordinates (6e-8 relative): a tilted flat surface of triangles 100 times smaller than their
+ * distance from the origin shows normals wobbling by a few 1e-6 rad; 1e-5 absorbs that and is far
+ * below any facet angle a CAD export uses for a curved surface (degrees). */
+#define ADEM_MESH_FLAT_ANGLE 1e-5
+
+/* What loading does to the file's coordinates, x' = R (s x) + t, and what the triangles are made
+ * of. Fill from adem_default_mesh_transform(). */
+typedef struct adem_mesh_transform {
+  double scale;          /* s > 0: file units to metres (0.001 for a file in mm) */
+  double rotation[3][3]; /* R, a proper rotation (orthonormal, det +1), row-major: x'_i = R_ij x_j */
+  adem_vec3 translation; /* t, m */
+  int material;          /* world material index of every triangle loaded */
+  int own_vertices;      /* 1: share no vertex with other groups, so that the group can move on
+                            its own (a pushed sleeper); 0: join equal vertices of other groups */
+} adem_mesh_transform;
+
+/* s = 1, R = identity, t = 0, material 0, shared vertices. */
+adem_mesh_transform adem_default_mesh_transform(void);
+
+/* Turns the transform's rotation by angle_deg degrees about axis (any length > 0), after the
+ * rotation it already has: R <- Rot(axis, angle) R. Multiples of 90 degrees about a coordinate
+ * axis are exact (cos and sin are taken as 0 and +-1), so axis-aligned faces stay axis-aligned. */
+adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, double angle_deg,
+                                       adem_error *err);
+
+/* Kind of a triangle edge, seen from the side the triangle's normal points to. */
+typedef enum adem_mesh_edge_kind {
+  ADEM_MESH_EDGE_BORDER = 0,      /* no neighbour: an open edge of the surface */
+  ADEM_MESH_EDGE_FLAT = 1,        /* the neighbour is coplanar (within flat_angle) */
+  ADEM_MESH_EDGE_CONVEX = 2,      /* the neighbour bends away from the normal side */
+  ADEM_MESH_EDGE_CONCAVE = 3,     /* the neighbour bends towards the normal side */
+  ADEM_MESH_EDGE_NONMANIFOLD = 4  /* three or more triangles share the edge */
+} adem_mesh_edge_kind;
+
+/* A group: one STL file, or one `solid NAME` block of an ASCII file with several. */
+typedef struct adem_mesh_group {
+  char name[ADEM_NAME_MAX];
+  int material;
+  int own_vertices;            /* loaded with own_vertices: its vertices are its alone */
+  uint32_t first, count;       /* its triangles, first .. first + count - 1 */
+  uint32_t vert_first, vert_count; /* the vertices it added (with own_vertices: all of its own) */
+} adem_mesh_group;
+
+/* A triangle mesh. Zero-initialise (adem_mesh m = {0}), load into it, free it. Indices never
+ * change when more files are appended: new vertices and triangles go at the end. Edge k of a
+ * triangle joins its vertices k and (k + 1) % 3. */
+typedef struct adem_mesh {
+  /* vertices: exactly equal coordinates (after the transform) are one vertex */
+  size_t nverts;
+  adem_vec3 *vert;
+  uint8_t *vert_flat;  /* 1: every edge at the vertex is flat (the vertex is inside a flat region) */
+  size_t *vt_start;    /* nverts + 1: triangles at vertex v are vt_tri[vt_start[v] .. vt_start[v+1]) */
+  uint32_t *vt_tri;    /* ascending within each vertex */
+
+  /* triangles */
+  size_t ntris;
+  uint32_t (*tri)[3];  /* vertex indices in the file's order */
+  adem_vec3 *normal;   /* unit, right-hand rule on that order (the file's winding is kept) */
+  double *area;        /* m^2 */
+  uint32_t *group;     /* index into groups */
+  uint32_t *region;    /* flat region: smallest triangle index of the coplanar set joined by flat edges */
+  int32_t (*adj)[3];   /* triangle across edge k, or -1 (border or non-manifold edge) */
+  uint8_t (*edge_kind)[3]; /* adem_mesh_edge_kind of edge k */
+  uint32_t (*edge_id)[3];  /* id of the undirected edge, 0 .. nedges-1, shared by both sides */
+  size_t nedges;
+
+  int ngroups;
+  adem_mesh_group *groups;
+
+  /* what loading found (totals over every file loaded) */
+  size_t normals_disagreed;  /* triangles whose stored normal pointed against the vertex order */
+  size_t degenerate_dropped; /* zero-area triangles or triangles with a repeated vertex */
+  size_t nonmanifold_edges;
+
+  double flat_angle; /* radians; 0 means ADEM_MESH_FLAT_ANGLE. Set before loading. */
+} adem_mesh;
+
+/* Reads an ASCII or binary STL file, transforms it, and appends it to mesh as one group per file
+ * (or per `solid` block of an ASCII file with several). The group is named group_name if given,
+ * else the solid's name, else the file's stem; with several solid blocks each group is named
+ * PREFIX.SOLID (PREFIX = group_name or the stem, SOLID = the block's name or its 1-based number).
+ * A name already used in mesh is an error. Degenerate triangles are dropped with one warning.
+ * Errors (ADEM_ERR_INPUT) name the file and the line (ASCII) or triangle and byte offset
+ * (binary); on any error mesh is left exactly as it was. */
+adem_status adem_mesh_load_stl(const char *path, const adem_mesh_transform *tf,
+                               const char *group_name, adem_mesh *mesh, adem_error *err);
+
+/* Appends ntri triangles given as 3 corners each (already in world coordinates) as one group:
+ * the same deduplication (own_vertices as in the transform), degenerate-triangle dropping and topology as a loaded file. For meshes
+ * made in code. stored_normals (one per triangle, may be NULL or hold zero vectors) are only
+ * compared with the vertex order. */
+adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,
+                                    const adem_vec3 *stored_normals, size_t ntri,
+                                    const char *group_name, int material, int own_vertices,
+                                    adem_error *err);
+
+void adem_mesh_free(adem_mesh *mesh);
+
+/* Moves a group loaded with own_vertices by d (a rigid translation keeps normals, adjacency and
+ * flat regions). ADEM_ERR_INPUT if the group shares vertices with others. */
+adem_status adem_mesh_translate_group(adem_mesh *mesh, int group, adem_vec3 d, adem_error *err);
+
+/* Index of the group with that name, or -1. */
+int adem_mesh_find_group(const adem_mesh *mesh, const char *name);
+
+/* Axis-aligned bounding box of the vertices (both zero for an empty mesh). */
+void adem_mesh_bounds(const adem_mesh *mesh, adem_vec3 *lo, adem_vec3 *hi);
+
+/* Total area of a group's triangles (group < 0: of every triangle), m^2. */
+double adem_mesh_area(const adem_mesh *mesh, int group);
+
+/* Writes the mesh as a VTU UnstructuredGrid of triangles with cell data group, normal, force (the
+ * force the particles exert on each face, 3 doubles per face; NULL writes zeros) and pressure
+ * (|force| / area). Atomic (fileio), raw appended binary like the particle frames. */
+adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
+                                adem_error *err);
+
+#endif
