@@ -218,12 +218,96 @@ static void wall_pairs(adem_world *w) {
   }
 }
 
+/* Mesh contacts, per particle: the distinct contacts of its candidate triangles (one per flat
+ * region, convex edge or vertex: contact/triangle.h), each with the history its key had at the
+ * last step, then the force as for a plane moving with the triangle's group. */
+static void mesh_pairs(adem_world *w) {
+  adem_particles *p = &w->p;
+  adem_mesh_pairs *pm = &w->pm;
+  adem_pair_list *l = &pm->l;
+  const adem_mesh *m = &w->mesh;
+  if (m->ntris == 0 || !pm->start) return;
+  /* the last step's contacts become the previous ones */
+  adem_contact_history *hs = l->hist;
+  l->hist = pm->hist_prev;
+  pm->hist_prev = hs;
+  bool *ts = l->touching;
+  l->touching = pm->touching_prev;
+  pm->touching_prev = ts;
+  uint64_t *ks = pm->key;
+  pm->key = pm->key_prev;
+  pm->key_prev = ks;
+  int nthreads = adem_world_threads(w);
+  double dt = w->dt;
+  size_t n = p->n;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    size_t s = pm->start[i], e = pm->start[i + 1];
+    if (s == e) continue;
+    double ri = p->radius[i];
+    size_t nc = adem_triangle_sphere_contacts(m, p->pos[i], ri, &l->b[s], e - s, &pm->found[s]);
+    size_t q = s; /* the previous contacts fill the first slots, sorted by key */
+    for (size_t k = s; k < e; ++k) {
+      if (k >= s + nc) {
+        l->touching[k] = false;
+        pm->key[k] = 0;
+        memset(&l->hist[k], 0, sizeof l->hist[k]);
+        l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+        l->rolling_capacity[k] = 0.0;
+        l->elastic[k] = 0.0;
+        l->overlap_ratio[k] = 0.0;
+        continue;
+      }
+      const adem_mesh_contact *c = &pm->found[k];
+      while (q < e && pm->touching_prev[q] && pm->key_prev[q] < c->key) ++q;
+      adem_contact_history h;
+      if (q < e && pm->touching_prev[q] && pm->key_prev[q] == c->key) h = pm->hist_prev[q];
+      else memset(&h, 0, sizeof h);
+      uint32_t grp = m->group[c->tri];
+      contact_geometry g;
+      g.n = c->normal;
+      g.delta = c->overlap;
+      g.R = ri;
+      g.mstar = 1.0 / p->inv_mass[i];
+      g.w = v3_add(v3_sub(p->vel[i], w->mesh_velocity[grp]), v3_cross(v3_scale(p->omega[i], ri), g.n));
+      g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+      g.ri = ri;
+      g.rj = 0.0;
+      g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+      const adem_interaction *it = adem_world_interaction(w, p->material[i], m->groups[grp].material);
+      contact_result r = contact_force(it, &g, &h, dt);
+      adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
+      l->hist[k] = h;
+      pm->key[k] = c->key;
+      pm->owner[k] = c->tri;
+      l->touching[k] = true;
+      l->force_a[k] = r.force;
+      l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
+      l->torque_b[k] = v3_zero();
+      l->rolling_a[k] = r.rolling;
+      l->rolling_capacity[k] = r.capacity;
+      l->elastic[k] = r.elastic;
+      l->overlap_ratio[k] = g.delta / ri;
+    }
+  }
+  /* Force on each face, in slot order (fixed for any thread count). */
+  memset(w->face_force, 0, 3 * m->ntris * sizeof *w->face_force);
+  for (size_t k = 0; k < l->n; ++k) {
+    if (!l->touching[k]) continue;
+    double *f = &w->face_force[3 * (size_t)pm->owner[k]];
+    f[0] -= l->force_a[k].x;
+    f[1] -= l->force_a[k].y;
+    f[2] -= l->force_a[k].z;
+  }
+}
+
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
- * contacts by increasing pair index, then wall contacts. */
+ * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
 static void sum_per_particle(adem_world *w) {
   adem_particles *p = &w->p;
   const adem_neighbors *nb = &w->nb;
-  const adem_pair_list *pp = &w->pp, *pw = &w->pw;
+  const adem_pair_list *pp = &w->pp, *pw = &w->pw, *pm = &w->pm.l;
+  const size_t *pm_start = w->mesh.ntris > 0 ? w->pm.start : NULL;
   int nthreads = adem_world_threads(w);
   size_t n = p->n;
   adem_vec3 g = w->gravity;
@@ -256,6 +340,14 @@ static void sum_per_particle(adem_world *w) {
       roll = v3_add(roll, pw->rolling_a[k]);
       capacity += pw->rolling_capacity[k];
     }
+    /* mesh contacts: the first slots of the particle's range, by key */
+    for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
+      if (!pm->touching[k]) break;
+      f = v3_add(f, pm->force_a[k]);
+      t = v3_add(t, pm->torque_a[k]);
+      roll = v3_add(roll, pm->rolling_a[k]);
+      capacity += pm->rolling_capacity[k];
+    }
     if (capacity > 0.0) {
       /* BROF (I9-I10). Here omega is the half-step spin; the torque acts over the final half kick
        * of this step and the first of the next, a full dt: -I omega/dt - t stops it exactly. */
@@ -273,5 +365,6 @@ static void sum_per_particle(adem_world *w) {
 void adem_contacts_compute(adem_world *w) {
   particle_pairs(w);
   wall_pairs(w);
+  mesh_pairs(w);
   sum_per_particle(w);
 }

@@ -247,6 +247,138 @@ static size_t wall_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, 
   return count;
 }
 
+/* Cells of the grid that a box overlaps, clamped; 0 if it misses the grid. */
+static int box_cells(const adem_neighbors *nb, adem_vec3 lo, adem_vec3 hi, int c0[3], int c1[3]) {
+  double l[3] = {lo.x - nb->origin.x, lo.y - nb->origin.y, lo.z - nb->origin.z};
+  double h[3] = {hi.x - nb->origin.x, hi.y - nb->origin.y, hi.z - nb->origin.z};
+  for (int d = 0; d < 3; ++d) {
+    if (h[d] < 0.0 || l[d] > nb->dims[d] * nb->cell_size) return 0;
+    double a = floor(l[d] / nb->cell_size), b = floor(h[d] / nb->cell_size);
+    c0[d] = a < 0.0 ? 0 : (int)a;
+    c1[d] = b >= nb->dims[d] ? nb->dims[d] - 1 : (int)b;
+  }
+  return 1;
+}
+
+/* Bins each triangle into every cell that its box grown by reach overlaps and that lies within
+ * reach of its plane: a particle's candidates are then in its own cell. Counting sort by cell,
+ * triangles ascending within a cell. */
+static adem_status bin_triangles(adem_world *w, double reach) {
+  adem_neighbors *nb = &w->nb;
+  const adem_mesh *m = &w->mesh;
+  if (grow_size_t(&nb->tri_cell_start, &nb->tri_cell_start_cap, nb->ncells + 1)) return ADEM_ERR_NOMEM;
+  size_t *start = nb->tri_cell_start;
+  memset(start, 0, (nb->ncells + 1) * sizeof *start);
+  size_t nx = (size_t)nb->dims[0], ny = (size_t)nb->dims[1];
+  double half_diag = 0.5 * sqrt(3.0) * nb->cell_size;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t t = 0; t < m->ntris; ++t) {
+      adem_vec3 a = m->vert[m->tri[t][0]], b = m->vert[m->tri[t][1]], c = m->vert[m->tri[t][2]];
+      adem_vec3 lo = v3(fmin(a.x, fmin(b.x, c.x)) - reach, fmin(a.y, fmin(b.y, c.y)) - reach,
+                        fmin(a.z, fmin(b.z, c.z)) - reach);
+      adem_vec3 hi = v3(fmax(a.x, fmax(b.x, c.x)) + reach, fmax(a.y, fmax(b.y, c.y)) + reach,
+                        fmax(a.z, fmax(b.z, c.z)) + reach);
+      int c0[3], c1[3];
+      if (!box_cells(nb, lo, hi, c0, c1)) continue;
+      for (int z = c0[2]; z <= c1[2]; ++z)
+        for (int y = c0[1]; y <= c1[1]; ++y)
+          for (int x = c0[0]; x <= c1[0]; ++x) {
+            adem_vec3 centre = v3(nb->origin.x + (x + 0.5) * nb->cell_size,
+                                  nb->origin.y + (y + 0.5) * nb->cell_size,
+                                  nb->origin.z + (z + 0.5) * nb->cell_size);
+            if (fabs(v3_dot(v3_sub(centre, a), m->normal[t])) > half_diag + reach) continue;
+            size_t cell = ((size_t)z * ny + (size_t)y) * nx + (size_t)x;
+            if (pass == 0) start[cell + 1]++;
+            else nb->tri_cell[start[cell]++] = (uint32_t)t;
+          }
+    }
+    if (pass == 0) {
+      for (size_t c = 0; c < nb->ncells; ++c) start[c + 1] += start[c];
+      if (grow_u32(&nb->tri_cell, &nb->tri_cell_cap, start[nb->ncells] + 1)) return ADEM_ERR_NOMEM;
+    }
+  }
+  for (size_t c = nb->ncells; c > 0; --c) start[c] = start[c - 1];
+  start[0] = 0;
+  return ADEM_OK;
+}
+
+/* Candidate triangles of particle i: closer than radius + skin. */
+static size_t mesh_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
+  const adem_mesh *m = &w->mesh;
+  const adem_neighbors *nb = &w->nb;
+  if (m->ntris == 0) return 0;
+  adem_vec3 x = w->p.pos[i];
+  double reach = w->p.radius[i] + nb->skin;
+  size_t count = 0, tb = 0, te = m->ntris;
+  const uint32_t *list = NULL;
+  if (!nb->brute_force && nb->ncells > 0) {
+    int c[3];
+    cell_coords(nb, x, c);
+    size_t cell = ((size_t)c[2] * (size_t)nb->dims[1] + (size_t)c[1]) * (size_t)nb->dims[0] + (size_t)c[0];
+    list = nb->tri_cell;
+    tb = nb->tri_cell_start[cell];
+    te = nb->tri_cell_start[cell + 1];
+  }
+  for (size_t e = tb; e < te; ++e) {
+    uint32_t t = list ? list[e] : (uint32_t)e;
+    adem_vec3 q;
+    adem_triangle_feature f;
+    if (adem_triangle_distance2(m, t, x, &q, &f) >= reach * reach) continue;
+    if (out) {
+      out->a[at + count] = (uint32_t)i;
+      out->b[at + count] = t;
+    }
+    ++count;
+  }
+  return count;
+}
+
+/* Mesh history: (id, key) of every touching slot, sorted. */
+static saved_history *save_mesh_history(const adem_world *w, size_t *count) {
+  const adem_mesh_pairs *pm = &w->pm;
+  size_t m = 0;
+  for (size_t k = 0; k < pm->l.n; ++k) m += pm->l.touching[k];
+  saved_history *s = malloc((m + 1) * sizeof *s);
+  if (!s) return NULL;
+  size_t j = 0;
+  for (size_t k = 0; k < pm->l.n; ++k) {
+    if (!pm->l.touching[k]) continue;
+    s[j++] = (saved_history){w->p.id[pm->l.a[k]], pm->key[k], pm->l.hist[k]};
+  }
+  qsort(s, m, sizeof *s, compare_saved);
+  *count = m;
+  return s;
+}
+
+/* Puts each particle's saved contacts, sorted by key, in the first slots of its range. */
+static void restore_mesh_history(adem_world *w, const saved_history *s, size_t ns) {
+  adem_mesh_pairs *pm = &w->pm;
+  adem_pair_list *l = &pm->l;
+  int nthreads = adem_world_threads(w);
+  size_t n = w->p.n;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t id = w->p.id[i];
+    size_t lo = 0, hi = ns;
+    while (lo < hi) {
+      size_t mid = lo + (hi - lo) / 2;
+      if (s[mid].ka < id) lo = mid + 1;
+      else hi = mid;
+    }
+    for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k) {
+      bool has = lo < ns && s[lo].ka == id;
+      l->touching[k] = has;
+      pm->key[k] = has ? s[lo].kb : 0;
+      if (has) l->hist[k] = s[lo++].h;
+      else memset(&l->hist[k], 0, sizeof l->hist[k]);
+      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
+      l->rolling_capacity[k] = 0.0;
+      l->elastic[k] = 0.0;
+      l->overlap_ratio[k] = 0.0;
+    }
+  }
+}
+
 typedef size_t pairs_of_fn(const adem_world *w, size_t i, adem_pair_list *out, size_t at);
 
 /* Two passes over particles (count, then fill at prefix offsets): the list order is fixed by
@@ -305,12 +437,13 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
   if (2 * w->pp.n + 2 >= UINT32_MAX || n >= UINT32_MAX)
     return adem_error_set(err, ADEM_ERR_NOMEM, "too many particles or pairs for 32-bit indices");
 
-  size_t nsaved_pp = 0, nsaved_pw = 0;
+  size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0;
   saved_history *saved_pp = save_history(w, &w->pp, false, &nsaved_pp);
   saved_history *saved_pw = save_history(w, &w->pw, true, &nsaved_pw);
+  saved_history *saved_pm = save_mesh_history(w, &nsaved_pm);
   size_t *offsets = malloc((n + 1) * sizeof *offsets);
   adem_status st = ADEM_OK;
-  if (!saved_pp || !saved_pw || !offsets) {
+  if (!saved_pp || !saved_pw || !saved_pm || !offsets) {
     st = ADEM_ERR_NOMEM;
     goto done;
   }
@@ -323,11 +456,21 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
     st = sort_by_cell(w, 2.0 * rmax + nb->skin);
     if (st) goto done;
   }
+  if (n > 0 && !nb->brute_force && w->mesh.ntris > 0) {
+    st = bin_triangles(w, rmax + nb->skin);
+    if (st) goto done;
+  }
   st = build_list(w, &w->pp, particle_pairs_of, offsets);
   if (!st) st = build_list(w, &w->pw, wall_pairs_of, offsets);
+  if (!st) st = build_list(w, &w->pm.l, mesh_pairs_of, offsets);
+  if (!st) st = adem_mesh_pairs_reserve(&w->pm);
+  if (!st && grow_size_t(&w->pm.start, &w->pm.start_cap, n + 1)) st = ADEM_ERR_NOMEM;
   if (st) goto done;
+  memcpy(w->pm.start, offsets, (n + 1) * sizeof *offsets);
   restore_history(w, &w->pp, false, saved_pp, nsaved_pp);
   restore_history(w, &w->pw, true, saved_pw, nsaved_pw);
+  restore_mesh_history(w, saved_pm, nsaved_pm);
+  w->mesh_shift = 0.0;
   st = adem_neighbors_gather(w);
   if (st) goto done;
   memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos);
@@ -335,6 +478,7 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
 done:
   free(saved_pp);
   free(saved_pw);
+  free(saved_pm);
   free(offsets);
   if (st) return adem_error_set(err, st, "out of memory building the neighbour list");
   return ADEM_OK;
@@ -342,7 +486,9 @@ done:
 
 bool adem_neighbors_need_rebuild(const adem_world *w) {
   const adem_particles *p = &w->p;
-  double half = 0.5 * w->nb.skin;
+  /* a moving mesh uses up the skin too */
+  double half = 0.5 * w->nb.skin - w->mesh_shift;
+  if (half <= 0.0) return true;
   double limit = half * half;
   double worst = 0.0;
   int nthreads = adem_world_threads(w);
@@ -361,6 +507,11 @@ void adem_neighbors_free(adem_neighbors *nb) {
   free(nb->pw_start);
   free(nb->pp_entries);
   free(nb->pw_entries);
+  free(nb->tri_cell_start);
+  free(nb->tri_cell);
+  nb->tri_cell_start = NULL;
+  nb->tri_cell = NULL;
+  nb->tri_cell_start_cap = nb->tri_cell_cap = 0;
   nb->cell_start = nb->pp_start = nb->pw_start = NULL;
   nb->pp_entries = nb->pw_entries = NULL;
   nb->cell_cap = nb->pp_start_cap = nb->pw_start_cap = nb->pp_entries_cap = nb->pw_entries_cap = 0;

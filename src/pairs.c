@@ -43,3 +43,35 @@ void adem_pair_list_free(adem_pair_list *l) {
   free(l->overlap_ratio);
   memset(l, 0, sizeof *l);
 }
+
+#define GROW_PM(field)                                                 \
+  do {                                                                 \
+    void *q = realloc(pm->field, cap * sizeof *pm->field);             \
+    if (!q) return ADEM_ERR_NOMEM;                                     \
+    pm->field = q;                                                     \
+  } while (0)
+
+adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm) {
+  size_t cap = pm->l.cap;
+  if (cap <= pm->cap) return ADEM_OK;
+  GROW_PM(key);
+  GROW_PM(key_prev);
+  GROW_PM(owner);
+  GROW_PM(hist_prev);
+  GROW_PM(touching_prev);
+  GROW_PM(found);
+  pm->cap = cap;
+  return ADEM_OK;
+}
+
+void adem_mesh_pairs_free(adem_mesh_pairs *pm) {
+  adem_pair_list_free(&pm->l);
+  free(pm->start);
+  free(pm->key);
+  free(pm->key_prev);
+  free(pm->owner);
+  free(pm->hist_prev);
+  free(pm->touching_prev);
+  free(pm->found);
+  memset(pm, 0, sizeof *pm);
+}

@@ -27,6 +27,10 @@ void adem_world_free(adem_world *w) {
   adem_particles_free(&w->p);
   adem_pair_list_free(&w->pp);
   adem_pair_list_free(&w->pw);
+  adem_mesh_pairs_free(&w->pm);
+  adem_mesh_free(&w->mesh);
+  free(w->mesh_velocity);
+  free(w->face_force);
   adem_neighbors_free(&w->nb);
   free(w->materials);
   free(w->interactions);
@@ -48,6 +52,42 @@ adem_plane_def adem_default_plane_def(void) {
   memset(&d, 0, sizeof d);
   d.normal = v3(0.0, 0.0, 1.0);
   return d;
+}
+
+adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
+                                const char *name, adem_vec3 velocity, adem_error *err) {
+  adem_mesh_transform def = adem_default_mesh_transform();
+  if (!tf) tf = &def;
+  if (tf->material < 0 || tf->material >= w->nmaterials)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is not a material", path,
+                          tf->material);
+  bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
+  if (!v3_isfinite(velocity) || (moving && !tf->own_vertices))
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: a moving mesh needs a finite velocity and its own vertices", path);
+  int before = w->mesh.ngroups;
+  adem_status st = adem_mesh_load_stl(path, tf, name, &w->mesh, err);
+  if (st) return st;
+  adem_vec3 *v = realloc(w->mesh_velocity, (size_t)w->mesh.ngroups * sizeof *v);
+  double *ff = realloc(w->face_force, (3 * w->mesh.ntris + 1) * sizeof *ff);
+  if (v) w->mesh_velocity = v;
+  if (ff) w->face_force = ff;
+  if (!v || !ff) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding %s", path);
+  for (int g = before; g < w->mesh.ngroups; ++g) w->mesh_velocity[g] = velocity;
+  memset(w->face_force, 0, 3 * w->mesh.ntris * sizeof *ff);
+  return ADEM_OK;
+}
+
+/* Moves the moving mesh groups by their velocity over dt. */
+static void move_meshes(adem_world *w, double dt) {
+  double shift = 0.0;
+  for (int g = 0; g < w->mesh.ngroups; ++g) {
+    adem_vec3 v = w->mesh_velocity[g];
+    if (v.x == 0.0 && v.y == 0.0 && v.z == 0.0) continue;
+    adem_mesh_translate_group(&w->mesh, g, v3_scale(v, dt), NULL);
+    shift = fmax(shift, v3_norm(v) * dt);
+  }
+  w->mesh_shift += shift;
 }
 
 int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
@@ -229,6 +269,10 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
       const adem_interaction *it = adem_world_interaction(w, a, w->planes[k].def.material);
       est.t_collision = fmin(est.t_collision, collision_time(m, r, it->E, v_ref));
     }
+    for (int k = 0; k < w->mesh.ngroups; ++k) {
+      const adem_interaction *it = adem_world_interaction(w, a, w->mesh.groups[k].material);
+      est.t_collision = fmin(est.t_collision, collision_time(m, r, it->E, v_ref));
+    }
   }
   free(rmin);
   est.dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh); /* about 50 steps a collision */
@@ -408,6 +452,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   for (uint64_t s = 0; s < nsteps; ++s) {
     kick(w, 0.5 * dt);
     drift(w, dt);
+    move_meshes(w, dt);
     if (adem_neighbors_need_rebuild(w)) {
       adem_status st = adem_neighbors_build(w, err);
       if (st) return st;
@@ -445,7 +490,8 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   d.potential = adem_sum(buf, n);
   double elastic_pp = adem_sum(w->pp.elastic, w->pp.n);
   double elastic_pw = adem_sum(w->pw.elastic, w->pw.n);
-  d.elastic = elastic_pp + elastic_pw;
+  double elastic_pm = adem_sum(w->pm.l.elastic, w->pm.l.n);
+  d.elastic = elastic_pp + elastic_pw + elastic_pm;
   for (size_t k = 0; k < w->pp.n; ++k) {
     d.contacts_pp += w->pp.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.overlap_ratio[k]);
@@ -453,6 +499,10 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   for (size_t k = 0; k < w->pw.n; ++k) {
     d.contacts_pw += w->pw.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pw.overlap_ratio[k]);
+  }
+  for (size_t k = 0; k < w->pm.l.n; ++k) { /* mesh contacts count as wall contacts */
+    d.contacts_pw += w->pm.l.touching[k];
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.overlap_ratio[k]);
   }
   free(buf);
   d.dissipated = w->prepared ? w->energy_initial - total_energy(&d) : 0.0;

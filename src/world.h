@@ -5,6 +5,8 @@
 
 #include <stdbool.h>
 #include "adem/adem.h"
+#include "contact/triangle.h"
+#include "mesh.h"
 #include "vec3.h"
 
 /* Particle storage. Indices change when particles are reordered by grid cell; id never does. */
@@ -79,6 +81,22 @@ typedef struct adem_pair_list {
   double *overlap_ratio;        /* overlap / smaller radius */
 } adem_pair_list;
 
+/* Particle-mesh contacts. The pair list holds each particle's candidate triangles (b = triangle
+ * index) in one range, start[i] .. start[i+1]. After a force pass the first k slots of a range
+ * hold the particle's k distinct contacts (contact/triangle.h): region key, owning triangle,
+ * history and results; touching marks them. History follows a contact by its key from step to
+ * step (the last step's arrays are kept in the _prev arrays) and across rebuilds (by id and key). */
+typedef struct adem_mesh_pairs {
+  adem_pair_list l;
+  size_t *start;       /* particles + 1 */
+  size_t start_cap, cap;
+  uint64_t *key, *key_prev;
+  uint32_t *owner;     /* triangle owning the contact in the slot */
+  adem_contact_history *hist_prev;
+  bool *touching_prev;
+  adem_mesh_contact *found; /* scratch for adem_triangle_sphere_contacts, one per slot */
+} adem_mesh_pairs;
+
 typedef struct adem_neighbors {
   double skin;           /* absolute skin distance, m */
   double skin_fraction;  /* skin as a fraction of the largest diameter */
@@ -90,6 +108,10 @@ typedef struct adem_neighbors {
   size_t ncells;
   size_t *cell_start;    /* ncells + 1; particles are sorted by cell */
   size_t cell_cap;
+  /* mesh triangles binned into the cells their box, grown by the largest reach, overlaps */
+  size_t *tri_cell_start; /* ncells + 1 */
+  uint32_t *tri_cell;
+  size_t tri_cell_start_cap, tri_cell_cap;
   /* per-particle gather lists: entries (pair index << 1 | side) for pp; pair index for pw */
   size_t *pp_start, *pw_start;
   uint32_t *pp_entries, *pw_entries;
@@ -120,6 +142,13 @@ struct adem_world {
 
   adem_neighbors nb;
   adem_pair_list pp, pw;
+
+  /* triangle-mesh walls: one group per STL file (mesh.h) */
+  adem_mesh mesh;
+  adem_vec3 *mesh_velocity; /* per mesh group, m/s: the group moves with it (own_vertices) */
+  double mesh_shift;        /* largest distance a mesh group moved since the last neighbour build */
+  double *face_force;       /* 3 per triangle: force of the particles on it, last force pass */
+  adem_mesh_pairs pm;
 
   /* safety limits */
   double max_overlap_ratio;   /* stop when a contact overlaps more than this fraction */
@@ -152,6 +181,14 @@ adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
 /* Pair lists (pairs.c). */
 adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap);
 void adem_pair_list_free(adem_pair_list *l);
+/* Grows the mesh pairs' own arrays to the capacity of their pair list. */
+adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
+void adem_mesh_pairs_free(adem_mesh_pairs *pm);
+
+/* Adds the triangles of an STL file as one mesh wall group (more groups for an ASCII file with
+ * several solids), moving with velocity (non-zero needs tf->own_vertices). */
+adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
+                                const char *name, adem_vec3 velocity, adem_error *err);
 
 /* Neighbour search (neighbors.c). */
 adem_status adem_neighbors_build(adem_world *w, adem_error *err);
