@@ -1,5 +1,6 @@
 /* The adem command: run, resume and check cases. The only code of adem that prints or exits. */
 #include <errno.h>
+#include <stddef.h>
 #include <math.h>
 #include <signal.h>
 #include <stdarg.h>
@@ -11,7 +12,11 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
+#include "collide.h"
+#include "fileio.h"
+#include "parallel.h"
 #include "schedule.h"
+#include "validate.h"
 #include "world.h"
 
 enum {
@@ -30,6 +35,8 @@ static const char *const main_help =
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
     "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
     "  adem check CASE.yaml [--set key.path=value ...]\n"
+    "  adem collide [--kind pair|wall] [--speed LIST] [--lambda LIST] [--ad LIST] ...\n"
+    "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"
     "  adem reference\n"
     "  adem --help | --version\n"
     "\n"
@@ -39,6 +46,11 @@ static const char *const main_help =
     "  check      validate a case and print what the run would use: effective material\n"
     "             pair properties, collision and Rayleigh times, the time step, the number\n"
     "             of steps, memory and disk estimates (see: adem check --help)\n"
+    "  collide    run single collisions in bulk (pair head-on or sphere on a wall) over lists\n"
+    "             of speeds, angles, lambda, Ad or stiffness factors; e_eff, stuck, contact\n"
+    "             duration and overlap as CSV (see: adem collide --help)\n"
+    "  validate   reproduce the papers' figures and check their claims: CSV, PNG and a\n"
+    "             summary per figure (see: adem validate --help)\n"
     "  reference  print the case-file reference (every key, unit, default, range) as Markdown\n"
     "\n"
     "Options:\n"
@@ -113,7 +125,12 @@ static const char *const check_help =
     "  - per pair of materials that can meet: the effective Young's and shear moduli E*, G*\n"
     "    (the modified ones when stiffness_factor < 1), the range of the effective radius R*,\n"
     "    restitution e, damping factor beta = ln e / sqrt(ln^2 e + pi^2), friction, the normal\n"
-    "    and rolling models and, for JKR, the Tabor parameter;\n"
+    "    and rolling models;\n"
+    "  - for each JKR pair, at its smallest spheres, real and modified (stiffness_factor, H24):\n"
+    "    E*, gamma, a0, the equilibrium overlap a0^2/(3R), F_C = 3 pi gamma R, the pull-off\n"
+    "    force (8/9) F_C, the Hertz collision time and the step t_c/50, the speed-up of the step\n"
+    "    (E/E_mod)^(2/5), the Tabor parameter (a warning below 3, where JKR does not apply) and\n"
+    "    the largest external force that stays below 10% of the modified pull-off force;\n"
     "  - the Hertz collision time at the reference speed v_ref, the Rayleigh time, the\n"
     "    proposed step min(t_c/50, 0.2 t_R), the chosen step and whether it is automatic;\n"
     "  - the number of steps, frames, CSV rows and checkpoints;\n"
@@ -430,14 +447,62 @@ static const char *rolling_name(adem_rolling_model m) {
 
 static double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 
-/* Tabor parameter lambda_T = (4 R gamma^2 / (E^2 D^3))^(1/3), D = 1.65 A (H1). */
-static double tabor(double R, double gamma, double E) {
-  const double D = 1.65e-10;
-  return cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D));
+/* What a JKR pair implies, at its smallest spheres (notes sections 1, 5, 6; H section 6.2). */
+static void print_jkr(const adem_world *w, int a, int b, bool wall, const double *rmin,
+                      double v_ref) {
+  const adem_interaction *it = adem_world_interaction(w, a, b);
+  if (it->normal != ADEM_NORMAL_JKR) return;
+  const char *pad = "";
+  if (!(it->gamma_real > 0.0)) {
+    printf("  %-26s jkr without surface energy: the contact is Hertz\n", pad);
+    return;
+  }
+  double ra = rmin[a], ma = w->materials[a].def.density * (4.0 / 3.0) * ADEM_PI * ra * ra * ra;
+  double R = ra, mstar = ma;
+  if (!wall) {
+    double rb = rmin[b], mb = w->materials[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
+    R = ra * rb / (ra + rb);
+    mstar = ma * mb / (ma + mb);
+  }
+  adem_jkr_pair_summary s =
+      adem_jkr_pair_summarize(it->E_real, it->E, it->gamma_real, it->gamma, R, mstar, v_ref);
+  char mod[64];
+  snprintf(mod, sizeof mod, "modified (E_mod/E = %.3g)", it->E / it->E_real);
+  printf("  %-26s simplified JKR (H7-H10) for the smallest spheres: R* = %.4g m, m* = %.4g kg\n",
+         pad, R, mstar);
+  printf("  %-26s   %-36s %-12s %s\n", pad, "", "real", mod);
+  const struct {
+    const char *label;
+    double real, modified;
+  } rows[] = {
+      {"E* (Pa)", s.E, s.E_mod},
+      {"gamma (J/m^2)", s.gamma, s.gamma_mod},
+      {"a0 = (9 pi gamma R^2/E)^(1/3) (m)", s.a0, s.a0_mod},
+      {"delta_eq = a0^2/(3R) (m)", s.delta_eq, s.delta_eq_mod},
+      {"F_C = 3 pi gamma R (N)", s.f_c, s.f_c_mod},
+      {"pull-off force (8/9) F_C (N)", s.pull_off, s.pull_off_mod},
+      {"Hertz t_c at v_ref (s)", s.t_c, s.t_c_mod},
+      {"time step t_c/50 (s)", s.dt, s.dt_mod},
+  };
+  for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k)
+    printf("  %-26s   %-36s %-12.4g %.4g\n", pad, rows[k].label, rows[k].real, rows[k].modified);
+  printf("  %-26s   step speed-up (E/E_mod)^(2/5) = %.4g\n", pad, s.speedup);
+  printf("  %-26s   Tabor parameter lambda_T = %.3g (real material, D_min = 1.65e-10 m)%s\n", pad,
+         s.tabor, s.tabor < 3.0 ? ": below 3, JKR is outside its range (H1)" : ", JKR valid (> 3)");
+  printf("  %-26s   external forces pulling these spheres apart must stay below %.3g N (%.0f%% "
+         "of the modified pull-off force)\n",
+         pad, s.f_ext_max, 100.0 * ADEM_PULLOFF_SAFETY);
+  if (s.tabor < 3.0) {
+    fflush(stdout);
+    fprintf(stderr,
+            "adem: warning: %s-%s%s: Tabor parameter %.3g is below 3: the JKR model is outside "
+            "its range (H1); the contact is closer to DMT/Maugis\n",
+            w->materials[a].def.name, w->materials[b].def.name, wall ? " (wall)" : "", s.tabor);
+  }
 }
 
 static void print_pair(const adem_world *w, int a, int b, bool wall, const double *rmin,
-                       const double *rmax) {
+                       const double *rmax, double v_ref) {
   const adem_interaction *it = adem_world_interaction(w, a, b);
   double Rlo, Rhi;
   if (wall) {
@@ -458,11 +523,7 @@ static void print_pair(const adem_world *w, int a, int b, bool wall, const doubl
   if (it->E != it->E_real)
     printf("  %-26s real material: E* = %.4g Pa, G* = %.4g Pa (stiffness reduced, H24)\n", "",
            it->E_real, it->G_real);
-  if (it->normal == ADEM_NORMAL_JKR && it->gamma_real > 0.0) {
-    double tlo = tabor(Rlo, it->gamma_real, it->E_real), thi = tabor(Rhi, it->gamma_real, it->E_real);
-    printf("  %-26s gamma = %.4g J/m^2, Tabor parameter %.3g..%.3g%s\n", "", it->gamma_real, tlo,
-           thi, tlo < 3.0 ? " (below 3: outside the JKR range, H1)" : "");
-  }
+  print_jkr(w, a, b, wall, rmin, v_ref);
 }
 
 static int cmd_check(int argc, char **argv) {
@@ -535,9 +596,9 @@ static int cmd_check(int argc, char **argv) {
   for (int a = 0; a < nm; ++a) {
     if (!(rmax[a] > 0.0)) continue;
     for (int b = a; b < nm; ++b)
-      if (rmax[b] > 0.0) print_pair(w, a, b, false, rmin, rmax);
+      if (rmax[b] > 0.0) print_pair(w, a, b, false, rmin, rmax, c->estimate.v_ref);
     for (int b = 0; b < nm; ++b)
-      if (wallmat[b]) print_pair(w, a, b, true, rmin, rmax);
+      if (wallmat[b]) print_pair(w, a, b, true, rmin, rmax, c->estimate.v_ref);
   }
 
   const adem_step_estimate *e = &c->estimate;
@@ -598,6 +659,414 @@ static int cmd_check(int argc, char **argv) {
   return EXIT_OK;
 }
 
+/* ---------------------------------------------------------------- collide */
+
+static const char *const collide_help =
+    "Usage:\n"
+    "  adem collide [--kind pair|wall] [material options] [--speed LIST] [--angle LIST]\n"
+    "               [--lambda LIST] [--ad LIST] [--stiffness-factor LIST] [--keep-gamma]\n"
+    "               [--steps-per-tc N] [--out FILE.csv] [--threads N]\n"
+    "\n"
+    "Runs single collisions in bulk, without a case file: two equal-material spheres head-on\n"
+    "(pair) or a sphere on a rigid plane wall at an angle (wall). Every combination of the lists\n"
+    "is one collision, in its own world, run in parallel; the rows come out in input order\n"
+    "(stiffness factor, then Ad, then lambda, then angle, then speed, the last varying fastest).\n"
+    "Each row gives e_eff (normal separation/approach speed), whether the spheres stuck,\n"
+    "the contact duration, the largest overlap and the step used.\n"
+    "\n"
+    "A LIST is  a,b,c  or  lo:hi:n  (n values, linear)  or  log:lo:hi:n  (n values, logarithmic).\n"
+    "\n"
+    "Material and impact (defaults: a PSL sphere on quartz, Haervig et al. Fig. 5):\n"
+    "  --kind pair|wall         head-on pair or wall impact (default wall)\n"
+    "  --radius R               radius r_i of the (first) sphere, m (default 6.35e-7)\n"
+    "  --size-ratio B           r_j / r_i of a pair (default 1)\n"
+    "  --density RHO            kg/m^3 (default 1026)\n"
+    "  --young E                effective Young's modulus E* of the real materials, Pa\n"
+    "                           (H2; default 2.71e8)\n"
+    "  --poisson NU             Poisson's ratio of the spheres (default 0.3)\n"
+    "  --restitution E          coefficient of restitution e (default 0.86)\n"
+    "  --friction MU            sliding friction (default 0.3)\n"
+    "  --surface-energy G       surface energy gamma, J/m^2; 0 gives Hertz (default 0.11)\n"
+    "  --stiffness-factor LIST  f = E_mod/E in (0, 1] (default 1); gamma becomes gamma f^(2/5)\n"
+    "  --keep-gamma             reduce E only, keep gamma (not H24), for comparison\n"
+    "  --speed LIST             relative impact speed, m/s (default 1)\n"
+    "  --angle LIST             wall: angle psi between the velocity and the wall, degrees\n"
+    "                           (default 90, a normal impact)\n"
+    "  --lambda LIST            set E from lambda = E/(rho v^2 sin^2 psi) at each speed\n"
+    "  --ad LIST                set gamma from Ad = 3 gamma/(rho v^2 sin^2 psi r_i)\n"
+    "                           (1+B^3)/((1+B^2) B) (pair; wall: without the B factor)\n"
+    "  --steps-per-tc N         time steps per collision time (default 200)\n"
+    "\n"
+    "Output:\n"
+    "  --out FILE.csv           write the CSV there (default: standard output)\n"
+    "  --threads N              threads (default: OMP_NUM_THREADS or all cores); the results\n"
+    "                           are identical for every N\n"
+    "\n"
+    "Ad is the text's definition in Haervig et al. section 5.1 (the caption of their Fig. 7\n"
+    "writes gamma/(rho v^2 R), which disagrees). Stuck: the contact's normal energy (kinetic +\n"
+    "JKR) has fallen below its value at delta = 0, so the contact can no longer break.\n"
+    "\n"
+    "Examples:\n"
+    "  adem collide --speed log:0.5:20:40 --stiffness-factor 1,0.1,0.01 --out e_eff.csv\n"
+    "  adem collide --kind pair --restitution 0.3 --speed 1 --radius 1e-6 --density 1000 \\\n"
+    "      --lambda log:1e2:1e7:41 --ad 1,10\n"
+    "\n"
+    "Exit status: 0 done; 2 bad option; 3 a collision could not be run (its row says why);\n"
+    "4 the CSV could not be written.\n";
+
+typedef struct value_list {
+  double *v;
+  size_t n;
+} value_list;
+
+/* "a,b,c", "lo:hi:n" or "log:lo:hi:n" into a fresh list. */
+static int parse_list(const char *opt, const char *text, value_list *out) {
+  free(out->v);
+  out->v = NULL;
+  out->n = 0;
+  bool logscale = strncmp(text, "log:", 4) == 0;
+  const char *s = logscale ? text + 4 : (strncmp(text, "lin:", 4) == 0 ? text + 4 : text);
+  if (strchr(s, ':')) {
+    char *end;
+    double lo = strtod(s, &end);
+    double hi = *end == ':' ? strtod(end + 1, &end) : NAN;
+    long n = *end == ':' ? strtol(end + 1, &end, 10) : 0;
+    if (*end || !isfinite(lo) || !isfinite(hi) || n < 1 || n > 1000000 ||
+        (logscale && !(lo > 0.0 && hi > 0.0)))
+      return fail(EXIT_INPUT,
+                  "%s %s: expected lo:hi:n or log:lo:hi:n (n from 1 to 1000000, log needs lo, hi "
+                  "> 0)", opt, text);
+    out->v = malloc((size_t)n * sizeof *out->v);
+    if (!out->v) return fail(EXIT_INTERNAL, "out of memory");
+    for (long k = 0; k < n; ++k) {
+      double x = n == 1 ? 0.0 : (double)k / (double)(n - 1);
+      out->v[k] = logscale ? lo * pow(hi / lo, x) : lo + (hi - lo) * x;
+    }
+    out->n = (size_t)n;
+    return EXIT_OK;
+  }
+  size_t cap = 1;
+  for (const char *c = s; *c; ++c) cap += *c == ',';
+  out->v = malloc(cap * sizeof *out->v);
+  if (!out->v) return fail(EXIT_INTERNAL, "out of memory");
+  for (const char *c = s;;) {
+    char *end;
+    double x = strtod(c, &end);
+    if (end == c || (*end && *end != ',') || !isfinite(x))
+      return fail(EXIT_INPUT, "%s %s: expected numbers separated by commas, lo:hi:n or "
+                              "log:lo:hi:n", opt, text);
+    out->v[out->n++] = x;
+    if (!*end) break;
+    c = end + 1;
+  }
+  return EXIT_OK;
+}
+
+static int parse_number_option(const char *opt, const char *text, double *x) {
+  char *end;
+  *x = strtod(text, &end);
+  if (end == text || *end || !isfinite(*x))
+    return fail(EXIT_INPUT, "%s needs a number, not '%s'", opt, text);
+  return EXIT_OK;
+}
+
+/* Every value of the list satisfies lo < x (or lo <= x) and x <= hi. */
+static int check_list(const char *opt, const value_list *l, double lo, bool lo_open, double hi,
+                      const char *allowed) {
+  for (size_t k = 0; k < l->n; ++k)
+    if ((lo_open ? !(l->v[k] > lo) : !(l->v[k] >= lo)) || !(l->v[k] <= hi))
+      return fail(EXIT_INPUT, "%s: %g is out of range: it must be %s", opt, l->v[k], allowed);
+  return EXIT_OK;
+}
+
+static int cmd_collide(int argc, char **argv) {
+  adem_collision_spec base = adem_default_collision_spec();
+  base.kind = ADEM_COLLISION_WALL;
+  base.radius = 0.635e-6;
+  base.density = 1026.0;
+  base.young = 271e6;
+  base.restitution = 0.86;
+  base.friction = 0.3;
+  base.surface_energy = 0.11;
+  value_list speed = {0}, angle = {0}, lambda = {0}, ad = {0}, fs = {0};
+  const char *out = NULL;
+  int threads = 0, rc = EXIT_OK;
+  static const struct {
+    const char *name;
+    size_t offset;
+  } numbers[] = {
+      {"--radius", offsetof(adem_collision_spec, radius)},
+      {"--size-ratio", offsetof(adem_collision_spec, size_ratio)},
+      {"--density", offsetof(adem_collision_spec, density)},
+      {"--young", offsetof(adem_collision_spec, young)},
+      {"--poisson", offsetof(adem_collision_spec, poisson)},
+      {"--restitution", offsetof(adem_collision_spec, restitution)},
+      {"--friction", offsetof(adem_collision_spec, friction)},
+      {"--surface-energy", offsetof(adem_collision_spec, surface_energy)},
+      {"--steps-per-tc", offsetof(adem_collision_spec, steps_per_tc)},
+  };
+  static const struct {
+    const char *name;
+    value_list *list;
+  } lists_tmpl[] = {{"--speed", NULL}, {"--angle", NULL}, {"--lambda", NULL}, {"--ad", NULL},
+                    {"--stiffness-factor", NULL}};
+  value_list *lists[] = {&speed, &angle, &lambda, &ad, &fs};
+  for (int i = 0; i < argc && !rc; ++i) {
+    const char *a = argv[i], *v;
+    int missing = 0, done = 0;
+    if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+      fputs(collide_help, stdout);
+      rc = -1;
+      break;
+    }
+    if (strcmp(a, "--keep-gamma") == 0) {
+      base.keep_gamma = true;
+      continue;
+    }
+    for (size_t k = 0; k < sizeof numbers / sizeof numbers[0] && !done && !rc; ++k)
+      if ((v = option_value(argc, argv, &i, numbers[k].name, &missing)) || missing) {
+        done = 1;
+        rc = missing ? fail(EXIT_INPUT, "%s needs a value", numbers[k].name)
+                     : parse_number_option(numbers[k].name, v,
+                                           (double *)((char *)&base + numbers[k].offset));
+      }
+    for (size_t k = 0; k < 5 && !done && !rc; ++k)
+      if ((v = option_value(argc, argv, &i, lists_tmpl[k].name, &missing)) || missing) {
+        done = 1;
+        rc = missing ? fail(EXIT_INPUT, "%s needs a value", lists_tmpl[k].name)
+                     : parse_list(lists_tmpl[k].name, v, lists[k]);
+      }
+    if (done || rc) continue;
+    if ((v = option_value(argc, argv, &i, "--kind", &missing)) || missing) {
+      if (!missing && strcmp(v, "pair") == 0) base.kind = ADEM_COLLISION_PAIR;
+      else if (!missing && strcmp(v, "wall") == 0) base.kind = ADEM_COLLISION_WALL;
+      else rc = fail(EXIT_INPUT, "--kind needs pair or wall, not '%s'", missing ? "" : v);
+    } else if ((v = option_value(argc, argv, &i, "--out", &missing)) || missing) {
+      if (missing || !*v) rc = fail(EXIT_INPUT, "--out needs a file name");
+      else out = v;
+    } else if ((v = option_value(argc, argv, &i, "--threads", &missing)) || missing) {
+      char *end = NULL;
+      long t = missing ? 0 : strtol(v, &end, 10);
+      if (missing || !end || *end || t < 1 || t > 4096)
+        rc = fail(EXIT_INPUT, "--threads needs a whole number from 1 to 4096, not '%s'",
+                  missing ? "" : v);
+      else threads = (int)t;
+    } else {
+      rc = fail(EXIT_INPUT, "unknown option or argument '%s' for adem collide (see: adem collide "
+                            "--help)", a);
+    }
+  }
+  /* Checks of what every collision shares, then of each list. */
+  if (!rc && !(base.radius > 0.0)) rc = fail(EXIT_INPUT, "--radius must be > 0");
+  if (!rc && !(base.size_ratio > 0.0)) rc = fail(EXIT_INPUT, "--size-ratio must be > 0");
+  if (!rc && !(base.density > 0.0)) rc = fail(EXIT_INPUT, "--density must be > 0");
+  if (!rc && !(base.young > 0.0)) rc = fail(EXIT_INPUT, "--young must be > 0");
+  if (!rc && !(base.poisson > -1.0 && base.poisson < 0.5))
+    rc = fail(EXIT_INPUT, "--poisson %g is outside (-1, 0.5)", base.poisson);
+  if (!rc && !(base.restitution > 0.0 && base.restitution <= 1.0))
+    rc = fail(EXIT_INPUT, "--restitution %g is outside (0, 1]", base.restitution);
+  if (!rc && !(base.friction >= 0.0)) rc = fail(EXIT_INPUT, "--friction must be >= 0");
+  if (!rc && !(base.surface_energy >= 0.0))
+    rc = fail(EXIT_INPUT, "--surface-energy %g must be >= 0 (0: Hertz, no adhesion)",
+              base.surface_energy);
+  if (!rc && !(base.steps_per_tc >= 10.0))
+    rc = fail(EXIT_INPUT, "--steps-per-tc must be at least 10");
+  if (!rc) rc = check_list("--speed", &speed, 0.0, true, INFINITY, "> 0 m/s");
+  if (!rc) rc = check_list("--angle", &angle, 0.0, true, 90.0, "in (0, 90] degrees");
+  if (!rc) rc = check_list("--lambda", &lambda, 0.0, true, INFINITY, "> 0");
+  if (!rc) rc = check_list("--ad", &ad, 0.0, false, INFINITY, ">= 0");
+  if (!rc) rc = check_list("--stiffness-factor", &fs, 0.0, true, 1.0, "in (0, 1]");
+  if (!rc && base.kind == ADEM_COLLISION_PAIR && angle.n)
+    rc = fail(EXIT_INPUT, "--angle is for wall impacts (--kind wall); pairs collide head-on");
+  static double one = 1.0, ninety = 90.0;
+  value_list dspeed = {&one, 1}, dangle = {&ninety, 1}, dnone = {NULL, 1}, dfs = {&one, 1};
+  const value_list *S = speed.n ? &speed : &dspeed, *A = angle.n ? &angle : &dangle;
+  const value_list *L = lambda.n ? &lambda : &dnone, *D = ad.n ? &ad : &dnone;
+  const value_list *F = fs.n ? &fs : &dfs;
+  size_t n = S->n * A->n * L->n * D->n * F->n;
+  adem_collision_spec *sp = NULL;
+  adem_collision_result *res = NULL;
+  if (!rc && n > 10000000) rc = fail(EXIT_INPUT, "%zu collisions are too many (at most 1e7)", n);
+  if (!rc) {
+    sp = malloc(n * sizeof *sp);
+    res = malloc(n * sizeof *res);
+    if (!sp || !res) rc = fail(EXIT_INTERNAL, "out of memory");
+  }
+  if (!rc) {
+    size_t k = 0;
+    for (size_t f = 0; f < F->n; ++f)
+      for (size_t d = 0; d < D->n; ++d)
+        for (size_t l = 0; l < L->n; ++l)
+          for (size_t g = 0; g < A->n; ++g)
+            for (size_t v = 0; v < S->n; ++v, ++k) {
+              adem_collision_spec c = base;
+              c.stiffness_factor = F->v[f];
+              c.speed = S->v[v];
+              c.angle = A->v[g] * ADEM_PI / 180.0;
+              if (lambda.n) adem_collide_set_lambda(&c, L->v[l]);
+              if (ad.n) adem_collide_set_ad(&c, D->v[d]);
+              sp[k] = c;
+            }
+    double t0 = wall_now();
+    int nt = threads > 0 ? threads : adem_default_threads();
+    if (nt < 1) nt = 1;
+    adem_collide_many(sp, res, n, nt);
+    double spent = wall_now() - t0;
+    adem_afile af;
+    adem_error err;
+    FILE *f = stdout;
+    if (out) {
+      adem_status st = adem_fileio_open(&af, out, &err);
+      if (st) rc = fail(exit_code(st), "%s", err.message);
+      else f = af.f;
+    }
+    size_t stuck = 0, undecided = 0, failed = 0;
+    if (!rc) {
+      fputs("kind,radius_m,size_ratio,density_kg_m3,E_Pa,poisson,gamma_J_m2,stiffness_factor,"
+            "gamma_by_H24,restitution,friction,speed_m_s,angle_deg,lambda,Ad,e_eff,stuck,"
+            "undecided,v_n_in_m_s,v_n_out_m_s,v_t_out_m_s,omega_out_rad_s,contact_duration_s,"
+            "max_overlap_m,t_c_s,dt_s,steps,status\n", f);
+      for (size_t k = 0; k < n; ++k) {
+        const adem_collision_spec *c = &sp[k];
+        const adem_collision_result *r = &res[k];
+        stuck += r->stuck;
+        undecided += r->undecided;
+        failed += r->status != ADEM_OK;
+        char status[300];
+        if (r->status) {
+          snprintf(status, sizeof status, "\"error: %s\"", r->message);
+          for (char *q = status + 1; q[1]; ++q)
+            if (*q == '"') *q = '\'';
+        } else {
+          snprintf(status, sizeof status, "ok");
+        }
+        fprintf(f, "%s,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,"
+                   "%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%llu,%s\n",
+                c->kind == ADEM_COLLISION_WALL ? "wall" : "pair", c->radius,
+                c->kind == ADEM_COLLISION_WALL ? 0.0 : c->size_ratio, c->density, c->young,
+                c->poisson, c->surface_energy, c->stiffness_factor, c->keep_gamma ? 0 : 1,
+                c->restitution, c->friction, c->speed, c->angle * 180.0 / ADEM_PI,
+                adem_collide_lambda(c), adem_collide_ad(c), r->e_eff, r->stuck ? 1 : 0,
+                r->undecided ? 1 : 0, r->v_n_in, r->v_n_out, r->v_t_out, r->omega_out,
+                r->duration, r->max_overlap, r->t_c, r->dt, (unsigned long long)r->steps, status);
+      }
+      if (out) {
+        adem_status st = adem_fileio_commit(&af, &err);
+        if (st) rc = fail(exit_code(st), "%s", err.message);
+      } else if (fflush(stdout) != 0) {
+        rc = fail(EXIT_IO, "standard output could not be written");
+      }
+    }
+    if (!rc) {
+      fprintf(stderr, "adem: %zu collision%s in %.2f s on %d thread%s: %zu stuck%s", n,
+              n == 1 ? "" : "s", spent, nt, nt == 1 ? "" : "s", stuck,
+              undecided ? " (" : "");
+      if (undecided) fprintf(stderr, "%zu undecided after the time limit)", undecided);
+      fprintf(stderr, ", %zu rebounded%s%s\n", n - stuck - failed, out ? "; CSV in " : "",
+              out ? out : "");
+      if (failed) {
+        for (size_t k = 0; k < n; ++k)
+          if (res[k].status) {
+            rc = fail(EXIT_RUNTIME, "%zu collision%s could not be run; the first (row %zu): %s",
+                      failed, failed == 1 ? "" : "s", k + 1, res[k].message);
+            break;
+          }
+      }
+    }
+  }
+  free(sp);
+  free(res);
+  for (int k = 0; k < 5; ++k) free(lists[k]->v);
+  return rc < 0 ? EXIT_OK : rc;
+}
+
+/* ---------------------------------------------------------------- validate */
+
+static const char *const validate_help =
+    "Usage:\n"
+    "  adem validate [NAME ...] [--out DIR] [--threads N] [--quick]\n"
+    "  adem validate --list\n"
+    "\n"
+    "Reproduces figures of the two source papers (all of them, or the NAMEs given) and checks\n"
+    "each paper's claim. For each NAME it writes DIR/NAME.csv (the numbers, with a header\n"
+    "naming quantity and unit) and DIR/NAME.png (gnuplot), and for the whole run\n"
+    "DIR/summary.md and DIR/summary.json: the claim with its figure, what was measured, notes\n"
+    "(parameters the paper omits, data that are not available) and pass/fail.\n"
+    "\n"
+    "Options:\n"
+    "  --out DIR     output folder (default out/validate); created if missing\n"
+    "  --threads N   threads (default: OMP_NUM_THREADS or all cores)\n"
+    "  --quick       smaller versions (fewer points, coarser bisection), as the tests run them\n"
+    "  --list        list the validations and exit\n"
+    "  -h, --help    show this help\n"
+    "\n"
+    "Examples:\n"
+    "  adem validate --list\n"
+    "  adem validate haervig-fig5 haervig-fig13 --out out/v\n"
+    "  adem validate --quick\n"
+    "\n"
+    "Exit status: 0 every claim holds; 3 at least one validation failed its claim or could not\n"
+    "run (summary.md says which); 2 bad option or unknown name; 4 a file could not be written.\n";
+
+static int cmd_validate(int argc, char **argv) {
+  const char **names = calloc((size_t)argc + 1, sizeof *names);
+  if (!names) return fail(EXIT_INTERNAL, "out of memory");
+  int nnames = 0, threads = 0, list = 0, rc = EXIT_OK;
+  adem_validation_context ctx = {"out/validate", 0, false};
+  for (int i = 0; i < argc && !rc; ++i) {
+    const char *a = argv[i], *v;
+    int missing = 0;
+    if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+      fputs(validate_help, stdout);
+      free(names);
+      return EXIT_OK;
+    } else if (strcmp(a, "--quick") == 0) {
+      ctx.quick = true;
+    } else if (strcmp(a, "--list") == 0) {
+      list = 1;
+    } else if ((v = option_value(argc, argv, &i, "--out", &missing)) || missing) {
+      if (missing || !*v) rc = fail(EXIT_INPUT, "--out needs a folder");
+      else ctx.out_dir = v;
+    } else if ((v = option_value(argc, argv, &i, "--threads", &missing)) || missing) {
+      char *end = NULL;
+      long t = missing ? 0 : strtol(v, &end, 10);
+      if (missing || !end || *end || t < 1 || t > 4096)
+        rc = fail(EXIT_INPUT, "--threads needs a whole number from 1 to 4096, not '%s'",
+                  missing ? "" : v);
+      else threads = (int)t;
+    } else if (a[0] == '-' && a[1] != '\0') {
+      rc = fail(EXIT_INPUT, "unknown option %s for adem validate (see: adem validate --help)", a);
+    } else if (!adem_validation_find(a)) {
+      rc = fail(EXIT_INPUT, "unknown validation '%s'; adem validate --list shows them", a);
+    } else {
+      names[nnames++] = a;
+    }
+  }
+  if (!rc && list) {
+    for (size_t k = 0; k < adem_validation_count(); ++k) {
+      const adem_validation *v = adem_validation_at(k);
+      printf("%-16s %-34s %s\n", v->name, v->source, v->title);
+    }
+  } else if (!rc) {
+    ctx.nthreads = threads > 0 ? threads : adem_default_threads();
+    if (ctx.nthreads < 1) ctx.nthreads = 1;
+    adem_error err;
+    memset(&err, 0, sizeof err);
+    int failed = 0;
+    adem_status st = adem_validate_run(names, nnames, &ctx, &failed, &err);
+    if (st) {
+      rc = fail(exit_code(st), "%s", err.message);
+    } else {
+      size_t total = nnames ? (size_t)nnames : adem_validation_count();
+      fprintf(stderr, "adem: %zu of %zu validation%s passed; summary in %s/summary.md\n",
+              total - (size_t)failed, total, total == 1 ? "" : "s", ctx.out_dir);
+      rc = failed ? EXIT_RUNTIME : EXIT_OK;
+    }
+  }
+  free(names);
+  return rc;
+}
+
 /* ---------------------------------------------------------------- main */
 
 int main(int argc, char **argv) {
@@ -611,6 +1080,8 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "-h") == 0 || strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0) {
     if (argc > 2 && strcmp(argv[2], "run") == 0) fputs(run_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "check") == 0) fputs(check_help, stdout);
+    else if (argc > 2 && strcmp(argv[2], "collide") == 0) fputs(collide_help, stdout);
+    else if (argc > 2 && strcmp(argv[2], "validate") == 0) fputs(validate_help, stdout);
     else fputs(main_help, stdout);
     return EXIT_OK;
   }
@@ -620,6 +1091,8 @@ int main(int argc, char **argv) {
   }
   if (strcmp(cmd, "run") == 0) return cmd_run(argc - 2, argv + 2);
   if (strcmp(cmd, "check") == 0) return cmd_check(argc - 2, argv + 2);
+  if (strcmp(cmd, "collide") == 0) return cmd_collide(argc - 2, argv + 2);
+  if (strcmp(cmd, "validate") == 0) return cmd_validate(argc - 2, argv + 2);
   if (strcmp(cmd, "reference") == 0) {
     if (argc > 2 && (strcmp(argv[2], "-h") == 0 || strcmp(argv[2], "--help") == 0)) {
       puts("Usage: adem reference\n\nPrints the case-file reference (every key with its type, "
@@ -630,6 +1103,6 @@ int main(int argc, char **argv) {
     adem_case_write_reference(stdout);
     return fflush(stdout) == 0 ? EXIT_OK : EXIT_IO;
   }
-  return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check and reference (see: "
-                          "adem --help)", cmd);
+  return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate and "
+                          "reference (see: adem --help)", cmd);
 }

@@ -11,10 +11,12 @@
 #include <string.h>
 #include <yaml.h>
 
+#include "collide.h"
 #include "log.h"
 #include "rng.h"
 #include "schema.h"
 #include "vec3.h"
+#include "world.h"
 
 #define KEY_PATH_MAX 256
 #define LOC_MAX 640
@@ -1149,6 +1151,26 @@ static adem_status build_materials(case_ctx *ctx, const map_cursor *root) {
   return ADEM_OK;
 }
 
+/* JKR adhesion needs a surface energy on both sides: the pair's is the geometric mean of the two
+ * (materials.c), so a side without one (typically a wall material) silently makes it Hertz. */
+static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem_interaction_def *d,
+                                  char names[2][ADEM_NAME_MAX]) {
+  const int mats[2] = {d->material_a, d->material_b};
+  for (int s = 0; s < 2; ++s) {
+    if (ctx->w->materials[mats[s]].def.surface_energy > 0.0) continue;
+    char path[KEY_PATH_MAX], at[LOC_MAX];
+    join(path, sizeof path, m->path, "normal");
+    where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
+    yaml_node_t *node = map_get(ctx, m->node, "normal");
+    return fail(ctx, node ? node : m->node, path,
+                "`jkr` between `%s` and `%s` needs a surface energy on both materials, but `%s` "
+                "(at %s) has surface_energy 0; give it a `surface_energy` > 0 (for a wall, the "
+                "wall material's) or use `normal: hertz`",
+                names[0], names[1], ctx->mat_name[mats[s]], at);
+  }
+  return ADEM_OK;
+}
+
 static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = get_list(ctx, root, "interactions", &l);
@@ -1192,6 +1214,21 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     /* The schema's choices are listed in the order of the enums. */
     d.normal = (adem_normal_model)normal;
     d.rolling = (adem_rolling_model)rolling;
+    if (d.rolling == ADEM_ROLLING_DTK) {
+      /* DTK's stiffness and limit come from the JKR pull-off force and contact radius (H18-H22):
+       * without JKR adhesion they do not exist. */
+      char rpath[KEY_PATH_MAX];
+      join(rpath, sizeof rpath, m.path, "rolling");
+      yaml_node_t *at = map_get(ctx, m.node, "rolling");
+      if (d.normal != ADEM_NORMAL_JKR) {
+        st = fail(ctx, at, rpath,
+                  "`dtk` rolling needs the JKR pull-off force and contact radius, which the "
+                  "`hertz` normal model does not provide; add `normal: jkr` to this interaction or "
+                  "choose another rolling model (model_a, model_c, brof)");
+        break;
+      }
+    }
+    if (d.normal == ADEM_NORMAL_JKR && (st = check_jkr_pair(ctx, &m, &d, names))) break;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_set_interaction(ctx->w, &d, &werr) < 0)
       st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, m.node, m.path, "%s", werr.message);
@@ -1641,6 +1678,116 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
   return ADEM_OK;
 }
 
+/* H section 6.2: with a reduced stiffness the force that breaks a JKR contact drops to
+ * (8/9) 3 pi gamma_mod R. The group forces are constant, so one look at load time finds every
+ * group whose force pulls hard enough, against any JKR pair its spheres can touch, to break
+ * contacts the real material would keep. One warning per group, for its weakest pair. */
+static adem_status warn_pulling_forces(case_ctx *ctx) {
+  adem_world *w = ctx->w;
+  size_t nm = (size_t)w->nmaterials, ng = (size_t)w->ngroups;
+  if (!w->interactions || nm == 0) return ADEM_OK;
+  double *rmin = malloc((ng + 1) * nm * sizeof *rmin); /* per group and material; last row: all */
+  bool *wall = calloc(nm, sizeof *wall);
+  if (!rmin || !wall) {
+    free(rmin);
+    free(wall);
+    return nomem(ctx);
+  }
+  for (size_t k = 0; k < (ng + 1) * nm; ++k) rmin[k] = INFINITY;
+  for (size_t i = 0; i < w->p.n; ++i) {
+    size_t g = w->p.group[i], m = w->p.material[i];
+    rmin[g * nm + m] = fmin(rmin[g * nm + m], w->p.radius[i]);
+    rmin[ng * nm + m] = fmin(rmin[ng * nm + m], w->p.radius[i]);
+  }
+  for (int k = 0; k < w->nplanes; ++k) wall[w->planes[k].def.material] = true;
+  for (size_t g = 0; g < ng; ++g) {
+    double force = v3_norm(w->groups[g].external_force);
+    if (!(force > 0.0)) continue;
+    double worst = 0.0, worst_pull = 0.0, worst_R = 0.0;
+    size_t wa = 0, wb = 0;
+    bool worst_wall = false;
+    for (size_t a = 0; a < nm; ++a) {
+      double ra = rmin[g * nm + a];
+      if (!isfinite(ra)) continue;
+      for (size_t b = 0; b < nm; ++b) {
+        const adem_interaction *it = adem_world_interaction(w, (int)a, (int)b);
+        if (it->normal != ADEM_NORMAL_JKR || !(it->gamma > 0.0)) continue;
+        double rb = rmin[ng * nm + b];
+        for (int side = 0; side < 2; ++side) { /* 0: a sphere of b, 1: a wall of b */
+          if (side == 0 && !isfinite(rb)) continue;
+          if (side == 1 && !wall[b]) continue;
+          double R = side ? ra : ra * rb / (ra + rb);
+          double pull = 8.0 / 9.0 * adem_jkr_pair_summarize(it->E_real, it->E, it->gamma_real,
+                                                            it->gamma, R, 1.0, 1.0).f_c_mod;
+          if (force / pull > worst) {
+            worst = force / pull;
+            worst_pull = pull;
+            worst_R = R;
+            wa = a;
+            wb = b;
+            worst_wall = side == 1;
+          }
+        }
+      }
+    }
+    if (worst < ADEM_PULLOFF_SAFETY) continue;
+    const adem_interaction *it = adem_world_interaction(w, (int)wa, (int)wb);
+    char loc[LOC_MAX] = "";
+    for (int k = 0; k < ctx->ngroup; ++k)
+      if (!strcmp(ctx->group_name[k], w->groups[g].name)) where(ctx, ctx->group_node[k], loc, sizeof loc);
+    if (!loc[0]) snprintf(loc, sizeof loc, "%.500s", ctx->file);
+    adem_log(ADEM_LOG_WARN,
+             "%s: group `%s`: its external force of %.3g N is %.0f%% of the force that breaks a "
+             "`%s`-`%s`%s JKR contact, (8/9) 3 pi gamma_mod R = %.3g N (R = %.3g m, gamma_mod = "
+             "%.3g J/m^2%s); such forces can tear apart contacts the real material keeps. Keep "
+             "them below %.0f%% of it (%.3g N)%s (Haervig et al. section 6.2)",
+             loc, w->groups[g].name, force, 100.0 * worst, w->materials[wa].def.name,
+             w->materials[wb].def.name, worst_wall ? " (wall)" : "", worst_pull, worst_R,
+             it->gamma, it->E < it->E_real ? ", reduced with the stiffness by H24" : "",
+             100.0 * ADEM_PULLOFF_SAFETY, ADEM_PULLOFF_SAFETY * worst_pull,
+             it->E < it->E_real ? " or reduce the stiffness less" : "");
+  }
+  free(rmin);
+  free(wall);
+  return ADEM_OK;
+}
+
+/* output.track: ids of particles already created (ids count from 0 in order of creation, so
+ * particle id k was made from ctx->pos[k]), without repeats. */
+static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
+  const adem_schema_entry *e;
+  yaml_node_t *v;
+  char path[KEY_PATH_MAX];
+  adem_output_settings *o = &ctx->c->output;
+  o->ntrack = 0;
+  adem_status st = lookup(ctx, out, "track", &e, &v, path);
+  if (st || !v || is_null(v)) return st;
+  if (v->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, v, path);
+  size_t n = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+  if ((double)n > e->hi)
+    return fail(ctx, v, path, "lists %zu particles; at most %g can be tracked", n, e->hi);
+  for (size_t k = 0; k < n; ++k) {
+    yaml_node_t *item = node_at(ctx, v->data.sequence.items.start[k]);
+    char p[KEY_PATH_MAX + 24], t[128];
+    snprintf(p, sizeof p, "%s[%zu]", path, k);
+    uint64_t id;
+    if (!parse_uint(item, &id)) {
+      node_text(item, t, sizeof t);
+      return fail(ctx, item, p, "expected a particle id (an integer >= 0), got %s", t);
+    }
+    if (id >= ctx->n)
+      return fail(ctx, item, p, "there is no particle %llu: the case creates %zu (ids 0 to %zu)",
+                  (unsigned long long)id, ctx->n, ctx->n ? ctx->n - 1 : 0);
+    for (int j = 0; j < o->ntrack; ++j)
+      if (o->track[j] == id)
+        return fail(ctx, item, p, "particle %llu is listed twice", (unsigned long long)id);
+    o->track[o->ntrack] = id;
+    o->track_origin[o->ntrack] = ctx->pos[id];
+    o->ntrack++;
+  }
+  return ADEM_OK;
+}
+
 static adem_status build(case_ctx *ctx) {
   adem_case *c = ctx->c;
   map_cursor root, time, nb, limits, out, domain;
@@ -1684,6 +1831,7 @@ static adem_status build(case_ctx *ctx) {
   if ((st = get_number(ctx, &out, "checkpoint_interval", &o->checkpoint_interval, NULL))) return st;
   if ((st = get_bool(ctx, &out, "plot", &plot))) return st;
   o->plot = plot;
+  if ((st = read_track(ctx, &out))) return st;
 
   if ((st = get_map(ctx, &root, "domain", &domain))) return st;
   if (domain.node) {
@@ -1702,7 +1850,8 @@ static adem_status build(case_ctx *ctx) {
     adem_world_set_domain(ctx->w, v3_sub(ctx->box_lo, v3(margin, margin, margin)),
                           v3_add(ctx->box_hi, v3(margin, margin, margin)));
   }
-  return choose_step(ctx, &time, g);
+  if ((st = choose_step(ctx, &time, g))) return st;
+  return warn_pulling_forces(ctx);
 }
 
 static void ctx_free(case_ctx *ctx) {

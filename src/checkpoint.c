@@ -147,7 +147,6 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_f64(&wr, w->nb.skin_fraction);
   put_u8(&wr, w->nb.brute_force ? 1 : 0);
   put_u64(&wr, w->nb.rebuilds);
-  put_u8(&wr, w->warned_extforce ? 1 : 0);
   put_u32(&wr, (uint32_t)w->nmaterials);
   put_u32(&wr, (uint32_t)w->ngroups);
   for (int k = 0; k < w->ngroups; ++k) put_vec(&wr, w->groups[k].external_force);
@@ -358,7 +357,6 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   w->nb.skin_fraction = get_f64(rd);
   w->nb.brute_force = get_u8(rd) != 0;
   w->nb.rebuilds = get_u64(rd);
-  w->warned_extforce = get_u8(rd) != 0;
   uint32_t nmat = get_u32(rd);
   uint32_t ngroups = get_u32(rd);
   if (rd->short_read) goto truncated;

@@ -56,9 +56,12 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   /* Mixing rules where the case gives no pair value: the mean of the two materials. */
   it.restitution = 0.5 * (a->def.restitution + b->def.restitution);
   it.friction = 0.5 * (a->def.friction + b->def.friction);
-  /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). */
-  it.gamma = sqrt(a->gamma_mod * b->gamma_mod);
+  /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). H24 applies to
+   * the pair's effective values, gamma_mod = gamma (E_mod/E)^(2/5), so the separation energy is
+   * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give
+   * E_mod/E = f, hence gamma f^(2/5)). */
   it.gamma_real = sqrt(a->def.surface_energy * b->def.surface_energy);
+  it.gamma = isfinite(it.E_real) ? it.gamma_real * pow(it.E / it.E_real, 0.4) : it.gamma_real;
   it.hysteresis = 0.5 * (a->def.hysteresis + b->def.hysteresis);
   it.rolling_friction_a = a->def.rolling_friction;
   it.rolling_friction_b = b->def.rolling_friction;
@@ -75,7 +78,6 @@ adem_status adem_materials_derive(adem_world *w, adem_error *err) {
     double f = m->def.stiffness_factor;
     m->young_mod = f * m->def.young; /* H24: E_mod = f E */
     m->shear_mod = m->young_mod / (2.0 * (1.0 + m->def.poisson));
-    m->gamma_mod = m->def.surface_energy * pow(f, 0.4); /* H24: gamma_mod = gamma f^(2/5) */
   }
   free(w->interactions);
   w->interactions = calloc((size_t)nm * (size_t)nm, sizeof *w->interactions);

@@ -28,7 +28,6 @@ typedef struct adem_material {
   adem_material_def def;
   double young_mod;   /* E_mod = f E (H24) */
   double shear_mod;   /* G_mod = E_mod / (2(1+nu)) */
-  double gamma_mod;   /* gamma f^(2/5) (H24) */
 } adem_material;
 
 /* Everything about a pair of materials that does not depend on the particles (H2, H12, H15). */
@@ -158,7 +157,6 @@ struct adem_world {
   /* energy bookkeeping */
   double energy_initial;      /* E_total at prepare */
   bool prepared;
-  bool warned_extforce;
 };
 
 /* Threads for the per-step loops; the results do not depend on it. */

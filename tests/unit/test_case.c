@@ -162,7 +162,7 @@ static void test_full_case(void **state) {
       "  - {name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.25, restitution: 0.9,\n"
       "     friction: 0.3, surface_energy: 0.1, adhesion_hysteresis: 0.2, stiffness_factor: 0.5,\n"
       "     rolling_friction: 0.01, rolling_damping: 0.3}\n"
-      "  - {name: steel, youngs_modulus: 2e11, poisson_ratio: 0.3}\n"
+      "  - {name: steel, youngs_modulus: 2e11, poisson_ratio: 0.3, surface_energy: 0.05}\n"
       "interactions:\n"
       "  - {materials: [glass, steel], restitution: 0.4, friction: 0.2, normal: jkr, rolling: model_c}\n"
       "  - {materials: [glass, glass], rolling: brof}\n"

@@ -1,0 +1,126 @@
+/* Single collisions in bulk: head-on particle-particle and oblique particle-wall impacts, each in
+ * its own two-body world, run in parallel over collisions (notes section 7, H section 5). */
+#ifndef ADEM_COLLIDE_H
+#define ADEM_COLLIDE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include "adem/adem.h"
+
+typedef enum adem_collision_kind {
+  ADEM_COLLISION_PAIR = 0, /* two spheres of one material, head-on */
+  ADEM_COLLISION_WALL = 1  /* a sphere on a rigid plane wall at angle psi */
+} adem_collision_kind;
+
+/* Called after every time step: time since the start, overlap (m, < 0 while apart), normal
+ * approach speed (m/s, > 0 approaching) and the normal contact force (N, > 0 repulsive). */
+typedef void adem_collision_sample_fn(double t, double overlap, double v_n, double force_n,
+                                      void *user);
+
+typedef struct adem_collision_spec {
+  adem_collision_kind kind;
+  double radius;           /* r_i, m */
+  double size_ratio;       /* beta = r_j / r_i (pair only) */
+  double density;          /* rho of both spheres, kg/m^3 */
+  double young;            /* effective modulus E of the real materials (H2), Pa */
+  double poisson;          /* nu of the spheres (enters G, H15) */
+  double restitution;      /* e of the pair, (0, 1] */
+  double friction;         /* mu_s */
+  double surface_energy;   /* gamma of the pair, J/m^2; > 0 selects simplified JKR, 0 Hertz */
+  double stiffness_factor; /* f = E_mod/E in (0, 1] */
+  bool keep_gamma;         /* true: E reduced but gamma left as is (not H24), for comparison */
+  double speed;            /* relative impact speed, m/s */
+  double angle;            /* psi, between the velocity and the wall, rad (pi/2: normal impact) */
+  double steps_per_tc;     /* time steps per collision time t_c (default 200) */
+  double max_periods;      /* in contact this many t_c without a decision: stuck, undecided */
+  adem_collision_sample_fn *sample; /* may be NULL */
+  void *sample_user;
+} adem_collision_spec;
+adem_collision_spec adem_default_collision_spec(void);
+
+typedef struct adem_collision_result {
+  adem_status status;   /* ADEM_OK, or why this collision could not be run (message) */
+  bool stuck;           /* the spheres never separate (the contact's energy says so) */
+  bool undecided;       /* stopped after max_periods without separating or a sure capture */
+  double e_eff;         /* separation / approach normal speed; 0 when stuck */
+  double v_n_in;        /* normal approach speed, m/s */
+  double v_n_out;       /* normal separation speed, m/s (0 when stuck) */
+  double v_t_out;       /* tangential speed of the centre after the impact (wall), m/s */
+  double omega_out;     /* angular speed after the impact (wall), rad/s */
+  double t_touch;       /* time of the first touch since the start, s */
+  double duration;      /* first touch to separation (to the stop when stuck), s */
+  double max_overlap;   /* m */
+  double t_c;           /* collision time the step was taken from (modified stiffness), s */
+  double dt;            /* time step, s */
+  uint64_t steps;
+  double ke_in, ke_out; /* kinetic energy (translation + rotation) before and at the end, J */
+  double work;          /* work of all forces and torques over the run (Verlet trapezoid), J */
+  char message[256];
+} adem_collision_result;
+
+/* Dimensionless groups of H section 5.1 with the text's Ad (notes section 7): lambda =
+ * E/(rho v^2 sin^2 psi), Ad = 3 gamma/(rho v^2 sin^2 psi r_i) (1+b^3)/((1+b^2) b) for pairs
+ * (b the size ratio), 3 gamma/(rho v^2 sin^2 psi r_i) for a wall. E and gamma are the real ones. */
+double adem_collide_lambda(const adem_collision_spec *s);
+double adem_collide_ad(const adem_collision_spec *s);
+/* Set E (resp. gamma) so that lambda (resp. Ad) takes the given value at the spec's speed. */
+void adem_collide_set_lambda(adem_collision_spec *s, double lambda);
+void adem_collide_set_ad(adem_collision_spec *s, double ad);
+
+/* Effective radius R, mass m* and the contact law's modulus and surface energy (modified). */
+typedef struct adem_collision_params {
+  double R, mstar, E_mod, gamma_mod;
+  double v_n;       /* normal impact speed */
+  double u_min;     /* JKR energy at equilibrium relative to contact formation (<= 0), J */
+  double t_c;       /* Hertz collision time at the speed reached in contact, s */
+  double t_osc;     /* period of small oscillations about the JKR equilibrium (0 for Hertz), s */
+} adem_collision_params;
+adem_collision_params adem_collide_params(const adem_collision_spec *s);
+
+/* Hertz collision time t_c = 2.86827 (m*^2/(R E^2 v))^(1/5) (notes section 6). */
+double adem_collide_hertz_time(double mstar, double R, double E, double v);
+
+/* One collision in its own world (one thread). Never prints. */
+adem_collision_result adem_collide(const adem_collision_spec *spec);
+/* n collisions over nthreads OpenMP threads; out[k] belongs to specs[k] whatever the threads. */
+void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
+                       int nthreads);
+
+/* Sets the parameter x (speed, lambda, ...) of a spec. */
+typedef void adem_collision_param_fn(adem_collision_spec *s, double x, void *user);
+/* The value of x in [lo, hi] where the outcome changes between stuck and rebound, to a relative
+ * width rel_tol, by multisection in log x (3 collisions per round, run on nthreads). Returns
+ * ADEM_ERR_INPUT when lo and hi give the same outcome. */
+adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collision_param_fn *set,
+                                   void *user, double lo, double hi, double rel_tol, int nthreads,
+                                   double *x_crit, adem_error *err);
+
+/* ---- What a JKR material pair implies (notes sections 1, 5, 6): `adem check` prints it and the
+ * case loader warns from it. */
+
+/* External forces that pull spheres apart should stay below this fraction of the modified
+ * pull-off force (H section 6.2: "significantly higher"; a 10% margin). */
+#define ADEM_PULLOFF_SAFETY 0.1
+/* Minimum atomic separation of the Tabor parameter, m (H1). */
+#define ADEM_TABOR_DMIN 1.65e-10
+
+typedef struct adem_jkr_pair_summary {
+  double R, mstar;            /* effective radius and mass used */
+  double E, E_mod;            /* effective modulus, real and modified (H2, H24) */
+  double gamma, gamma_mod;    /* surface energy, real and modified (H24) */
+  double a0, a0_mod;          /* equilibrium contact radius (H7) */
+  double delta_eq, delta_eq_mod; /* equilibrium overlap a0^2/(3R) */
+  double f_c, f_c_mod;        /* critical force 3 pi gamma R */
+  double pull_off, pull_off_mod; /* force that breaks the contact, (8/9) F_C */
+  double tabor;               /* Tabor parameter of the real material (H1); JKR valid above 3 */
+  double t_c, t_c_mod;        /* Hertz collision time at v_ref (notes section 6) */
+  double dt, dt_mod;          /* t_c / 50 */
+  double speedup;             /* t_c_mod / t_c = (E/E_mod)^(2/5) */
+  double f_ext_max;           /* ADEM_PULLOFF_SAFETY * pull_off_mod */
+} adem_jkr_pair_summary;
+adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
+                                              double gamma_mod, double R, double mstar,
+                                              double v_ref);
+
+#endif

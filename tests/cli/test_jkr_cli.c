@@ -1,0 +1,326 @@
+/* The adem command on adhesive (JKR) cases: bad input is refused with file:line:column, `check`
+ * prints what a JKR pair implies, a pulling group force is warned about, and the `collide` and
+ * `validate` commands work from the command line. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+/* PSL spheres pulled away from a quartz floor; stiffness reduced 100 times. Line numbers below
+ * refer to this text. */
+static const char *const jkr_case =
+    "name: jkr\n"                              /* 1 */
+    "materials:\n"                             /* 2 */
+    "  - name: psl\n"                          /* 3 */
+    "    density: 1026\n"                      /* 4 */
+    "    youngs_modulus: 2.5e8\n"              /* 5 */
+    "    poisson_ratio: 0.3\n"                 /* 6 */
+    "    restitution: 0.86\n"                  /* 7 */
+    "    surface_energy: 0.11\n"               /* 8 */
+    "    adhesion_hysteresis: 0.5\n"           /* 9 */
+    "    stiffness_factor: 0.01\n"             /* 10 */
+    "  - name: quartz\n"                       /* 11 */
+    "    rigid: true\n"                        /* 12 */
+    "    surface_energy: 0.11\n"               /* 13 */
+    "interactions:\n"                          /* 14 */
+    "  - materials: [psl, psl]\n"              /* 15 */
+    "    normal: jkr\n"                        /* 16 */
+    "  - materials: [psl, quartz]\n"           /* 17 */
+    "    normal: jkr\n"                        /* 18 */
+    "groups:\n"                                /* 19 */
+    "  - name: pulled\n"                       /* 20 */
+    "    external_force: [0, 0, 1e-9]\n"       /* 21 */
+    "particles:\n"                             /* 22 */
+    "  - type: list\n"                         /* 23 */
+    "    material: psl\n"                      /* 24 */
+    "    group: pulled\n"                      /* 25 */
+    "    spheres:\n"                           /* 26 */
+    "      - {position: [0, 0, 1e-6], radius: 0.635e-6}\n"
+    "      - {position: [3e-6, 0, 1e-6], radius: 0.635e-6}\n"
+    "walls:\n"
+    "  - type: plane\n"
+    "    name: floor\n"
+    "    material: quartz\n"
+    "    point: [0, 0, 0]\n"
+    "    normal: [0, 0, 1]\n"
+    "gravity: [0, 0, 0]\n"
+    "time:\n"
+    "  end: 1e-6\n";
+
+static char *replaced(const char *text, const char *from, const char *to) {
+  const char *at = strstr(text, from);
+  assert_non_null(at);
+  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
+  char *s = malloc(n);
+  assert_non_null(s);
+  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+  return s;
+}
+
+static char *path_in_tmp(const char *name) {
+  size_t n = strlen(tmpdir) + strlen(name) + 2;
+  char *p = malloc(n);
+  assert_non_null(p);
+  snprintf(p, n, "%s/%s", tmpdir, name);
+  return p;
+}
+
+static char *write_case(const char *name, const char *text) {
+  char *p = path_in_tmp(name);
+  FILE *f = fopen(p, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+  return p;
+}
+
+/* Runs `adem ARGS` with stdout and stderr captured; returns the exit status, *out the text. */
+static int adem(char **out, const char *fmt, ...) {
+  char args[4096], cmd[8192];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(args, sizeof args, fmt, ap);
+  va_end(ap);
+  char *log = path_in_tmp("output.txt");
+  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
+  int status = system(cmd);
+  assert_true(status != -1 && WIFEXITED(status));
+  FILE *f = fopen(log, "r");
+  assert_non_null(f);
+  static char buf[1 << 17];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  buf[n] = '\0';
+  fclose(f);
+  free(log);
+  *out = buf;
+  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
+  return WEXITSTATUS(status);
+}
+
+static int mentions(const char *text, const char *word) {
+  size_t n = strlen(word);
+  for (const char *s = text; *s; ++s) {
+    size_t k = 0;
+    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
+    if (k == n) return 1;
+  }
+  return 0;
+}
+
+#define assert_mentions(text, word)                                     \
+  do {                                                                  \
+    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text); \
+  } while (0)
+
+static int file_exists(const char *path) {
+  struct stat st;
+  return stat(path, &st) == 0 && st.st_size > 0;
+}
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_jkr_cli_XXXXXX");
+  return mkdtemp(tmpdir) ? 0 : -1;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+/* `adem check` on jkr_case with one replacement exits 2 and names each word. */
+static void expect_bad(const char *from, const char *to, const char *w1, const char *w2,
+                       const char *w3) {
+  char *text = replaced(jkr_case, from, to);
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 2);
+  assert_mentions(out, "error");
+  assert_mentions(out, w1);
+  if (w2) assert_mentions(out, w2);
+  if (w3) assert_mentions(out, w3);
+  free(text);
+  free(path);
+}
+
+/* Claim: surface energy and hysteresis below 0 and a stiffness factor outside (0, 1] are refused
+ * where they are written. */
+static void test_bad_adhesion_values(void **state) {
+  (void)state;
+  expect_bad("surface_energy: 0.11\n    adhesion", "surface_energy: -0.11\n    adhesion",
+             "bad.yaml:8:21", "materials[0].surface_energy", ">= 0");
+  expect_bad("adhesion_hysteresis: 0.5", "adhesion_hysteresis: -0.5", "bad.yaml:9:26",
+             "adhesion_hysteresis", ">= 0");
+  expect_bad("stiffness_factor: 0.01", "stiffness_factor: 0", "bad.yaml:10:23", "stiffness_factor",
+             "(0, 1]");
+  expect_bad("stiffness_factor: 0.01", "stiffness_factor: 1.5", "bad.yaml:10:23",
+             "stiffness_factor", "(0, 1]");
+}
+
+/* Claim: `normal: jkr` on a pair one of whose materials (here the wall's) has no surface energy
+ * is refused at load time, naming the interaction and the material. */
+static void test_jkr_without_surface_energy(void **state) {
+  (void)state;
+  expect_bad("    rigid: true\n    surface_energy: 0.11\n", "    rigid: true\n", "bad.yaml:17:13",
+             "interactions[1].normal", "`quartz` (at line 11:5) has surface_energy 0");
+  /* the other side too (the file is one line shorter) */
+  expect_bad("    surface_energy: 0.11\n    adhesion", "    adhesion", "bad.yaml:15:13",
+             "interactions[0].normal", "`psl`");
+}
+
+/* Claim: `adem check` prints, per JKR pair, real and modified E, gamma, a0, delta_eq, F_C, the
+ * pull-off force, collision time and step, the speed-up (E/E_mod)^(2/5) = 100^0.4 = 6.31, the
+ * Tabor parameter and the largest safe external force; and it warns when a group's force is
+ * above 10% of a modified pull-off force. */
+static void test_check_prints_jkr(void **state) {
+  (void)state;
+  char *path = write_case("jkr.yaml", jkr_case);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  const char *words[] = {"simplified JKR", "a0 = (9 pi gamma R^2/E)^(1/3)", "delta_eq",
+                         "F_C = 3 pi gamma R", "pull-off force (8/9) F_C", "Hertz t_c",
+                         "t_c/50", "(E/E_mod)^(2/5) = 6.31", "Tabor parameter", "JKR valid",
+                         "10% of the modified pull-off force", "psl-quartz (wall)"};
+  for (size_t k = 0; k < sizeof words / sizeof words[0]; ++k) assert_mentions(out, words[k]);
+  /* psl-psl, R = 0.3175 um: pull-off (8/9) 3 pi 0.11 R = 2.926e-07 N real */
+  assert_mentions(out, "2.926e-07");
+  assert_false(mentions(out, "external force of")); /* 1e-9 N is below 10% */
+  free(path);
+
+  /* 2e-8 N is 43% of the modified psl-psl pull-off force 4.637e-8 N */
+  char *text = replaced(jkr_case, "external_force: [0, 0, 1e-9]", "external_force: [0, 0, 2e-8]");
+  path = write_case("pulled.yaml", text);
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "pulled.yaml:20:11: group `pulled`");
+  assert_mentions(out, "43% of the force that breaks a `psl`-`psl`");
+  assert_mentions(out, "section 6.2");
+  free(text);
+  free(path);
+
+  /* a stiff, weakly adhesive pair is outside the JKR range: lambda_T < 3 */
+  text = replaced(jkr_case, "youngs_modulus: 2.5e8", "youngs_modulus: 7e10");
+  char *t2 = replaced(text, "surface_energy: 0.11\n    adhesion", "surface_energy: 0.01\n    adhesion");
+  path = write_case("stiff.yaml", t2);
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "below 3, JKR is outside its range");
+  assert_mentions(out, "warning");
+  free(text);
+  free(t2);
+  free(path);
+}
+
+/* Column `name` of CSV row `row` (1 = first data row) as a number. */
+static double csv_value(const char *path, int row, const char *name) {
+  FILE *f = fopen(path, "r");
+  assert_non_null(f);
+  static char line[1 << 14];
+  int col = -1;
+  assert_non_null(fgets(line, sizeof line, f));
+  int k = 0;
+  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
+    if (!strcmp(tok, name)) col = k;
+  assert_true(col >= 0);
+  double v = NAN;
+  for (int r = 1; r <= row; ++r) assert_non_null(fgets(line, sizeof line, f));
+  k = 0;
+  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
+    if (k == col) v = strtod(tok, NULL);
+  fclose(f);
+  return v;
+}
+
+/* Claim: `adem collide` runs the product of its lists in order, writes one CSV row each, gives
+ * the same e_eff for f = 1 and 0.1 (H24), sticks below the capture speed, and refuses bad
+ * values. */
+static void test_collide_command(void **state) {
+  (void)state;
+  char *out;
+  char *csv = path_in_tmp("c.csv");
+  assert_int_equal(adem(&out, "collide --speed 1,5 --stiffness-factor 1,0.1 --out '%s' --threads 2",
+                        csv), 0);
+  assert_mentions(out, "4 collisions");
+  /* rows: (f=1, 1 m/s), (f=1, 5 m/s), (f=0.1, 1 m/s), (f=0.1, 5 m/s) */
+  assert_true(csv_value(csv, 1, "stuck") == 1.0);
+  assert_true(csv_value(csv, 2, "stuck") == 0.0);
+  double e1 = csv_value(csv, 2, "e_eff"), e2 = csv_value(csv, 4, "e_eff");
+  printf("# e_eff at 5 m/s: f = 1 %.6f, f = 0.1 %.6f\n", e1, e2);
+  assert_true(e1 > 0.6 && e1 < 0.86);
+  assert_true(fabs(e1 - e2) < 1e-6);
+  assert_true(csv_value(csv, 4, "stiffness_factor") == 0.1);
+  double d1 = csv_value(csv, 2, "contact_duration_s"), d2 = csv_value(csv, 4, "contact_duration_s");
+  assert_true(fabs(d2 / d1 / pow(10.0, 0.4) - 1.0) < 0.02);
+
+  /* lambda and Ad of head-on pairs: Ad = 3 gamma/(rho v^2 r) */
+  assert_int_equal(adem(&out, "collide --kind pair --radius 1e-6 --density 1000 --restitution 0.3 "
+                              "--lambda log:1e2:1e6:3 --ad 10 --out '%s'", csv), 0);
+  assert_true(fabs(csv_value(csv, 1, "gamma_J_m2") - 10.0 * 1000.0 * 1e-6 / 3.0) < 1e-12);
+  assert_true(fabs(csv_value(csv, 3, "E_Pa") - 1e9) < 1e-3);
+  assert_true(csv_value(csv, 1, "stuck") == 1.0); /* lambda 1e2 << lambda_crit ~ 3.4e4 */
+  assert_true(csv_value(csv, 3, "stuck") == 0.0);
+
+  assert_int_equal(adem(&out, "collide --speed 0,1"), 2);
+  assert_mentions(out, "--speed");
+  assert_int_equal(adem(&out, "collide --stiffness-factor 2"), 2);
+  assert_mentions(out, "(0, 1]");
+  assert_int_equal(adem(&out, "collide --surface-energy -1"), 2);
+  assert_mentions(out, "--surface-energy");
+  assert_int_equal(adem(&out, "collide --kind pair --angle 45"), 2);
+  assert_mentions(out, "--angle");
+  assert_int_equal(adem(&out, "collide --speed log:0:1:5"), 2);
+  assert_int_equal(adem(&out, "collide --help"), 0);
+  assert_mentions(out, "log:lo:hi:n");
+  free(csv);
+}
+
+/* Claim: the quick `adem validate haervig-fig5` passes its claim (H24 keeps e_eff and the capture
+ * speed) and writes the CSV, the summaries and, with gnuplot, the PNG. */
+static void test_validate_fig5_quick(void **state) {
+  (void)state;
+  char *out;
+  assert_int_equal(adem(&out, "validate haervig-fig5 --quick --threads 2 --out '%s/v'", tmpdir), 0);
+  assert_mentions(out, "1 of 1 validation passed");
+  char *p = path_in_tmp("v/haervig-fig5.csv");
+  assert_true(file_exists(p));
+  FILE *f = fopen(p, "r");
+  char head[256];
+  assert_non_null(fgets(head, sizeof head, f));
+  fclose(f);
+  assert_mentions(head, "v_impact_m_s,e_eff_f1,e_eff_f0.1,e_eff_f0.01");
+  free(p);
+  p = path_in_tmp("v/summary.md");
+  assert_true(file_exists(p));
+  free(p);
+  if (system("command -v gnuplot > /dev/null 2>&1") == 0) {
+    p = path_in_tmp("v/haervig-fig5.png");
+    assert_true(file_exists(p));
+    free(p);
+  }
+  assert_int_equal(adem(&out, "validate haervig-fig99 --out '%s/v'", tmpdir), 2);
+  assert_mentions(out, "unknown validation");
+  assert_int_equal(adem(&out, "validate --list"), 0);
+  assert_mentions(out, "haervig-fig13");
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_bad_adhesion_values),
+      cmocka_unit_test(test_jkr_without_surface_energy),
+      cmocka_unit_test(test_check_prints_jkr),
+      cmocka_unit_test(test_collide_command),
+      cmocka_unit_test(test_validate_fig5_quick),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
