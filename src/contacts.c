@@ -61,10 +61,12 @@ static inline void contact_rolling(const adem_interaction *it, const contact_geo
       break;
     }
     case ADEM_ROLLING_DTK: {
-      /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2). */
-      double f_c = adem_jkr_critical_force(it->gamma_real, g->R);
-      double a0_real = adem_jkr_a0(it->gamma_real, g->R, it->E_real);
+      /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2).
+       * Without that modification every quantity is the modified material's. */
+      bool keep_real = it->dtk_rolling_modification;
+      double f_c = adem_jkr_critical_force(keep_real ? it->gamma_real : it->gamma, g->R);
       double a0_mod = adem_jkr_a0(it->gamma, g->R, it->E);
+      double a0_real = keep_real ? adem_jkr_a0(it->gamma_real, g->R, it->E_real) : a0_mod;
       double ratio = a_jkr / a0_mod;
       double k_r = 4.0 * f_c * ratio * sqrt(ratio);            /* H20 */
       double xi_crit = a0_real / 12.0 * it->hysteresis;        /* H22 */

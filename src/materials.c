@@ -26,6 +26,7 @@ adem_interaction_def adem_default_interaction_def(void) {
   d.friction = -1.0;
   d.normal = ADEM_NORMAL_HERTZ;
   d.rolling = ADEM_ROLLING_NONE;
+  d.dtk_rolling_modification = 1;
   return d;
 }
 
@@ -68,6 +69,7 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   it.rolling_damping = 0.5 * (a->def.rolling_damping + b->def.rolling_damping);
   it.normal = ADEM_NORMAL_HERTZ;
   it.rolling = ADEM_ROLLING_NONE;
+  it.dtk_rolling_modification = true;
   return it;
 }
 
@@ -100,6 +102,7 @@ adem_status adem_materials_derive(adem_world *w, adem_error *err) {
       }
       p[s]->normal = d->normal;
       p[s]->rolling = d->rolling;
+      p[s]->dtk_rolling_modification = d->dtk_rolling_modification != 0;
     }
   }
   for (size_t k = 0; k < (size_t)nm * nm; ++k)

@@ -47,6 +47,7 @@ typedef struct adem_interaction {
   double rolling_friction_a, rolling_friction_b; /* eta_r of each side (BROF uses both) */
   double rolling_damping;
   bool set_restitution, set_friction; /* overridden by an interaction entry */
+  bool dtk_rolling_modification;      /* see adem_interaction_def */
 } adem_interaction;
 
 typedef struct adem_group {

@@ -47,6 +47,10 @@ typedef struct adem_interaction_def {
   double friction;
   adem_normal_model normal;
   adem_rolling_model rolling;
+  /* DTK under reduced stiffness: 1 (default) keeps F_C, a0 and xi_crit of the real material and
+   * takes only (a/a0)^(3/2) from the modified one (H section 3.2); 0 takes all from the modified
+   * material, for comparison. */
+  int dtk_rolling_modification;
 } adem_interaction_def;
 adem_interaction_def adem_default_interaction_def(void);
 
