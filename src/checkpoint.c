@@ -147,6 +147,7 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_f64(&wr, w->nb.skin_fraction);
   put_u8(&wr, w->nb.brute_force ? 1 : 0);
   put_u64(&wr, w->nb.rebuilds);
+  put_f64(&wr, w->nb.time_at_build);
   put_u32(&wr, (uint32_t)w->nmaterials);
   put_u32(&wr, (uint32_t)w->ngroups);
   for (int k = 0; k < w->ngroups; ++k) put_vec(&wr, w->groups[k].external_force);
@@ -357,6 +358,7 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   w->nb.skin_fraction = get_f64(rd);
   w->nb.brute_force = get_u8(rd) != 0;
   w->nb.rebuilds = get_u64(rd);
+  w->nb.time_at_build = get_f64(rd);
   uint32_t nmat = get_u32(rd);
   uint32_t ngroups = get_u32(rd);
   if (rd->short_read) goto truncated;
@@ -427,6 +429,7 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   c->dt = w->dt;
   /* The per-particle sums run over these lists: rebuilt in the order the neighbour build
    * makes them, so the forces of the next step are summed exactly as without the restart. */
+  adem_world_place_walls(w, w->time); /* moving walls are a function of time */
   if (adem_neighbors_gather(w) != ADEM_OK) {
     adem_case_free(c);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the contact lists");

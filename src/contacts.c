@@ -209,7 +209,9 @@ static void wall_pairs(adem_world *w) {
     g.delta = ri - dist;
     g.R = ri;
     g.mstar = 1.0 / p->inv_mass[i];
-    g.w = v3_add(v3_sub(p->vel[i], pl->velocity), v3_cross(v3_scale(p->omega[i], ri), g.n));
+    adem_vec3 v_wall = adem_motion_point_velocity(&w->planes[l->b[k]].motion, w->wall_time,
+                                                  v3_axpy(p->pos[i], ri, g.n));
+    g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
     g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
@@ -271,7 +273,8 @@ static void mesh_pairs(adem_world *w) {
       g.delta = c->overlap;
       g.R = ri;
       g.mstar = 1.0 / p->inv_mass[i];
-      g.w = v3_add(v3_sub(p->vel[i], w->mesh_velocity[grp]), v3_cross(v3_scale(p->omega[i], ri), g.n));
+      adem_vec3 v_wall = adem_motion_point_velocity(&w->mesh_motion[grp], w->wall_time, c->point);
+      g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
       g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;

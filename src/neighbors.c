@@ -470,7 +470,7 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
   restore_history(w, &w->pp, false, saved_pp, nsaved_pp);
   restore_history(w, &w->pw, true, saved_pw, nsaved_pw);
   restore_mesh_history(w, saved_pm, nsaved_pm);
-  w->mesh_shift = 0.0;
+  nb->time_at_build = w->wall_time;
   st = adem_neighbors_gather(w);
   if (st) goto done;
   memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos);
@@ -486,8 +486,8 @@ done:
 
 bool adem_neighbors_need_rebuild(const adem_world *w) {
   const adem_particles *p = &w->p;
-  /* a moving mesh uses up the skin too */
-  double half = 0.5 * w->nb.skin - w->mesh_shift;
+  /* a moving wall uses up the skin too */
+  double half = 0.5 * w->nb.skin - adem_world_wall_shift(w);
   if (half <= 0.0) return true;
   double limit = half * half;
   double worst = 0.0;

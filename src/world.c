@@ -29,14 +29,13 @@ void adem_world_free(adem_world *w) {
   adem_pair_list_free(&w->pw);
   adem_mesh_pairs_free(&w->pm);
   adem_mesh_free(&w->mesh);
-  free(w->mesh_velocity);
+  adem_walls_free(w);
   free(w->face_force);
   adem_neighbors_free(&w->nb);
   free(w->materials);
   free(w->interactions);
   free(w->interaction_defs);
   free(w->groups);
-  free(w->planes);
   free(w);
 }
 
@@ -52,42 +51,6 @@ adem_plane_def adem_default_plane_def(void) {
   memset(&d, 0, sizeof d);
   d.normal = v3(0.0, 0.0, 1.0);
   return d;
-}
-
-adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
-                                const char *name, adem_vec3 velocity, adem_error *err) {
-  adem_mesh_transform def = adem_default_mesh_transform();
-  if (!tf) tf = &def;
-  if (tf->material < 0 || tf->material >= w->nmaterials)
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is not a material", path,
-                          tf->material);
-  bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
-  if (!v3_isfinite(velocity) || (moving && !tf->own_vertices))
-    return adem_error_set(err, ADEM_ERR_INPUT,
-                          "%s: a moving mesh needs a finite velocity and its own vertices", path);
-  int before = w->mesh.ngroups;
-  adem_status st = adem_mesh_load_stl(path, tf, name, &w->mesh, err);
-  if (st) return st;
-  adem_vec3 *v = realloc(w->mesh_velocity, (size_t)w->mesh.ngroups * sizeof *v);
-  double *ff = realloc(w->face_force, (3 * w->mesh.ntris + 1) * sizeof *ff);
-  if (v) w->mesh_velocity = v;
-  if (ff) w->face_force = ff;
-  if (!v || !ff) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding %s", path);
-  for (int g = before; g < w->mesh.ngroups; ++g) w->mesh_velocity[g] = velocity;
-  memset(w->face_force, 0, 3 * w->mesh.ntris * sizeof *ff);
-  return ADEM_OK;
-}
-
-/* Moves the moving mesh groups by their velocity over dt. */
-static void move_meshes(adem_world *w, double dt) {
-  double shift = 0.0;
-  for (int g = 0; g < w->mesh.ngroups; ++g) {
-    adem_vec3 v = w->mesh_velocity[g];
-    if (v.x == 0.0 && v.y == 0.0 && v.z == 0.0) continue;
-    adem_mesh_translate_group(&w->mesh, g, v3_scale(v, dt), NULL);
-    shift = fmax(shift, v3_norm(v) * dt);
-  }
-  w->mesh_shift += shift;
 }
 
 int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
@@ -158,53 +121,6 @@ int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, ade
   p->rolling_torque[i] = v3_zero();
   w->prepared = false;
   return (int64_t)p->id[i];
-}
-
-int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
-  double len = v3_norm(def->normal);
-  if (!(len > 0.0) || !isfinite(len) || !v3_isfinite(def->point)) {
-    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': the normal must be finite and non-zero",
-                   def->name);
-    return -1;
-  }
-  if (def->material < 0 || def->material >= w->nmaterials) {
-    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': material does not exist", def->name);
-    return -1;
-  }
-  adem_plane *pl = realloc(w->planes, (size_t)(w->nplanes + 1) * sizeof *pl);
-  if (!pl) {
-    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-    return -1;
-  }
-  w->planes = pl;
-  pl[w->nplanes].def = *def;
-  pl[w->nplanes].def.normal = v3_scale(def->normal, 1.0 / len);
-  w->prepared = false;
-  return w->nplanes++;
-}
-
-int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
-                       adem_error *err) {
-  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
-    adem_error_set(err, ADEM_ERR_INPUT, "box '%s': min must be below max on every axis", name);
-    return -1;
-  }
-  static const char *face[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
-  adem_vec3 points[6] = {lo, hi, lo, hi, lo, hi};
-  adem_vec3 normals[6] = {v3(1, 0, 0), v3(-1, 0, 0), v3(0, 1, 0),
-                          v3(0, -1, 0), v3(0, 0, 1), v3(0, 0, -1)};
-  int first = -1;
-  for (int k = 0; k < 6; ++k) {
-    adem_plane_def d = adem_default_plane_def();
-    snprintf(d.name, sizeof d.name, "%.50s.%s", name, face[k]);
-    d.point = points[k];
-    d.normal = normals[k];
-    d.material = material;
-    int idx = adem_world_add_plane(w, &d, err);
-    if (idx < 0) return -1;
-    if (first < 0) first = idx;
-  }
-  return first;
 }
 
 void adem_world_set_gravity(adem_world *w, adem_vec3 g) { w->gravity = g; }
@@ -356,6 +272,7 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
     adem_step_estimate est = adem_world_estimate_step(w, 1.0);
     w->dt = isfinite(est.dt) ? est.dt : 1e-6;
   }
+  adem_world_place_walls(w, w->time);
   st = adem_neighbors_build(w, err);
   if (st) return st;
   st = check_initial_state(w, err);
@@ -452,7 +369,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   for (uint64_t s = 0; s < nsteps; ++s) {
     kick(w, 0.5 * dt);
     drift(w, dt);
-    move_meshes(w, dt);
+    adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(w)) {
       adem_status st = adem_neighbors_build(w, err);
       if (st) return st;

@@ -7,6 +7,7 @@
 #include "adem/adem.h"
 #include "contact/triangle.h"
 #include "mesh.h"
+#include "motion.h"
 #include "vec3.h"
 
 /* Particle storage. Indices change when particles are reordered by grid cell; id never does. */
@@ -56,7 +57,9 @@ typedef struct adem_group {
 } adem_group;
 
 typedef struct adem_plane {
-  adem_plane_def def; /* normal stored unit length */
+  adem_plane_def def;      /* point and unit normal where the plane is now */
+  adem_vec3 point0, normal0; /* at time 0 */
+  adem_motion motion;      /* prescribed motion (def.velocity makes a constant one) */
 } adem_plane;
 
 /* Contact history carried from step to step, keyed by the pair's stable ids. */
@@ -117,6 +120,7 @@ typedef struct adem_neighbors {
   uint32_t *pp_entries, *pw_entries;
   size_t pp_start_cap, pw_start_cap, pp_entries_cap, pw_entries_cap;
   uint64_t rebuilds;
+  double time_at_build;  /* moving walls use up the skin from then on */
 } adem_neighbors;
 
 /* Every field that changes while stepping must also be saved and restored in checkpoint.c
@@ -145,8 +149,11 @@ struct adem_world {
 
   /* triangle-mesh walls: one group per STL file (mesh.h) */
   adem_mesh mesh;
-  adem_vec3 *mesh_velocity; /* per mesh group, m/s: the group moves with it (own_vertices) */
-  double mesh_shift;        /* largest distance a mesh group moved since the last neighbour build */
+  adem_motion *mesh_motion; /* per mesh group (moving groups have their own vertices) */
+  double *mesh_reach;       /* per group: farthest reference vertex from its rotation centre */
+  adem_vec3 *mesh_vert0;    /* vertices at time 0 */
+  adem_vec3 *mesh_normal0;  /* triangle normals at time 0 */
+  double wall_time;         /* time the walls are placed at (the time of the forces) */
   double *face_force;       /* 3 per triangle: force of the particles on it, last force pass */
   adem_mesh_pairs pm;
 
@@ -188,6 +195,17 @@ void adem_mesh_pairs_free(adem_mesh_pairs *pm);
  * several solids), moving with velocity (non-zero needs tf->own_vertices). */
 adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
                                 const char *name, adem_vec3 velocity, adem_error *err);
+/* Prescribed motion of a mesh group (loaded with own vertices) or of a plane. */
+adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
+                                       adem_error *err);
+adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
+                                        adem_error *err);
+/* Frees planes, mesh motions and reference geometry (walls.c). */
+void adem_walls_free(adem_world *w);
+/* Puts planes and mesh groups where their motion has them at time t (walls.c). */
+void adem_world_place_walls(adem_world *w, double t);
+/* Largest distance a moving wall has travelled since the last neighbour build. */
+double adem_world_wall_shift(const adem_world *w);
 
 /* Neighbour search (neighbors.c). */
 adem_status adem_neighbors_build(adem_world *w, adem_error *err);

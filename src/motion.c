@@ -1,0 +1,122 @@
+/* Prescribed wall motion as a function of time. */
+#include "motion.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "vec3.h"
+
+adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err) {
+  memset(m, 0, sizeof *m);
+  for (size_t k = 0; k < def->n; ++k) {
+    if (!isfinite(def->time[k]) || !v3_isfinite(def->velocity[k]))
+      return adem_error_set(err, ADEM_ERR_INPUT, "motion table entry %zu is not finite", k);
+    if (k > 0 && !(def->time[k] > def->time[k - 1]))
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "motion table is not ordered in time: entry %zu (t = %g s) does not "
+                            "come after entry %zu (t = %g s)",
+                            k, def->time[k], k - 1, def->time[k - 1]);
+  }
+  if (!isfinite(def->angular_speed) || !v3_isfinite(def->axis) || !v3_isfinite(def->center))
+    return adem_error_set(err, ADEM_ERR_INPUT, "rotation axis, centre and speed must be finite");
+  double axis_len = v3_norm(def->axis);
+  if (def->angular_speed != 0.0 && !(axis_len > 0.0))
+    return adem_error_set(err, ADEM_ERR_INPUT, "a rotating wall needs a non-zero axis");
+  m->n = def->n;
+  if (m->n > 0) {
+    m->time = malloc(m->n * sizeof *m->time);
+    m->velocity = malloc(m->n * sizeof *m->velocity);
+    m->displacement = malloc(m->n * sizeof *m->displacement);
+    if (!m->time || !m->velocity || !m->displacement) {
+      adem_motion_free(m);
+      return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    }
+    memcpy(m->time, def->time, m->n * sizeof *m->time);
+    memcpy(m->velocity, def->velocity, m->n * sizeof *m->velocity);
+    /* displacement at the first knot: constant velocity from 0 (or back from a knot < 0) */
+    m->displacement[0] = v3_scale(m->velocity[0], m->time[0]);
+    for (size_t k = 1; k < m->n; ++k) {
+      double h = m->time[k] - m->time[k - 1];
+      m->displacement[k] = v3_axpy(m->displacement[k - 1], 0.5 * h,
+                                   v3_add(m->velocity[k - 1], m->velocity[k]));
+    }
+  }
+  m->axis = axis_len > 0.0 ? v3_scale(def->axis, 1.0 / axis_len) : v3(0.0, 0.0, 1.0);
+  m->omega = def->angular_speed;
+  m->center = def->center;
+  m->moving = m->omega != 0.0;
+  for (size_t k = 0; k < m->n; ++k)
+    if (v3_norm2(m->velocity[k]) > 0.0) m->moving = true;
+  return ADEM_OK;
+}
+
+void adem_motion_free(adem_motion *m) {
+  free(m->time);
+  free(m->velocity);
+  free(m->displacement);
+  memset(m, 0, sizeof *m);
+}
+
+/* Index k of the segment [time[k], time[k+1]) holding t; -1 before the first knot. */
+static long segment(const adem_motion *m, double t) {
+  if (m->n == 0 || t < m->time[0]) return -1;
+  size_t lo = 0, hi = m->n - 1;
+  while (lo < hi) { /* last knot with time <= t */
+    size_t mid = (lo + hi + 1) / 2;
+    if (m->time[mid] <= t)
+      lo = mid;
+    else
+      hi = mid - 1;
+  }
+  return (long)lo;
+}
+
+adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
+  if (m->n == 0) return v3_zero();
+  long k = segment(m, t);
+  if (k < 0) return m->velocity[0];
+  if ((size_t)k + 1 >= m->n) return m->velocity[m->n - 1];
+  double s = (t - m->time[k]) / (m->time[k + 1] - m->time[k]);
+  return v3_add(v3_scale(m->velocity[k], 1.0 - s), v3_scale(m->velocity[k + 1], s));
+}
+
+adem_vec3 adem_motion_displacement(const adem_motion *m, double t) {
+  if (m->n == 0) return v3_zero();
+  long k = segment(m, t);
+  if (k < 0) return v3_scale(m->velocity[0], t);
+  double h = t - m->time[k];
+  /* trapezoid over [time[k], t] is exact for a linear velocity */
+  return v3_axpy(m->displacement[k], 0.5 * h, v3_add(m->velocity[k], adem_motion_velocity(m, t)));
+}
+
+/* Rodrigues' rotation of v by angle about the unit axis. */
+static adem_vec3 rotate(adem_vec3 v, adem_vec3 axis, double angle) {
+  double c = cos(angle), s = sin(angle);
+  adem_vec3 r = v3_scale(v, c);
+  r = v3_axpy(r, s, v3_cross(axis, v));
+  return v3_axpy(r, v3_dot(axis, v) * (1.0 - c), axis);
+}
+
+adem_vec3 adem_motion_place(const adem_motion *m, double t, adem_vec3 x0) {
+  adem_vec3 x = x0;
+  if (m->omega != 0.0) x = v3_add(m->center, rotate(v3_sub(x0, m->center), m->axis, m->omega * t));
+  return v3_add(x, adem_motion_displacement(m, t));
+}
+
+adem_vec3 adem_motion_turn(const adem_motion *m, double t, adem_vec3 v0) {
+  return m->omega != 0.0 ? rotate(v0, m->axis, m->omega * t) : v0;
+}
+
+adem_vec3 adem_motion_point_velocity(const adem_motion *m, double t, adem_vec3 x) {
+  adem_vec3 v = adem_motion_velocity(m, t);
+  if (m->omega == 0.0) return v;
+  adem_vec3 c = v3_add(m->center, adem_motion_displacement(m, t));
+  return v3_add(v, v3_cross(v3_scale(m->axis, m->omega), v3_sub(x, c)));
+}
+
+double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double reach) {
+  double d = v3_norm(v3_sub(adem_motion_displacement(m, t1), adem_motion_displacement(m, t0)));
+  return d + fabs(m->omega * (t1 - t0)) * reach;
+}

@@ -1,0 +1,47 @@
+/* Prescribed motion of a wall: a piecewise-linear translation velocity in time and a constant
+ * rotation about an axis through a centre that travels with the translation. Positions are a
+ * function of time alone (no integration), so a restarted run places the walls exactly. */
+#ifndef ADEM_MOTION_H
+#define ADEM_MOTION_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include "adem/adem.h"
+
+typedef struct adem_motion_def {
+  size_t n;                  /* knots of the velocity table; 0: no translation */
+  const double *time;        /* s, strictly increasing */
+  const adem_vec3 *velocity; /* m/s at each knot; constant before the first and after the last */
+  adem_vec3 axis;            /* rotation axis (any length > 0 when angular_speed != 0) */
+  double angular_speed;      /* rad/s, right-handed about axis */
+  adem_vec3 center;          /* a point of the axis at t = 0, m */
+} adem_motion_def;
+
+typedef struct adem_motion {
+  size_t n;
+  double *time;
+  adem_vec3 *velocity;
+  adem_vec3 *displacement; /* integral of the velocity from 0 to each knot */
+  adem_vec3 axis;          /* unit */
+  double omega;
+  adem_vec3 center;
+  bool moving;
+} adem_motion;
+
+/* Checks the table (finite, times strictly increasing) and copies it. */
+adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err);
+void adem_motion_free(adem_motion *m);
+
+adem_vec3 adem_motion_velocity(const adem_motion *m, double t);
+/* Translation from time 0 to t: the exact integral of the piecewise-linear velocity. */
+adem_vec3 adem_motion_displacement(const adem_motion *m, double t);
+/* Where a point of the wall that was at x0 at time 0 is at time t. */
+adem_vec3 adem_motion_place(const adem_motion *m, double t, adem_vec3 x0);
+/* A direction of the wall (a normal) at time t. */
+adem_vec3 adem_motion_turn(const adem_motion *m, double t, adem_vec3 v0);
+/* Velocity of the wall's material at the point x at time t: v + omega axis x (x - centre(t)). */
+adem_vec3 adem_motion_point_velocity(const adem_motion *m, double t, adem_vec3 x);
+/* An upper bound on how far any point within `reach` of the centre moves between t0 and t1. */
+double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double reach);
+
+#endif

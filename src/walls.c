@@ -1,0 +1,200 @@
+/* Walls: infinite planes, boxes of planes, triangle-mesh groups, and their prescribed motion. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "world.h"
+
+int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
+  double len = v3_norm(def->normal);
+  if (!(len > 0.0) || !isfinite(len) || !v3_isfinite(def->point)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': the normal must be finite and non-zero",
+                   def->name);
+    return -1;
+  }
+  if (def->material < 0 || def->material >= w->nmaterials) {
+    adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': material does not exist", def->name);
+    return -1;
+  }
+  adem_plane *pl = realloc(w->planes, (size_t)(w->nplanes + 1) * sizeof *pl);
+  if (!pl) {
+    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    return -1;
+  }
+  w->planes = pl;
+  adem_plane *np = &pl[w->nplanes];
+  memset(np, 0, sizeof *np);
+  np->def = *def;
+  np->def.normal = v3_scale(def->normal, 1.0 / len);
+  np->point0 = np->def.point;
+  np->normal0 = np->def.normal;
+  /* a constant velocity is the simplest motion: one knot */
+  double t0 = 0.0;
+  adem_motion_def md = {0};
+  if (v3_norm2(def->velocity) > 0.0) {
+    md.n = 1;
+    md.time = &t0;
+    md.velocity = &def->velocity;
+  }
+  if (adem_motion_init(&np->motion, &md, err)) return -1;
+  w->prepared = false;
+  return w->nplanes++;
+}
+
+int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
+                       adem_error *err) {
+  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "box '%s': min must be below max on every axis", name);
+    return -1;
+  }
+  static const char *face[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  adem_vec3 points[6] = {lo, hi, lo, hi, lo, hi};
+  adem_vec3 normals[6] = {v3(1, 0, 0), v3(-1, 0, 0), v3(0, 1, 0),
+                          v3(0, -1, 0), v3(0, 0, 1), v3(0, 0, -1)};
+  int first = -1;
+  for (int k = 0; k < 6; ++k) {
+    adem_plane_def d = adem_default_plane_def();
+    snprintf(d.name, sizeof d.name, "%.50s.%s", name, face[k]);
+    d.point = points[k];
+    d.normal = normals[k];
+    d.material = material;
+    int idx = adem_world_add_plane(w, &d, err);
+    if (idx < 0) return -1;
+    if (first < 0) first = idx;
+  }
+  return first;
+}
+
+adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
+                                const char *name, adem_vec3 velocity, adem_error *err) {
+  adem_mesh_transform def = adem_default_mesh_transform();
+  if (!tf) tf = &def;
+  if (tf->material < 0 || tf->material >= w->nmaterials)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is not a material", path,
+                          tf->material);
+  bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
+  if (!v3_isfinite(velocity) || (moving && !tf->own_vertices))
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: a moving mesh needs a finite velocity and its own vertices", path);
+  int before = w->mesh.ngroups;
+  adem_status st = adem_mesh_load_stl(path, tf, name, &w->mesh, err);
+  if (st) return st;
+  size_t ng = (size_t)w->mesh.ngroups, nv = w->mesh.nverts, nt = w->mesh.ntris;
+  adem_motion *mo = realloc(w->mesh_motion, ng * sizeof *mo);
+  if (mo) w->mesh_motion = mo;
+  double *reach = realloc(w->mesh_reach, ng * sizeof *reach);
+  if (reach) w->mesh_reach = reach;
+  adem_vec3 *v0 = realloc(w->mesh_vert0, (nv + 1) * sizeof *v0);
+  if (v0) w->mesh_vert0 = v0;
+  adem_vec3 *n0 = realloc(w->mesh_normal0, (nt + 1) * sizeof *n0);
+  if (n0) w->mesh_normal0 = n0;
+  double *ff = realloc(w->face_force, (3 * nt + 1) * sizeof *ff);
+  if (ff) w->face_force = ff;
+  if (!mo || !reach || !v0 || !n0 || !ff)
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding %s", path);
+  memcpy(w->mesh_vert0, w->mesh.vert, nv * sizeof *v0);
+  memcpy(w->mesh_normal0, w->mesh.normal, nt * sizeof *n0);
+  memset(w->face_force, 0, 3 * nt * sizeof *ff);
+  for (int g = before; g < w->mesh.ngroups; ++g) {
+    memset(&w->mesh_motion[g], 0, sizeof w->mesh_motion[g]);
+    w->mesh_reach[g] = 0.0;
+    if (moving) {
+      double t0 = 0.0;
+      adem_motion_def md = {.n = 1, .time = &t0, .velocity = &velocity};
+      st = adem_world_set_mesh_motion(w, g, &md, err);
+      if (st) return st;
+    }
+  }
+  return ADEM_OK;
+}
+
+adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
+                                       adem_error *err) {
+  if (group < 0 || group >= w->mesh.ngroups)
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh group %d does not exist", group);
+  const adem_mesh_group *g = &w->mesh.groups[group];
+  adem_motion m;
+  adem_status st = adem_motion_init(&m, def, err);
+  if (st) return st;
+  if (m.moving && !g->own_vertices) {
+    adem_motion_free(&m);
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "mesh group '%s' shares vertices with other groups and cannot move: "
+                          "load it with its own vertices", g->name);
+  }
+  adem_motion_free(&w->mesh_motion[group]);
+  w->mesh_motion[group] = m;
+  double reach = 0.0;
+  for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v)
+    reach = fmax(reach, v3_norm(v3_sub(w->mesh_vert0[v], m.center)));
+  w->mesh_reach[group] = reach;
+  return ADEM_OK;
+}
+
+adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
+                                        adem_error *err) {
+  if (plane < 0 || plane >= w->nplanes)
+    return adem_error_set(err, ADEM_ERR_INPUT, "plane %d does not exist", plane);
+  adem_motion m;
+  adem_status st = adem_motion_init(&m, def, err);
+  if (st) return st;
+  adem_motion_free(&w->planes[plane].motion);
+  w->planes[plane].motion = m;
+  return ADEM_OK;
+}
+
+void adem_world_place_walls(adem_world *w, double t) {
+  w->wall_time = t;
+  for (int k = 0; k < w->nplanes; ++k) {
+    adem_plane *pl = &w->planes[k];
+    if (!pl->motion.moving) continue;
+    pl->def.point = adem_motion_place(&pl->motion, t, pl->point0);
+    pl->def.normal = adem_motion_turn(&pl->motion, t, pl->normal0);
+    pl->def.velocity = adem_motion_velocity(&pl->motion, t);
+  }
+  adem_mesh *m = &w->mesh;
+  for (int g = 0; g < m->ngroups; ++g) {
+    const adem_motion *mo = &w->mesh_motion[g];
+    if (!mo->moving) continue;
+    const adem_mesh_group *grp = &m->groups[g];
+    for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
+      m->vert[v] = adem_motion_place(mo, t, w->mesh_vert0[v]);
+    for (uint32_t k = grp->first; k < grp->first + grp->count; ++k)
+      m->normal[k] = adem_motion_turn(mo, t, w->mesh_normal0[k]);
+  }
+}
+
+double adem_world_wall_shift(const adem_world *w) {
+  double t0 = w->nb.time_at_build, t1 = w->wall_time, shift = 0.0;
+  /* a rotating plane sweeps the whole domain: bound by its extent from the centre */
+  double extent = w->has_domain ? v3_norm(v3_sub(w->domain_hi, w->domain_lo)) : 0.0;
+  for (int k = 0; k < w->nplanes; ++k) {
+    const adem_motion *mo = &w->planes[k].motion;
+    if (!mo->moving) continue;
+    double reach = mo->omega != 0.0
+                       ? extent + v3_norm(v3_sub(mo->center, w->domain_lo))
+                       : 0.0;
+    shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, reach));
+  }
+  for (int g = 0; g < w->mesh.ngroups; ++g) {
+    const adem_motion *mo = &w->mesh_motion[g];
+    if (mo->moving) shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, w->mesh_reach[g]));
+  }
+  return shift;
+}
+
+void adem_walls_free(adem_world *w) {
+  for (int k = 0; k < w->nplanes; ++k) adem_motion_free(&w->planes[k].motion);
+  for (int g = 0; g < w->mesh.ngroups; ++g)
+    if (w->mesh_motion) adem_motion_free(&w->mesh_motion[g]);
+  free(w->planes);
+  free(w->mesh_motion);
+  free(w->mesh_reach);
+  free(w->mesh_vert0);
+  free(w->mesh_normal0);
+  w->planes = NULL;
+  w->mesh_motion = NULL;
+  w->nplanes = 0;
+}
