@@ -52,6 +52,7 @@ static inline void contact_rolling(const adem_interaction *it, const contact_geo
       double c_r = it->rolling_damping * 2.0 * sqrt(g->inertia_r * k_r);
       r->rolling = adem_rolling_model_c(&h->rolling, g->n, g->omega_rel, dt, k_r,
                                         eta * R_r * f_load, c_r);
+      if (k_r > 0.0) r->elastic += 0.5 * v3_norm2(h->rolling) / k_r; /* spring: M^2/(2 k_r) */
       break;
     }
     case ADEM_ROLLING_BROF: { /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
@@ -74,6 +75,8 @@ static inline void contact_rolling(const adem_interaction *it, const contact_geo
       adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
       adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R, size_factor, vt);
       r->rolling = adem_rolling_dtk(&h->rolling, g->n, v_l, dt, k_r, xi_crit);
+      /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
+      r->elastic += 0.5 * k_r * v3_norm2(h->rolling) / g->R;
       break;
     }
     case ADEM_ROLLING_NONE:
@@ -353,14 +356,22 @@ static void sum_per_particle(adem_world *w) {
       roll = v3_add(roll, pm->rolling_a[k]);
       capacity += pm->rolling_capacity[k];
     }
+    uint8_t held = 0;
     if (capacity > 0.0) {
-      /* BROF (I9-I10). Here omega is the half-step spin; the torque acts over the final half kick
-       * of this step and the first of the next, a full dt: -I omega/dt - t stops it exactly. */
+      /* BROF (I9-I10). omega is the half-step spin; -I omega/dt - t would stop it within the
+       * step. When the capacity allows that, the particle is held: the resistance cancels every
+       * other torque and the closing half kick sets the spin to exactly zero (a sum of two half
+       * kicks would leave a round-off residue that then never dies out). */
       adem_vec3 t_stop = v3_sub(v3_scale(p->omega[i], -1.0 / (p->inv_inertia[i] * dt)), t);
       adem_vec3 t_brof = adem_rolling_brof(t_stop, capacity);
+      if (v3_norm2(t_stop) <= capacity * capacity) {
+        t_brof = v3_neg(t);
+        held = 1;
+      }
       t = v3_add(t, t_brof);
       roll = v3_add(roll, t_brof);
     }
+    p->held[i] = held;
     p->force[i] = f;
     p->torque[i] = t;
     p->rolling_torque[i] = roll;

@@ -26,6 +26,7 @@ adem_status adem_particles_reserve(adem_particles *p, size_t cap) {
   GROW(group);
   GROW(pos_at_build);
   GROW(rolling_torque);
+  GROW(held);
   p->cap = cap;
   return ADEM_OK;
 }
@@ -44,6 +45,7 @@ void adem_particles_free(adem_particles *p) {
   free(p->group);
   free(p->pos_at_build);
   free(p->rolling_torque);
+  free(p->held);
   memset(p, 0, sizeof *p);
 }
 

@@ -285,15 +285,19 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   return ADEM_OK;
 }
 
-/* Half kick of velocities and spins with the current forces (velocity Verlet). */
-static void kick(adem_world *w, double h) {
+/* Half kick of velocities and spins with the current forces (velocity Verlet). The closing kick
+ * sets the spin of a particle that BROF holds to exactly zero. */
+static void kick(adem_world *w, double h, bool closing) {
   adem_particles *p = &w->p;
   int nthreads = adem_world_threads(w);
   size_t n = p->n;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
-    p->vel[i] = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]);      /* H3 */
-    p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */
+    p->vel[i] = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]); /* H3 */
+    if (closing && p->held[i])
+      p->omega[i] = v3_zero();
+    else
+      p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */
   }
 }
 
@@ -367,7 +371,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   }
   double dt = w->dt;
   for (uint64_t s = 0; s < nsteps; ++s) {
-    kick(w, 0.5 * dt);
+    kick(w, 0.5 * dt, false);
     drift(w, dt);
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(w)) {
@@ -375,7 +379,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     adem_contacts_compute(w);
-    kick(w, 0.5 * dt);
+    kick(w, 0.5 * dt, true);
     w->step++;
     w->time = (double)w->step * dt;
     adem_status st = check_state(w, err);
