@@ -151,14 +151,11 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
 }
 
-static void particle_pairs(adem_world *w) {
+static inline void particle_pair(adem_world *w, size_t k) {
   adem_particles *p = &w->p;
   adem_pair_list *l = &w->pp;
-  int nthreads = adem_world_threads(w);
   double dt = w->dt;
-  size_t np = l->n;
-  ADEM_PARALLEL_FOR
-  for (size_t k = 0; k < np; ++k) {
+  {
     size_t i = l->a[k], j = l->b[k];
     adem_vec3 d = v3_sub(p->pos[j], p->pos[i]);
     double ri = p->radius[i], rj = p->radius[j];
@@ -166,7 +163,7 @@ static void particle_pairs(adem_world *w) {
     double dist2 = v3_norm2(d);
     if (dist2 >= rsum * rsum) {
       clear_pair(l, k);
-      continue;
+      return;
     }
     double dist = sqrt(dist2);
     contact_geometry g;
@@ -191,21 +188,18 @@ static void particle_pairs(adem_world *w) {
   }
 }
 
-static void wall_pairs(adem_world *w) {
+static inline void wall_pair(adem_world *w, size_t k) {
   adem_particles *p = &w->p;
   adem_pair_list *l = &w->pw;
-  int nthreads = adem_world_threads(w);
   double dt = w->dt;
-  size_t np = l->n;
-  ADEM_PARALLEL_FOR
-  for (size_t k = 0; k < np; ++k) {
+  {
     size_t i = l->a[k];
     const adem_plane_def *pl = &w->planes[l->b[k]].def;
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     if (dist >= ri) {
       clear_pair(l, k);
-      continue;
+      return;
     }
     contact_geometry g;
     g.n = v3_neg(pl->normal);
@@ -311,17 +305,14 @@ static void mesh_pairs(adem_world *w) {
 
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
  * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
-static void sum_per_particle(adem_world *w) {
+static inline void sum_particle(adem_world *w, size_t i) {
   adem_particles *p = &w->p;
   const adem_neighbors *nb = &w->nb;
   const adem_pair_list *pp = &w->pp, *pw = &w->pw, *pm = &w->pm.l;
   const size_t *pm_start = w->mesh.ntris > 0 ? w->pm.start : NULL;
-  int nthreads = adem_world_threads(w);
-  size_t n = p->n;
   adem_vec3 g = w->gravity;
   double dt = w->dt;
-  ADEM_PARALLEL_FOR
-  for (size_t i = 0; i < n; ++i) {
+  {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
     double capacity = 0.0;
@@ -379,8 +370,9 @@ static void sum_per_particle(adem_world *w) {
 }
 
 void adem_contacts_compute(adem_world *w) {
-  particle_pairs(w);
-  wall_pairs(w);
+  int nthreads = adem_world_threads(w);
+  ADEM_FOR(nthreads, w->pp.n, particle_pair, w);
+  ADEM_FOR(nthreads, w->pw.n, wall_pair, w);
   mesh_pairs(w);
-  sum_per_particle(w);
+  ADEM_FOR(nthreads, w->p.n, sum_particle, w);
 }

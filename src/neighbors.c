@@ -493,12 +493,17 @@ bool adem_neighbors_need_rebuild(const adem_world *w) {
   double worst = 0.0;
   int nthreads = adem_world_threads(w);
   size_t n = p->n;
-  ADEM_PARALLEL_FOR_MAX(worst)
-  for (size_t i = 0; i < n; ++i) {
-    double d2 = v3_norm2(v3_sub(p->pos[i], p->pos_at_build[i]));
-    worst = d2 > worst ? d2 : worst;
+  if (nthreads > 1) {
+    ADEM_PARALLEL_FOR_MAX(worst)
+    for (size_t i = 0; i < n; ++i) {
+      double d2 = v3_norm2(v3_sub(p->pos[i], p->pos_at_build[i]));
+      worst = d2 > worst ? d2 : worst;
+    }
+    return worst > limit;
   }
-  return worst > limit;
+  for (size_t i = 0; i < n; ++i)
+    if (v3_norm2(v3_sub(p->pos[i], p->pos_at_build[i])) > limit) return true;
+  return false;
 }
 
 void adem_neighbors_free(adem_neighbors *nb) {

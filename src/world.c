@@ -287,26 +287,46 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
 
 /* Half kick of velocities and spins with the current forces (velocity Verlet). The closing kick
  * sets the spin of a particle that BROF holds to exactly zero. */
+typedef struct kick_args {
+  adem_particles *p;
+  double h;
+  bool closing;
+} kick_args;
+
+static inline void kick_one(const kick_args *a, size_t i) {
+  adem_particles *p = a->p;
+  p->vel[i] = v3_axpy(p->vel[i], a->h * p->inv_mass[i], p->force[i]); /* H3 */
+  if (a->closing && p->held[i])
+    p->omega[i] = v3_zero();
+  else
+    p->omega[i] = v3_axpy(p->omega[i], a->h * p->inv_inertia[i], p->torque[i]); /* H4 */
+}
+
 static void kick(adem_world *w, double h, bool closing) {
-  adem_particles *p = &w->p;
   int nthreads = adem_world_threads(w);
-  size_t n = p->n;
-  ADEM_PARALLEL_FOR
-  for (size_t i = 0; i < n; ++i) {
-    p->vel[i] = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]); /* H3 */
-    if (closing && p->held[i])
-      p->omega[i] = v3_zero();
-    else
-      p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */
-  }
+  kick_args a = {&w->p, h, closing};
+  ADEM_FOR(nthreads, w->p.n, kick_one, &a);
+}
+
+static inline void drift_one(const kick_args *a, size_t i) {
+  a->p->pos[i] = v3_axpy(a->p->pos[i], a->h, a->p->vel[i]);
 }
 
 static void drift(adem_world *w, double dt) {
-  adem_particles *p = &w->p;
   int nthreads = adem_world_threads(w);
-  size_t n = p->n;
-  ADEM_PARALLEL_FOR
-  for (size_t i = 0; i < n; ++i) p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
+  kick_args a = {&w->p, dt, false};
+  ADEM_FOR(nthreads, w->p.n, drift_one, &a);
+}
+
+static inline bool particle_ok(const adem_world *w, size_t i) {
+  const adem_particles *p = &w->p;
+  bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
+  if (ok && w->has_domain) {
+    adem_vec3 x = p->pos[i];
+    ok = x.x >= w->domain_lo.x && x.x <= w->domain_hi.x && x.y >= w->domain_lo.y &&
+         x.y <= w->domain_hi.y && x.z >= w->domain_lo.z && x.z <= w->domain_hi.z;
+  }
+  return ok;
 }
 
 /* After a step: the first particle (lowest index) with a non-finite state, an overlap above the
@@ -316,20 +336,17 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
   size_t n = p->n;
   size_t bad = n;
   int nthreads = adem_world_threads(w);
-  /* Minimum index found is the same for every thread count. */
+  /* The lowest index found is the same for every thread count. */
+  if (nthreads > 1) {
 #ifdef ADEM_HAVE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min : bad)
 #endif
-  for (size_t i = 0; i < n; ++i) {
-    bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
-    if (ok && w->has_domain) {
-      adem_vec3 x = p->pos[i];
-      ok = x.x >= w->domain_lo.x && x.x <= w->domain_hi.x && x.y >= w->domain_lo.y &&
-           x.y <= w->domain_hi.y && x.z >= w->domain_lo.z && x.z <= w->domain_hi.z;
-    }
-    if (!ok && i < bad) bad = i;
+    for (size_t i = 0; i < n; ++i)
+      if (!particle_ok(w, i) && i < bad) bad = i;
+  } else {
+    for (size_t i = 0; i < n && bad == n; ++i)
+      if (!particle_ok(w, i)) bad = i;
   }
-  (void)nthreads;
   if (bad < n) {
     adem_vec3 x = p->pos[bad];
     if (!v3_isfinite(x) || !v3_isfinite(p->vel[bad]) || !v3_isfinite(p->omega[bad]))
