@@ -79,9 +79,11 @@ adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_er
       {"radius", "Float64", 1, 8},           {"id", "Int64", 1, 8},
       {"material", "Int32", 1, 4},           {"velocity", "Float64", 3, 8},
       {"angular_velocity", "Float64", 3, 8}, {"force", "Float64", 3, 8},
-      {"position", "Float64", 3, 8},         {"connectivity", "Int64", 1, 8},
-      {"offsets", "Int64", 1, 8},            {"types", "UInt8", 1, 1},
+      {"rolling_torque", "Float64", 3, 8},   {"position", "Float64", 3, 8},
+      {"connectivity", "Int64", 1, 8},       {"offsets", "Int64", 1, 8},
+      {"types", "UInt8", 1, 1},
   };
+  enum { POINTS = 7, CELLS = 8 }; /* first array of <Points> and of <Cells> */
   enum { NARR = sizeof arr / sizeof arr[0] };
   uint64_t offset[NARR], off = 0;
   for (int k = 0; k < NARR; ++k) {
@@ -108,8 +110,8 @@ adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_er
           "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n",
           little_endian() ? "LittleEndian" : "BigEndian", w->time, w->step, n, n);
   for (int k = 0; k < NARR; ++k) {
-    if (k == 6) fprintf(f, "      </PointData>\n      <Points>\n");
-    if (k == 7) fprintf(f, "      </Points>\n      <Cells>\n");
+    if (k == POINTS) fprintf(f, "      </PointData>\n      <Points>\n");
+    if (k == CELLS) fprintf(f, "      </Points>\n      <Cells>\n");
     fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\" ", arr[k].type, arr[k].name);
     if (arr[k].ncomp > 1) fprintf(f, "NumberOfComponents=\"%d\" ", arr[k].ncomp);
     fprintf(f, "format=\"appended\" offset=\"%" PRIu64 "\"/>\n", offset[k]);
@@ -132,9 +134,10 @@ adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_er
       case 3: ok = put_raw(f, p->vel, nbytes); break;
       case 4: ok = put_raw(f, p->omega, nbytes); break;
       case 5: ok = put_raw(f, p->force, nbytes); break;
-      case 6: ok = put_raw(f, p->pos, nbytes); break;
-      case 7: ok = put_counting(f, n, 0); break;
-      case 8: ok = put_counting(f, n, 1); break;
+      case 6: ok = put_raw(f, p->rolling_torque, nbytes); break; /* models A, C, DTK, BROF */
+      case 7: ok = put_raw(f, p->pos, nbytes); break;
+      case 8: ok = put_counting(f, n, 0); break;
+      case 9: ok = put_counting(f, n, 1); break;
       default: ok = put_types(f, n); break;
     }
   }
@@ -300,7 +303,7 @@ static char *sb_finish(strbuf *b) {
   return b->s;
 }
 
-char *adem_output_csv_header(const adem_world *w) {
+char *adem_output_csv_header(const adem_world *w, const adem_output_track *track) {
   strbuf b = {0};
   sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
                 "contacts_pw,max_overlap_ratio");
@@ -313,11 +316,18 @@ char *adem_output_csv_header(const adem_world *w) {
       if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
     sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
   }
+  for (int k = 0; track && k < track->n; ++k) {
+    unsigned long long id = (unsigned long long)track->id[k];
+    sb_printf(&b, ",p%llu_rolling_torque_x_Nm,p%llu_rolling_torque_y_Nm,p%llu_rolling_torque_z_Nm", id,
+              id, id);
+    sb_printf(&b, ",p%llu_omega_x_rad_s,p%llu_omega_y_rad_s,p%llu_omega_z_rad_s,p%llu_distance_m", id,
+              id, id, id);
+  }
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
 
-char *adem_output_csv_row(const adem_world *w) {
+char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
   adem_diagnostics d = adem_world_diagnostics(w);
   strbuf b = {0};
   /* %.17g: the times read back on resume compare exactly with the checkpoint's. */
@@ -332,6 +342,18 @@ char *adem_output_csv_row(const adem_world *w) {
   adem_output_wall_forces(w, f);
   for (int k = 0; k < w->nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
   free(f);
+  const adem_particles *p = &w->p;
+  for (int k = 0; track && k < track->n; ++k) {
+    size_t i = 0; /* particles are reordered by cell: find the id (a few per row) */
+    while (i < p->n && p->id[i] != track->id[k]) ++i;
+    if (i == p->n) {
+      sb_printf(&b, ",nan,nan,nan,nan,nan,nan,nan");
+      continue;
+    }
+    adem_vec3 t = p->rolling_torque[i], o = p->omega[i];
+    double dist = v3_norm(v3_sub(p->pos[i], track->origin[k]));
+    sb_printf(&b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", t.x, t.y, t.z, o.x, o.y, o.z, dist);
+  }
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
@@ -417,9 +439,10 @@ adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, 
 
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, adem_error *err) {
+                             double t_resume, const adem_output_track *track, adem_error *err) {
   memset(o, 0, sizeof *o);
   o->csv_fd = -1;
+  if (track) o->track = *track;
   o->frames = frames;
   o->csv = csv;
   adem_status st = adem_fileio_mkdir_p(dir, err);
@@ -447,7 +470,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   }
   free(frames_dir);
   if (!st && csv) {
-    char *header = adem_output_csv_header(w);
+    char *header = adem_output_csv_header(w, &o->track);
     if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     else if (resume) st = csv_truncate(o->csv_path, header, t_resume, err);
     else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
@@ -478,7 +501,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
 
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err) {
   if (!o->csv || o->csv_fd < 0) return ADEM_OK;
-  char *row = adem_output_csv_row(w);
+  char *row = adem_output_csv_row(w, &o->track);
   if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   int e = write_whole(o->csv_fd, row, strlen(row));
   free(row);

@@ -8,7 +8,8 @@
 #include "adem/adem.h"
 
 /* One VTU file: UnstructuredGrid of vertex cells, raw appended binary data with UInt64 block
- * headers; point data radius, id, material, velocity, angular_velocity, force. */
+ * headers; point data radius, id, material, velocity, angular_velocity, force, rolling_torque
+ * (the rolling resistance torque of the last force pass). */
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err);
 
 /* The PVD collection: one (time, file) entry per frame, rewritten after each frame. */
@@ -25,10 +26,20 @@ void adem_output_pvd_free(adem_pvd *pvd);
  * pair-list order). out has w->nplanes entries. */
 void adem_output_wall_forces(const adem_world *w, adem_vec3 *out);
 
-/* The header line of the CSV time series (with the final newline); a fresh string. */
-char *adem_output_csv_header(const adem_world *w);
+/* Particles that get their own CSV columns (output.track): for each, p<id>_rolling_torque_x_Nm,
+ * _y_, _z_ (rolling resistance torque), p<id>_omega_x_rad_s, _y_, _z_ (angular velocity) and
+ * p<id>_distance_m, the distance of the centre from its initial position |x - x0|. */
+typedef struct adem_output_track {
+  int n;
+  const uint64_t *id;       /* stable ids */
+  const adem_vec3 *origin;  /* initial centres */
+} adem_output_track;
+
+/* The header line of the CSV time series (with the final newline); a fresh string. track may be
+ * NULL. */
+char *adem_output_csv_header(const adem_world *w, const adem_output_track *track);
 /* One CSV row (with the final newline) for the world's current state; a fresh string. */
-char *adem_output_csv_row(const adem_world *w);
+char *adem_output_csv_row(const adem_world *w, const adem_output_track *track);
 
 /* Energy-vs-time PNG from the CSV, drawn by gnuplot. A missing or failing gnuplot is only
  * a warning (logged): the status is ADEM_OK then; ADEM_ERR_IO only if the PNG cannot be placed. */
@@ -42,6 +53,7 @@ typedef struct adem_output {
   adem_pvd pvd;
   size_t next_frame;  /* index of the next VTU file */
   int csv_fd;         /* -1 when closed */
+  adem_output_track track; /* points into the caller's arrays, which must outlive the output */
 } adem_output;
 
 /* Creates dir (and dir/frames) and checks they can be written: ADEM_ERR_INPUT with a clear
@@ -50,7 +62,7 @@ typedef struct adem_output {
  * truncates the CSV to the rows with time <= t_resume, then appends. */
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, adem_error *err);
+                             double t_resume, const adem_output_track *track, adem_error *err);
 /* Writes frames/particles_NNNNNN.vtu and rewrites the PVD. */
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);
 /* Appends one CSV row with a single write. */

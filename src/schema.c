@@ -16,6 +16,7 @@
 #define PAIR ADEM_SCHEMA_NAME_PAIR
 #define MAP ADEM_SCHEMA_MAP
 #define LIST ADEM_SCHEMA_LIST
+#define IDS ADEM_SCHEMA_ID_LIST
 #define REQ .need = ADEM_SCHEMA_REQUIRED
 #define GT(x) .lo = (x), .range = ADEM_RANGE_MIN_OPEN
 #define GE(x) .lo = (x), .range = ADEM_RANGE_MIN
@@ -110,6 +111,7 @@ static const adem_schema_entry schema[] = {
     {"output.csv_interval", NULL, NUM, "s", NULL, "time.end / 1000", GE(0), .doc = "Simulated time between rows of the CSV time series."},
     {"output.checkpoint_interval", NULL, NUM, "s", NULL, "time.end / 10", GE(0), .doc = "Simulated time between checkpoint rewrites."},
     {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run."},
+    {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the distance of the centre from its initial position."},
 };
 
 size_t adem_schema_count(void) { return sizeof schema / sizeof schema[0]; }
@@ -246,6 +248,7 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
     else
       snprintf(buf, n, "a list of mappings");
     break;
+  case ADEM_SCHEMA_ID_LIST: snprintf(buf, n, "a list [id, ...] of particle ids (at most %g)", e->hi); break;
   }
 }
 
@@ -273,6 +276,7 @@ static void md_type(FILE *f, const adem_schema_entry *e) {
   case ADEM_SCHEMA_NAME_PAIR: fputs("[name, name]", f); break;
   case ADEM_SCHEMA_MAP: fputs("mapping", f); break;
   case ADEM_SCHEMA_LIST: fputs("list", f); break;
+  case ADEM_SCHEMA_ID_LIST: fputs("[id, ...]", f); break;
   }
 }
 
@@ -308,6 +312,8 @@ static void md_row(FILE *f, const adem_schema_entry *e) {
   char range[64];
   if (e->type == ADEM_SCHEMA_LIST && (e->range & ADEM_RANGE_MIN))
     snprintf(range, sizeof range, "at least %g item%s", e->lo, e->lo == 1 ? "" : "s");
+  else if (e->type == ADEM_SCHEMA_ID_LIST)
+    snprintf(range, sizeof range, "at most %g existing ids", e->hi);
   else
     adem_schema_describe_range(e, range, sizeof range);
   fprintf(f, " | %s | ", range);

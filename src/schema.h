@@ -18,7 +18,8 @@ typedef enum adem_schema_type {
   ADEM_SCHEMA_AUTO,      /* `auto` or a number */
   ADEM_SCHEMA_NAME_PAIR, /* [name, name] */
   ADEM_SCHEMA_MAP,       /* mapping; its keys are entries "path.key" */
-  ADEM_SCHEMA_LIST       /* list of mappings; their keys are entries "path[].key" */
+  ADEM_SCHEMA_LIST,      /* list of mappings; their keys are entries "path[].key" */
+  ADEM_SCHEMA_ID_LIST    /* list of particle ids [0, 5, ...]; range bounds the item count */
 } adem_schema_type;
 
 /* Bounds of a number (for lists: of the item count). */

@@ -10,6 +10,7 @@ extern "C" {
 #endif
 
 #define ADEM_PATH_MAX 4096
+#define ADEM_TRACK_MAX 32 /* particles output.track may name */
 
 /* What a run writes and how often. Intervals are simulated seconds; 0 switches that output off. */
 typedef struct adem_output_settings {
@@ -18,6 +19,11 @@ typedef struct adem_output_settings {
   double csv_interval;        /* CSV time series rows */
   double checkpoint_interval; /* checkpoint rewrites */
   int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
+  /* output.track: particles whose rolling torque, angular velocity and distance from their
+   * initial centre get CSV columns. */
+  int ntrack;
+  uint64_t track[ADEM_TRACK_MAX];         /* stable ids */
+  adem_vec3 track_origin[ADEM_TRACK_MAX]; /* initial centres, m */
 } adem_output_settings;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
