@@ -1782,7 +1782,6 @@ static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
       if (o->track[j] == id)
         return fail(ctx, item, p, "particle %llu is listed twice", (unsigned long long)id);
     o->track[o->ntrack] = id;
-    o->track_origin[o->ntrack] = ctx->pos[id];
     o->ntrack++;
   }
   return ADEM_OK;

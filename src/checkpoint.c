@@ -177,6 +177,7 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_array(&wr, p->group, n, sizeof *p->group);
   put_array(&wr, p->pos_at_build, n, sizeof *p->pos_at_build);
   put_array(&wr, p->rolling_torque, n, sizeof *p->rolling_torque);
+  put_array(&wr, p->path_length, n, sizeof *p->path_length);
 
   put_pairs(&wr, &w->pp);
   put_pairs(&wr, &w->pw);
@@ -405,6 +406,7 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   get_array(rd, p->group, p->n, sizeof *p->group);
   get_array(rd, p->pos_at_build, p->n, sizeof *p->pos_at_build);
   get_array(rd, p->rolling_torque, p->n, sizeof *p->rolling_torque);
+  get_array(rd, p->path_length, p->n, sizeof *p->path_length);
   if (rd->short_read) goto truncated;
 
   if ((st = get_pairs(rd, &w->pp, err)) || (st = get_pairs(rd, &w->pw, err))) {

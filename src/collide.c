@@ -31,7 +31,20 @@ adem_collision_spec adem_default_collision_spec(void) {
   s.angle = 0.5 * ADEM_PI;
   s.steps_per_tc = 200.0;
   s.max_periods = 2000.0;
+  s.dtk_modification = true;
+  s.rest_periods = 3.0;
+  s.max_roll_periods = 400.0;
   return s;
+}
+
+const char *adem_collision_outcome_name(adem_collision_outcome o) {
+  switch (o) {
+    case ADEM_OUTCOME_REBOUND: return "rebound";
+    case ADEM_OUTCOME_CAPTURED: return "captured";
+    case ADEM_OUTCOME_ROLLING: return "rolling";
+    case ADEM_OUTCOME_STUCK: return "stuck";
+  }
+  return "?";
 }
 
 static double sin2_angle(const adem_collision_spec *s) {
@@ -63,6 +76,18 @@ void adem_collide_set_lambda(adem_collision_spec *s, double lambda) {
 void adem_collide_set_ad(adem_collision_spec *s, double ad) {
   s->surface_energy =
       ad * s->density * s->speed * s->speed * sin2_angle(s) * s->radius / (3.0 * ad_size_factor(s));
+}
+
+double adem_collide_yield_force(const adem_collision_spec *s) {
+  if (s->kind != ADEM_COLLISION_WALL || !s->dtk || !(s->surface_energy > 0.0)) return 0.0;
+  double r = s->radius;
+  double f_c = adem_jkr_critical_force(s->surface_energy, r);
+  double xi_crit = adem_jkr_a0(s->surface_energy, r, s->young) / 12.0 * s->hysteresis; /* H18 */
+  return 4.0 * f_c * xi_crit / r; /* k_r xi_crit / R at a = a0 (H20-H21, notes section 4) */
+}
+
+double adem_collide_force(const adem_collision_spec *s) {
+  return s->force_ext + s->force_hat * adem_collide_yield_force(s);
 }
 
 double adem_collide_hertz_time(double mstar, double R, double E, double v) {
@@ -134,6 +159,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   m.restitution = s->restitution;
   m.friction = s->friction;
   m.surface_energy = s->surface_energy;
+  m.hysteresis = s->hysteresis; /* on the wall too: the pair takes the mean */
   m.young = s->keep_gamma ? E_sphere * s->stiffness_factor : E_sphere;
   m.stiffness_factor = s->keep_gamma ? 1.0 : s->stiffness_factor;
   int ms = adem_world_add_material(w, &m, err);
@@ -152,6 +178,8 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   it.restitution = s->restitution;
   it.friction = s->friction;
   it.normal = s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
+  it.rolling = s->dtk ? ADEM_ROLLING_DTK : ADEM_ROLLING_NONE;
+  it.dtk_rolling_modification = s->dtk_modification ? 1 : 0;
   if (adem_world_set_interaction(w, &it, err) < 0) return err->status;
 
   double gap = 1.5 * p->v_n * dt;
@@ -164,9 +192,20 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
     snprintf(pl.name, sizeof pl.name, "wall");
     pl.material = mw;
     if (adem_world_add_plane(w, &pl, err) < 0) return err->status;
-    a.position = v3(0.0, 0.0, ri + gap);
-    a.velocity = v3(s->speed * cos(s->angle), 0.0, -p->v_n);
+    /* F_ext through the centre along the wall, in the direction of the tangential velocity */
+    double force = adem_collide_force(s);
+    if (force != 0.0) a.group = adem_world_add_group(w, "pushed", v3(force, 0.0, 0.0));
+    if (s->at_rest) {
+      /* JKR equilibrium: a = a0, delta = a0^2/(3R) (notes section 2) */
+      double a0 = adem_jkr_a0(p->gamma_mod, p->R, p->E_mod);
+      a.position = v3(0.0, 0.0, ri - a0 * a0 / (3.0 * p->R));
+    } else {
+      a.position = v3(0.0, 0.0, ri + gap);
+      a.velocity = v3(s->speed * cos(s->angle), 0.0, -p->v_n);
+    }
     if (adem_world_add_particle(w, &a, err) < 0) return err->status;
+    /* a rolling sphere may travel far along the wall */
+    adem_world_set_domain(w, v3(-1e7 * ri, -1e7 * ri, -1e3 * ri), v3(1e7 * ri, 1e7 * ri, 1e7 * ri));
   } else {
     double rj = ri * s->size_ratio;
     double mi = sphere_mass(s->density, ri), mj = sphere_mass(s->density, rj);
@@ -216,25 +255,114 @@ static double kinetic_energy(const adem_world *w) {
   return e;
 }
 
+/* The state at the start of a step, by particle id, for the work of the step. */
+typedef struct step_start {
+  adem_vec3 x[2], f[2], t[2], roll[2];
+} step_start;
+
+static void step_start_save(const adem_world *w, step_start *b) {
+  const adem_particles *pa = &w->p;
+  for (size_t i = 0; i < pa->n; ++i) {
+    uint64_t id = pa->id[i];
+    b->x[id] = pa->pos[i];
+    b->f[id] = pa->force[i];
+    b->t[id] = pa->torque[i];
+    b->roll[id] = pa->rolling_torque[i];
+  }
+}
+
+/* Work of the step just made, trapezoid rule: with velocity Verlet its sum equals the change of
+ * kinetic energy up to terms in F^2 that cancel between a force-free start and end. The rolling
+ * couples' share is summed apart (its sign says whether they ever add energy). */
+static void step_work(const adem_world *w, const step_start *b, double dt, double *work,
+                      double *rolling_work) {
+  const adem_particles *pa = &w->p;
+  double h = 0.5 * dt;
+  for (size_t i = 0; i < pa->n; ++i) {
+    uint64_t id = pa->id[i];
+    adem_vec3 dx = v3_sub(pa->pos[i], b->x[id]);
+    adem_vec3 om_half = v3_axpy(pa->omega[i], -h * pa->inv_inertia[i], pa->torque[i]);
+    *work += 0.5 * v3_dot(v3_add(b->f[id], pa->force[i]), dx) +
+             0.5 * dt * v3_dot(v3_add(b->t[id], pa->torque[i]), om_half);
+    *rolling_work += 0.5 * dt * v3_dot(v3_add(b->roll[id], pa->rolling_torque[i]), om_half);
+  }
+}
+
+/* |xi| of the wall contact (0 when it does not touch). */
+static double wall_rolling_distance(const adem_world *w) {
+  const adem_pair_list *l = &w->pw;
+  for (size_t k = 0; k < l->n; ++k)
+    if (l->touching[k]) return v3_norm(l->hist[k].rolling);
+  return 0.0;
+}
+
+/* Scales of the DTK contact at a = a0, with the F_C and a0 the contact uses (real ones under the
+ * rolling modification, H section 3.2): xi_crit (H18), the period of rolling oscillations on the
+ * spring k_r = 4 F_C (H20) about the contact point, (7/5) m r^2 theta'' = -k_r r theta with
+ * xi = r theta, and v_rest = omega_r xi_crit. */
+typedef struct rolling_scales {
+  double xi_crit, t_roll, v_rest;
+} rolling_scales;
+
+static rolling_scales rolling_scales_of(const adem_collision_spec *s,
+                                        const adem_collision_params *p) {
+  /* with keep_gamma the world's real material is the softened one: (E_mod, gamma) */
+  bool real = s->dtk_modification && !s->keep_gamma;
+  double g = real ? s->surface_energy : p->gamma_mod, E = real ? s->young : p->E_mod;
+  double f_c = adem_jkr_critical_force(g, p->R);
+  rolling_scales rs;
+  rs.xi_crit = adem_jkr_a0(g, p->R, E) / 12.0 * s->hysteresis; /* H18 */
+  double omega = sqrt(4.0 * f_c / (1.4 * p->mstar * s->radius));
+  rs.t_roll = 2.0 * ADEM_PI / omega;
+  rs.v_rest = omega * rs.xi_crit;
+  return rs;
+}
+
+static double along_wall(adem_vec3 a, adem_vec3 b) { return hypot(b.x - a.x, b.y - a.y); }
+
+static const char *check_spec(const adem_collision_spec *s) {
+  bool wall = s->kind == ADEM_COLLISION_WALL;
+  if (!(s->radius > 0.0) || !(s->density > 0.0) || !(s->young > 0.0) ||
+      !(s->at_rest || s->speed > 0.0) || !(s->steps_per_tc >= 10.0) || !(s->max_periods > 0.0) ||
+      !(s->surface_energy >= 0.0) || (!wall && !(s->size_ratio > 0.0)))
+    return "radius, density, modulus, speed and size ratio must be > 0, surface energy >= 0, "
+           "steps per collision time >= 10";
+  if (wall && !(sin(s->angle) > 0.0)) return "the impact angle must be in (0, 180) degrees";
+  if (s->dtk && !(s->surface_energy > 0.0))
+    return "DTK rolling needs the JKR contact: a surface energy > 0";
+  if (!(s->hysteresis >= 0.0)) return "the adhesion hysteresis must be >= 0";
+  if (!wall && (s->force_ext != 0.0 || s->force_hat != 0.0 || s->at_rest))
+    return "the external force and the start at rest are for wall impacts";
+  if (!isfinite(s->force_ext) || !isfinite(s->force_hat) || s->force_ext < 0.0 ||
+      s->force_hat < 0.0)
+    return "the external force must be finite and >= 0 (it points along the tangential velocity)";
+  if (s->force_ext != 0.0 && s->force_hat != 0.0)
+    return "give the external force in N or as F_ext/F_yield, not both";
+  if (s->force_hat != 0.0 && !(s->dtk && s->hysteresis > 0.0))
+    return "F_ext/F_yield needs DTK rolling with a hysteresis > 0 (F_yield = 4 F_C xi_crit/R)";
+  if (s->at_rest && !(s->surface_energy > 0.0))
+    return "a start at rest needs the JKR equilibrium: a surface energy > 0";
+  if (!(s->rest_periods > 0.0) || !(s->max_roll_periods >= s->rest_periods))
+    return "the decision window must be > 0 and at most the longest rolling phase";
+  return NULL;
+}
+
 adem_collision_result adem_collide(const adem_collision_spec *s) {
   adem_collision_result r;
   memset(&r, 0, sizeof r);
+  r.t_rest = NAN;
   bool wall = s->kind == ADEM_COLLISION_WALL;
-  if (!(s->radius > 0.0) || !(s->density > 0.0) || !(s->young > 0.0) || !(s->speed > 0.0) ||
-      !(s->steps_per_tc >= 10.0) || !(s->max_periods > 0.0) || !(s->surface_energy >= 0.0) ||
-      (!wall && !(s->size_ratio > 0.0)))
-    return failed(r, ADEM_ERR_INPUT,
-                  "radius, density, modulus, speed and size ratio must be > 0, surface energy >= "
-                  "0, steps per collision time >= 10");
-  if (wall && !(sin(s->angle) > 0.0))
-    return failed(r, ADEM_ERR_INPUT, "the impact angle must be in (0, 180) degrees");
+  const char *bad = check_spec(s);
+  if (bad) return failed(r, ADEM_ERR_INPUT, bad);
   adem_collision_params p = adem_collide_params(s);
   bool adhesive = p.gamma_mod > 0.0;
-  double t_ref = adhesive ? fmin(p.t_c, 0.5 * p.t_osc) : p.t_c;
+  /* at rest only the oscillation about the equilibrium sets the step */
+  double t_ref = s->at_rest ? 0.5 * p.t_osc : adhesive ? fmin(p.t_c, 0.5 * p.t_osc) : p.t_c;
   double dt = t_ref / s->steps_per_tc;
   r.t_c = p.t_c;
   r.dt = dt;
-  r.v_n_in = p.v_n;
+  r.v_n_in = s->at_rest ? 0.0 : p.v_n;
+  r.force_ext = adem_collide_force(s);
 
   adem_world *w = adem_world_create();
   if (!w) return failed(r, ADEM_ERR_NOMEM, "out of memory");
@@ -251,37 +379,26 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
   double stuck_below = -1e-3 * fabs(p.u_min);
   double t_limit = s->max_periods * fmax(p.t_c, p.t_osc);
   adem_particles *pa = &w->p;
-  size_t np = pa->n;
-  adem_vec3 x0[2], f0[2], t0[2];
+  step_start start;
   normal_state prev = read_normal(w, wall);
-  bool touched = false, done = false;
+  bool touched = s->at_rest, done = s->at_rest;
   double t_in = 0.0;
+  adem_vec3 x_touch = pa->pos[0], x_sep = pa->pos[0];
+  r.stuck = s->at_rest;
   uint64_t max_steps = (uint64_t)(t_limit / dt) + (uint64_t)(20.0 * s->steps_per_tc) + 100;
   for (uint64_t k = 0; k < max_steps && !done; ++k) {
-    for (size_t i = 0; i < np; ++i) {
-      x0[pa->id[i]] = pa->pos[i];
-      f0[pa->id[i]] = pa->force[i];
-      t0[pa->id[i]] = pa->torque[i];
-    }
+    step_start_save(w, &start);
     st = adem_world_step(w, 1, &err);
     if (st) break;
     r.steps++;
-    /* Work of the step, trapezoid rule: with velocity Verlet its sum equals the change of kinetic
-     * energy up to terms in F^2 that cancel between a force-free start and end. */
-    double h = 0.5 * dt;
-    for (size_t i = 0; i < np; ++i) {
-      uint64_t id = pa->id[i];
-      adem_vec3 dx = v3_sub(pa->pos[i], x0[id]);
-      adem_vec3 om_half = v3_axpy(pa->omega[i], -h * pa->inv_inertia[i], pa->torque[i]);
-      r.work += 0.5 * v3_dot(v3_add(f0[id], pa->force[i]), dx) +
-                0.5 * dt * v3_dot(v3_add(t0[id], pa->torque[i]), om_half);
-    }
+    step_work(w, &start, dt, &r.work, &r.rolling_work);
     double t = adem_world_time(w);
     normal_state cur = read_normal(w, wall);
     if (s->sample) s->sample(t, cur.delta, cur.v_n, cur.f_n, s->sample_user);
     if (!touched && cur.delta > 0.0) {
       touched = true;
       t_in = t - dt * cur.delta / (cur.delta - prev.delta); /* where the overlap crossed 0 */
+      x_touch = pa->pos[0];
     }
     if (touched) {
       r.max_overlap = fmax(r.max_overlap, cur.delta);
@@ -289,6 +406,7 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
         double t_out = t - dt * cur.delta / (cur.delta - prev.delta);
         r.duration = t_out - t_in;
         r.v_n_out = -cur.v_n;
+        x_sep = pa->pos[0];
         done = true;
       } else if (adhesive && normal_energy(&p, cur.delta, cur.v_n) < stuck_below) {
         r.stuck = true;
@@ -301,6 +419,84 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
       }
     }
     prev = cur;
+  }
+
+  /* Rolling phase (the rule is in collide.h). */
+  r.outcome = r.stuck ? ADEM_OUTCOME_CAPTURED : ADEM_OUTCOME_REBOUND;
+  if (!st && done && wall && s->dtk && r.stuck) {
+    rolling_scales rs = rolling_scales_of(s, &p);
+    r.xi_crit = rs.xi_crit;
+    r.t_roll = rs.t_roll;
+    double window = s->rest_periods * rs.t_roll;
+    double t_end = adem_world_time(w) + s->max_roll_periods * rs.t_roll;
+    double settled_below = p.u_min + 0.01 * fabs(p.u_min);
+    double calm_since = NAN, sat_since = NAN, v_sat_start = 0.0;
+    adem_vec3 x_calm = pa->pos[0];
+    bool decided = false, sat = false;
+    while (!decided) {
+      step_start_save(w, &start);
+      st = adem_world_step(w, 1, &err);
+      if (st) break;
+      r.steps++;
+      step_work(w, &start, dt, &r.work, &r.rolling_work);
+      double t = adem_world_time(w);
+      normal_state cur = read_normal(w, wall);
+      if (s->sample) s->sample(t, cur.delta, cur.v_n, cur.f_n, s->sample_user);
+      r.max_overlap = fmax(r.max_overlap, cur.delta);
+      if (cur.delta <= 0.0) { /* cannot happen after a sure capture; reported if it does */
+        r.stuck = r.undecided = false;
+        r.outcome = ADEM_OUTCOME_REBOUND;
+        r.v_n_out = -cur.v_n;
+        r.duration = t - t_in;
+        x_sep = pa->pos[0];
+        break;
+      }
+      double xi = wall_rolling_distance(w);
+      double v = hypot(pa->vel[0].x, pa->vel[0].y);
+      sat = xi >= rs.xi_crit * (1.0 - 1e-9);
+      bool settled = normal_energy(&p, cur.delta, cur.v_n) <= settled_below;
+      /* stuck: elastic rolling spring and a slow centre for a whole window */
+      if (!sat && v < rs.v_rest) {
+        if (isnan(calm_since)) {
+          calm_since = t;
+          x_calm = pa->pos[0];
+        } else if (t - calm_since >= window) {
+          r.outcome = ADEM_OUTCOME_STUCK;
+          r.t_rest = calm_since - t_in;
+          r.roll_distance = along_wall(x_touch, x_calm);
+          decided = true;
+        }
+      } else {
+        calm_since = NAN;
+      }
+      /* rolling: saturated torque, settled normal motion, speed not decaying over a window */
+      if (sat && settled) {
+        if (isnan(sat_since)) {
+          sat_since = t;
+          v_sat_start = v;
+        } else if (t - sat_since >= window) {
+          if (v >= v_sat_start) {
+            r.outcome = ADEM_OUTCOME_ROLLING;
+            decided = true;
+          } else { /* decelerating: watch on */
+            sat_since = t;
+            v_sat_start = v;
+          }
+        }
+      } else {
+        sat_since = NAN;
+      }
+      if (!decided && t >= t_end) {
+        r.undecided = true;
+        r.outcome = sat ? ADEM_OUTCOME_ROLLING : ADEM_OUTCOME_STUCK;
+        if (!sat) {
+          r.t_rest = (isnan(calm_since) ? t : calm_since) - t_in;
+          r.roll_distance = along_wall(x_touch, isnan(calm_since) ? pa->pos[0] : x_calm);
+        }
+        decided = true;
+      }
+    }
+    if (!st) r.duration = adem_world_time(w) - t_in;
   }
   if (st) {
     normal_state now = read_normal(w, wall);
@@ -318,11 +514,14 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
     return failed(r, ADEM_ERR_RUNTIME, "the spheres never touched");
   }
   r.t_touch = t_in;
-  r.e_eff = r.stuck ? 0.0 : r.v_n_out / r.v_n_in;
+  r.e_eff = r.stuck || s->at_rest ? 0.0 : r.v_n_out / r.v_n_in;
   if (r.stuck) r.v_n_out = 0.0;
   if (wall) {
     r.v_t_out = hypot(pa->vel[0].x, pa->vel[0].y);
     r.omega_out = v3_norm(pa->omega[0]);
+    r.v_end = r.v_t_out;
+    if (r.outcome == ADEM_OUTCOME_REBOUND) r.roll_distance = along_wall(x_touch, x_sep);
+    else if (r.outcome != ADEM_OUTCOME_STUCK) r.roll_distance = along_wall(x_touch, pa->pos[0]);
   }
   r.ke_out = kinetic_energy(w);
   adem_world_free(w);
@@ -343,6 +542,19 @@ void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *
 adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collision_param_fn *set,
                                    void *user, double lo, double hi, double rel_tol, int nthreads,
                                    double *x_crit, adem_error *err) {
+  return adem_collide_threshold_split(base, set, user, ADEM_SPLIT_CAPTURE, lo, hi, rel_tol,
+                                      nthreads, x_crit, err);
+}
+
+static bool split_side(adem_collision_split split, const adem_collision_result *r) {
+  return split == ADEM_SPLIT_REST ? r->outcome == ADEM_OUTCOME_STUCK : r->stuck;
+}
+
+adem_status adem_collide_threshold_split(const adem_collision_spec *base,
+                                         adem_collision_param_fn *set, void *user,
+                                         adem_collision_split split, double lo, double hi,
+                                         double rel_tol, int nthreads, double *x_crit,
+                                         adem_error *err) {
   enum { INNER = 3 }; /* fixed, so the result does not depend on the thread count */
   adem_collision_spec sp[INNER + 2];
   adem_collision_result res[INNER + 2];
@@ -355,11 +567,13 @@ adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collisi
   for (int k = 0; k < 2; ++k)
     if (res[k].status)
       return adem_error_set(err, res[k].status, "collision at x = %g: %s", x[k], res[k].message);
-  if (res[0].stuck == res[1].stuck)
-    return adem_error_set(err, ADEM_ERR_INPUT,
-                          "no threshold in [%g, %g]: the spheres %s at both ends", lo, hi,
-                          res[0].stuck ? "stick" : "rebound");
-  bool stuck_lo = res[0].stuck;
+  bool side_lo = split_side(split, &res[0]);
+  if (side_lo == split_side(split, &res[1])) {
+    const char *what = split == ADEM_SPLIT_REST ? (side_lo ? "come to rest" : "do not come to rest")
+                                                : (side_lo ? "stick" : "rebound");
+    return adem_error_set(err, ADEM_ERR_INPUT, "no threshold in [%g, %g]: the spheres %s at both "
+                          "ends", lo, hi, what);
+  }
   double a = log(lo), b = log(hi);
   while (b - a > rel_tol) {
     for (int k = 0; k < INNER; ++k) {
@@ -372,16 +586,37 @@ adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collisi
     for (int k = 0; k < INNER; ++k) {
       if (res[k].status)
         return adem_error_set(err, res[k].status, "collision at x = %g: %s", x[k], res[k].message);
-      if (res[k].stuck == stuck_lo) na = log(x[k]);
+      if (split_side(split, &res[k]) == side_lo) na = log(x[k]);
     }
     /* The first point with the other outcome above the last with lo's outcome closes it. */
     for (int k = INNER - 1; k >= 0; --k)
-      if (res[k].stuck != stuck_lo && log(x[k]) > na) nb = log(x[k]);
+      if (split_side(split, &res[k]) != side_lo && log(x[k]) > na) nb = log(x[k]);
     a = na;
     b = nb;
   }
   *x_crit = exp(0.5 * (a + b));
   return ADEM_OK;
+}
+
+size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double *c, double *k) {
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!(x[i] > 0.0 && y[i] > 0.0 && isfinite(x[i]) && isfinite(y[i]))) continue;
+    double lx = log(x[i]), ly = log(y[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+    ++m;
+  }
+  *c = *k = NAN;
+  if (m < 2) return m;
+  double den = (double)m * sxx - sx * sx;
+  if (!(den > 0.0)) return m;
+  *k = ((double)m * sxy - sx * sy) / den;
+  *c = exp((sy - *k * sx) / (double)m);
+  return m;
 }
 
 adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,

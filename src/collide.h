@@ -13,6 +13,15 @@ typedef enum adem_collision_kind {
   ADEM_COLLISION_WALL = 1  /* a sphere on a rigid plane wall at angle psi */
 } adem_collision_kind;
 
+/* What became of a collision (H Fig. 9). */
+typedef enum adem_collision_outcome {
+  ADEM_OUTCOME_REBOUND = 0,  /* the sphere separates (e1) */
+  ADEM_OUTCOME_CAPTURED = 1, /* it stays in contact; no rolling phase was run (no DTK or a pair) */
+  ADEM_OUTCOME_ROLLING = 2,  /* it stays in contact and keeps rolling (e2) */
+  ADEM_OUTCOME_STUCK = 3     /* it stays in contact and comes to rest (e3) */
+} adem_collision_outcome;
+const char *adem_collision_outcome_name(adem_collision_outcome o); /* "rebound", ... */
+
 /* Called after every time step: time since the start, overlap (m, < 0 while apart), normal
  * approach speed (m/s, > 0 approaching) and the normal contact force (N, > 0 repulsive). */
 typedef void adem_collision_sample_fn(double t, double overlap, double v_n, double force_n,
@@ -36,6 +45,18 @@ typedef struct adem_collision_spec {
   double max_periods;      /* in contact this many t_c without a decision: stuck, undecided */
   adem_collision_sample_fn *sample; /* may be NULL */
   void *sample_user;
+  /* Deposition on the wall (H section 5.3, Fig. 9): DTK rolling resistance and a constant force
+   * through the centre, parallel to the wall, along the tangential impact velocity (+x; +x also
+   * for a normal impact). F_ext = force_ext + force_hat F_yield: give one of the two. */
+  bool dtk;                /* DTK rolling resistance on the sphere-wall pair (H18-H22) */
+  double hysteresis;       /* adhesion hysteresis delta_gamma/gamma (H18) */
+  bool dtk_modification;   /* true (default): real F_C, a0, xi_crit, only a/a0 modified (H section
+                            * 3.2); false: all from the modified material */
+  double force_ext;        /* N */
+  double force_hat;        /* F_ext / F_yield, F_yield = adem_collide_yield_force() */
+  bool at_rest;            /* no impact: start at rest at the JKR equilibrium (a = a0) */
+  double rest_periods;     /* decision window, in rolling periods T_r (default 3) */
+  double max_roll_periods; /* longest rolling phase, in T_r (default 400); then undecided */
 } adem_collision_spec;
 adem_collision_spec adem_default_collision_spec(void);
 
@@ -56,6 +77,16 @@ typedef struct adem_collision_result {
   uint64_t steps;
   double ke_in, ke_out; /* kinetic energy (translation + rotation) before and at the end, J */
   double work;          /* work of all forces and torques over the run (Verlet trapezoid), J */
+  /* Deposition (wall with DTK; see adem_collide for the rule) */
+  adem_collision_outcome outcome;
+  double force_ext;     /* F_ext applied, N */
+  double xi_crit;       /* critical rolling distance of the contact (H18), m */
+  double t_roll;        /* period T_r of rolling oscillations on k_r = 4 F_C at a = a0, s */
+  double roll_distance; /* centre's travel along the wall from the first touch to rest (stuck),
+                         * to the end (rolling) or to the separation (rebound), m */
+  double t_rest;        /* first touch (start when at rest) to rest, s; NaN unless stuck */
+  double v_end;         /* speed of the centre along the wall at the end, m/s */
+  double rolling_work;  /* work of the rolling couple on the sphere over the run, J */
   char message[256];
 } adem_collision_result;
 
@@ -78,10 +109,33 @@ typedef struct adem_collision_params {
 } adem_collision_params;
 adem_collision_params adem_collide_params(const adem_collision_spec *s);
 
+/* F_yield = k_r xi_crit / r at a = a0 = 4 F_C (a0/12)(delta_gamma/gamma) / r with the real E and
+ * gamma of the spec (notes section 4; H writes it without the 1/R). 0 unless a wall with DTK. */
+double adem_collide_yield_force(const adem_collision_spec *s);
+/* F_ext of the spec, N. */
+double adem_collide_force(const adem_collision_spec *s);
+
 /* Hertz collision time t_c = 2.86827 (m*^2/(R E^2 v))^(1/5) (notes section 6). */
 double adem_collide_hertz_time(double mstar, double R, double E, double v);
 
-/* One collision in its own world (one thread). Never prints. */
+/* One collision in its own world (one thread). Never prints.
+ *
+ * Normal phase: the sphere rebounds when the contact breaks (delta <= 0) and is captured when
+ * the contact's normal energy says it can never break (see `stuck`).
+ *
+ * Rolling phase (wall with DTK, after a capture or from rest): the run goes on with the rolling
+ * displacement xi of the contact watched at every step.
+ *  - stuck: for a window of rest_periods T_r without a break, |xi| stays below xi_crit and the
+ *    centre's speed along the wall below v_rest = omega_r xi_crit, omega_r = 2 pi / T_r. Below
+ *    xi_crit the rolling spring is elastic, so the sphere cannot move more than 2 xi_crit from
+ *    where it is, and v_rest is the fastest an elastic rolling oscillation moves the centre. The
+ *    time to rest is the start of that window.
+ *  - rolling: for a window of rest_periods T_r without a break, |xi| = xi_crit (the rolling
+ *    torque saturated at k_r xi_crit), the normal motion has settled (its energy within 1% of
+ *    the JKR well depth of the equilibrium) and the speed along the wall at the end of the window
+ *    is not below the speed at its start. A saturated, decelerating sphere is watched on.
+ *  - after max_roll_periods T_r without a decision: undecided, classified by the last step
+ *    (saturated: rolling, else stuck). */
 adem_collision_result adem_collide(const adem_collision_spec *spec);
 /* n collisions over nthreads OpenMP threads; out[k] belongs to specs[k] whatever the threads. */
 void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
@@ -95,6 +149,22 @@ typedef void adem_collision_param_fn(adem_collision_spec *s, double x, void *use
 adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collision_param_fn *set,
                                    void *user, double lo, double hi, double rel_tol, int nthreads,
                                    double *x_crit, adem_error *err);
+
+/* Which two outcomes a threshold separates. */
+typedef enum adem_collision_split {
+  ADEM_SPLIT_CAPTURE = 0, /* captured (stuck, rolling or captured) against rebound */
+  ADEM_SPLIT_REST = 1     /* comes to rest (stuck) against anything else (rolling, rebound) */
+} adem_collision_split;
+/* adem_collide_threshold for either split. */
+adem_status adem_collide_threshold_split(const adem_collision_spec *base,
+                                         adem_collision_param_fn *set, void *user,
+                                         adem_collision_split split, double lo, double hi,
+                                         double rel_tol, int nthreads, double *x_crit,
+                                         adem_error *err);
+
+/* Least squares of log y = log c + k log x over the n points with finite, positive x and y;
+ * returns how many were used (c and k are NaN below 2). */
+size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double *c, double *k);
 
 /* ---- What a JKR material pair implies (notes sections 1, 5, 6): `adem check` prints it and the
  * case loader warns from it. */

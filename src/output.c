@@ -351,8 +351,8 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
       continue;
     }
     adem_vec3 t = p->rolling_torque[i], o = p->omega[i];
-    double dist = v3_norm(v3_sub(p->pos[i], track->origin[k]));
-    sb_printf(&b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", t.x, t.y, t.z, o.x, o.y, o.z, dist);
+    sb_printf(&b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", t.x, t.y, t.z, o.x, o.y, o.z,
+              p->path_length[i]);
   }
   sb_printf(&b, "\n");
   return sb_finish(&b);

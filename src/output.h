@@ -28,11 +28,10 @@ void adem_output_wall_forces(const adem_world *w, adem_vec3 *out);
 
 /* Particles that get their own CSV columns (output.track): for each, p<id>_rolling_torque_x_Nm,
  * _y_, _z_ (rolling resistance torque), p<id>_omega_x_rad_s, _y_, _z_ (angular velocity) and
- * p<id>_distance_m, the distance of the centre from its initial position |x - x0|. */
+ * p<id>_distance_m, the path length its centre has travelled (sum of |v| dt). */
 typedef struct adem_output_track {
   int n;
   const uint64_t *id;       /* stable ids */
-  const adem_vec3 *origin;  /* initial centres */
 } adem_output_track;
 
 /* The header line of the CSV time series (with the final newline); a fresh string. track may be

@@ -27,6 +27,7 @@ adem_status adem_particles_reserve(adem_particles *p, size_t cap) {
   GROW(pos_at_build);
   GROW(rolling_torque);
   GROW(held);
+  GROW(path_length);
   p->cap = cap;
   return ADEM_OK;
 }
@@ -46,6 +47,7 @@ void adem_particles_free(adem_particles *p) {
   free(p->pos_at_build);
   free(p->rolling_torque);
   free(p->held);
+  free(p->path_length);
   memset(p, 0, sizeof *p);
 }
 
@@ -73,6 +75,7 @@ adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
   permute_array(p->group, sizeof *p->group, n, perm, scratch);
   permute_array(p->pos_at_build, sizeof *p->pos_at_build, n, perm, scratch);
   permute_array(p->rolling_torque, sizeof *p->rolling_torque, n, perm, scratch);
+  permute_array(p->path_length, sizeof *p->path_length, n, perm, scratch);
   free(scratch);
   return ADEM_OK;
 }

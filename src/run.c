@@ -115,7 +115,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   size_t frames_done = resume && k_frame ? (size_t)(step0 / k_frame + 1) : 0;
 
   adem_output out;
-  adem_output_track track = {c->output.ntrack, c->output.track, c->output.track_origin};
+  adem_output_track track = {c->output.ntrack, c->output.track};
   st = adem_output_open(&out, dir, w, k_frame > 0, k_csv > 0, resume, frames_done,
                         (double)k_frame * dt, w->time, &track, err);
   if (st) return st;

@@ -14,7 +14,7 @@ adem_world *adem_world_create(void) {
   if (!w) return NULL;
   w->gravity = v3(0.0, 0.0, -9.81);
   w->nthreads = adem_default_threads();
-  w->parallel_min = 2048;
+  w->parallel_min = 512;
   w->nb.skin_fraction = 0.2;
   w->max_overlap_ratio = 0.2;
   w->next_id = 0;
@@ -119,6 +119,7 @@ int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, ade
   p->group[i] = (uint16_t)def->group;
   p->pos_at_build[i] = def->position;
   p->rolling_torque[i] = v3_zero();
+  p->path_length[i] = 0.0;
   w->prepared = false;
   return (int64_t)p->id[i];
 }
@@ -309,7 +310,9 @@ static void kick(adem_world *w, double h, bool closing) {
 }
 
 static inline void drift_one(const kick_args *a, size_t i) {
-  a->p->pos[i] = v3_axpy(a->p->pos[i], a->h, a->p->vel[i]);
+  adem_particles *p = a->p;
+  p->pos[i] = v3_axpy(p->pos[i], a->h, p->vel[i]);
+  p->path_length[i] += a->h * v3_norm(p->vel[i]); /* the drift is a straight segment */
 }
 
 static void drift(adem_world *w, double dt) {

@@ -23,6 +23,7 @@ typedef struct adem_particles {
   adem_vec3 *pos_at_build; /* positions when the neighbour list was built (skin check) */
   adem_vec3 *rolling_torque; /* rolling resistance torque of the last force pass (output) */
   uint8_t *held;             /* BROF holds the spin at zero this step (set by the force pass) */
+  double *path_length;       /* distance the centre has travelled, sum of |v| dt (output.track) */
 } adem_particles;
 
 /* A material after derivation: the real values plus those the contact laws use. */

@@ -23,7 +23,6 @@ typedef struct adem_output_settings {
    * initial centre get CSV columns. */
   int ntrack;
   uint64_t track[ADEM_TRACK_MAX];         /* stable ids */
-  adem_vec3 track_origin[ADEM_TRACK_MAX]; /* initial centres, m */
 } adem_output_settings;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
