@@ -9,12 +9,16 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <yaml.h>
 
 #include "collide.h"
+#include "fileio.h"
 #include "log.h"
 #include "rng.h"
+#include "insert.h"
 #include "schema.h"
+#include "stages.h"
 #include "vec3.h"
 #include "world.h"
 
@@ -29,6 +33,7 @@ typedef struct case_ctx {
   bool have_doc;
   const char *file;          /* name used in messages */
   const char *stem_of;       /* file whose stem is the default case name */
+  const char *base_dir;      /* folder relative file paths of the case start from */
   const char *const *sets;   /* the --set strings */
   int nbase;                 /* node ids 1..nbase come from the text, later ones from --set */
   int *origin;               /* origin[id - nbase - 1]: the --set that made node id (-1: none) */
@@ -522,6 +527,7 @@ static adem_status get_vec3(case_ctx *ctx, const map_cursor *m, const char *key,
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
+  *x = v3_zero(); /* defined on every path, also for keys without a default */
   adem_status st = lookup(ctx, m, key, &e, &v, path);
   if (node) *node = v;
   if (st) return st;
@@ -923,120 +929,6 @@ static adem_status flush_spheres(case_ctx *ctx, size_t first, int material, int 
   return ADEM_OK;
 }
 
-/* Uniform cell grid over spheres of ctx, for overlap queries in O(1). Queries are spheres of
- * radius <= reach; cells are at least 2 reach wide. A sphere of radius R is filed in every cell
- * its box widened by max(0, R + reach - h) touches (one cell unless it is large), so a sphere
- * that overlaps a query always sits in the query's cell or a neighbouring one. Centres outside
- * the grid are clamped to its border cells, which keeps that true. */
-typedef struct sphere_grid {
-  adem_vec3 lo;
-  double h, inv_h, reach;
-  int dims[3];
-  int64_t *head; /* per cell: first entry or -1 */
-  int64_t *next; /* per entry */
-  size_t *sphere;
-  size_t n, cap;
-} sphere_grid;
-
-static adem_status grid_init(sphere_grid *g, adem_vec3 lo, adem_vec3 hi, double h, double reach,
-                             size_t expected) {
-  memset(g, 0, sizeof *g);
-  double ext[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
-  double limit = 8.0 * (double)expected + 4096.0; /* cells: about one per sphere */
-  double cells;
-  for (;;) {
-    cells = 1.0;
-    for (int k = 0; k < 3; ++k) cells *= floor(fmax(ext[k], 0.0) / h) + 1.0;
-    if (cells <= limit) break;
-    h *= 1.5;
-  }
-  for (int k = 0; k < 3; ++k) g->dims[k] = (int)(floor(fmax(ext[k], 0.0) / h) + 1.0);
-  g->lo = lo;
-  g->h = h;
-  g->inv_h = 1.0 / h;
-  g->reach = reach;
-  size_t ncells = (size_t)cells;
-  g->head = malloc(ncells * sizeof *g->head);
-  if (!g->head) return ADEM_ERR_NOMEM;
-  for (size_t c = 0; c < ncells; ++c) g->head[c] = -1;
-  return ADEM_OK;
-}
-
-static void grid_free(sphere_grid *g) {
-  free(g->head);
-  free(g->next);
-  free(g->sphere);
-}
-
-static int grid_coord(const sphere_grid *g, double x, double lo, int k) {
-  double c = floor((x - lo) * g->inv_h);
-  if (!(c > 0)) return 0; /* also NaN */
-  if (c >= g->dims[k]) return g->dims[k] - 1;
-  return (int)c;
-}
-
-static void grid_cell(const sphere_grid *g, adem_vec3 p, int c[3]) {
-  c[0] = grid_coord(g, p.x, g->lo.x, 0);
-  c[1] = grid_coord(g, p.y, g->lo.y, 1);
-  c[2] = grid_coord(g, p.z, g->lo.z, 2);
-}
-
-static size_t grid_index(const sphere_grid *g, const int c[3]) {
-  return ((size_t)c[2] * (size_t)g->dims[1] + (size_t)c[1]) * (size_t)g->dims[0] + (size_t)c[0];
-}
-
-static adem_status grid_insert(sphere_grid *g, const case_ctx *ctx, size_t i) {
-  double e = fmax(0.0, ctx->rad[i] + g->reach - g->h);
-  int a[3], b[3];
-  grid_cell(g, v3_sub(ctx->pos[i], v3(e, e, e)), a);
-  grid_cell(g, v3_add(ctx->pos[i], v3(e, e, e)), b);
-  for (int z = a[2]; z <= b[2]; ++z)
-    for (int y = a[1]; y <= b[1]; ++y)
-      for (int x = a[0]; x <= b[0]; ++x) {
-        if (g->n == g->cap) {
-          size_t cap = g->cap ? 2 * g->cap : 1024;
-          int64_t *next = realloc(g->next, cap * sizeof *next);
-          if (next) g->next = next;
-          size_t *sphere = realloc(g->sphere, cap * sizeof *sphere);
-          if (sphere) g->sphere = sphere;
-          if (!next || !sphere) return ADEM_ERR_NOMEM;
-          g->cap = cap;
-        }
-        int c[3] = {x, y, z};
-        size_t cell = grid_index(g, c);
-        g->sphere[g->n] = i;
-        g->next[g->n] = g->head[cell];
-        g->head[cell] = (int64_t)g->n;
-        g->n++;
-      }
-  return ADEM_OK;
-}
-
-/* Index (in ctx) of a sphere overlapping the sphere (p, r), or -1. Touching is not overlapping.
- * The query's own cell first: that is where a rejected try usually finds its overlap. */
-static int64_t grid_overlap(const sphere_grid *g, const case_ctx *ctx, adem_vec3 p, double r) {
-  static const int order[27][3] = {
-      {0, 0, 0},   {-1, 0, 0},  {1, 0, 0},   {0, -1, 0},  {0, 1, 0},   {0, 0, -1},  {0, 0, 1},
-      {-1, -1, 0}, {1, -1, 0},  {-1, 1, 0},  {1, 1, 0},   {-1, 0, -1}, {1, 0, -1},  {0, -1, -1},
-      {0, 1, -1},  {-1, 0, 1},  {1, 0, 1},   {0, -1, 1},  {0, 1, 1},   {-1, -1, -1}, {1, -1, -1},
-      {-1, 1, -1}, {1, 1, -1},  {-1, -1, 1}, {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
-  int c[3];
-  grid_cell(g, p, c);
-  for (int k = 0; k < 27; ++k) {
-    int q[3] = {c[0] + order[k][0], c[1] + order[k][1], c[2] + order[k][2]};
-    if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g->dims[0] || q[1] >= g->dims[1] ||
-        q[2] >= g->dims[2])
-      continue;
-    for (int64_t e = g->head[grid_index(g, q)]; e >= 0; e = g->next[e]) {
-      size_t j = g->sphere[e];
-      double s = r + ctx->rad[j];
-      adem_vec3 d = v3_sub(p, ctx->pos[j]);
-      if (d.x * d.x + d.y * d.y + d.z * d.z < s * s) return (int64_t)j;
-    }
-  }
-  return -1;
-}
-
 /* ---- sections ---- */
 
 static adem_status check_box(case_ctx *ctx, adem_vec3 lo, adem_vec3 hi, const yaml_node_t *hi_node,
@@ -1269,6 +1161,251 @@ static adem_status build_groups(case_ctx *ctx, const map_cursor *root) {
   return ADEM_OK;
 }
 
+/* ---- wall motion and mesh walls ---- */
+
+/* A prescribed motion read from `motion` (absent: *given = false). The table's arrays are
+ * allocated into *time and *vel (free them); def points into them. */
+static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motion_def *def,
+                               double **time, adem_vec3 **vel, bool *given, yaml_node_t **at) {
+  map_cursor mo, rot;
+  memset(def, 0, sizeof *def);
+  *time = NULL;
+  *vel = NULL;
+  *given = false;
+  adem_status st = get_map(ctx, wall, "motion", &mo);
+  if (st || !mo.node) return st;
+  *given = true;
+  *at = mo.node;
+  yaml_node_t *vnode;
+  adem_vec3 v;
+  if ((st = get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
+  const adem_schema_entry *e;
+  yaml_node_t *table;
+  char path[KEY_PATH_MAX];
+  if ((st = lookup(ctx, &mo, "table", &e, &table, path))) return st;
+  if (table && !is_null(table)) {
+    if (vnode)
+      return fail(ctx, table, path, "give either `velocity` (constant) or `table`, not both");
+    if (table->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, table, path);
+    size_t n = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
+    if (n == 0) return fail(ctx, table, path, "needs at least 1 row [t, vx, vy, vz]");
+    *time = malloc(n * sizeof **time);
+    *vel = malloc(n * sizeof **vel);
+    if (!*time || !*vel) return nomem(ctx);
+    for (size_t k = 0; k < n; ++k) {
+      yaml_node_t *row = node_at(ctx, table->data.sequence.items.start[k]);
+      char rp[KEY_PATH_MAX + 24], t[128];
+      snprintf(rp, sizeof rp, "%s[%zu]", path, k);
+      double x[4];
+      bool ok = row->type == YAML_SEQUENCE_NODE &&
+                row->data.sequence.items.top - row->data.sequence.items.start == 4;
+      for (int j = 0; ok && j < 4; ++j)
+        ok = parse_number(node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
+      if (!ok) {
+        node_text(row, t, sizeof t);
+        return fail(ctx, row, rp, "expected a row [t, vx, vy, vz] of 4 numbers (s, m/s), got %s", t);
+      }
+      if (k > 0 && !(x[0] > (*time)[k - 1]))
+        return fail(ctx, row, rp,
+                    "the table is not ordered in time: t = %g s does not come after t = %g s of "
+                    "the row before; times must increase strictly",
+                    x[0], (*time)[k - 1]);
+      (*time)[k] = x[0];
+      (*vel)[k] = v3(x[1], x[2], x[3]);
+    }
+    def->n = n;
+  } else if (vnode) {
+    *time = malloc(sizeof **time);
+    *vel = malloc(sizeof **vel);
+    if (!*time || !*vel) return nomem(ctx);
+    (*time)[0] = 0.0;
+    (*vel)[0] = v;
+    def->n = 1;
+  }
+  def->time = *time;
+  def->velocity = *vel;
+  for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
+  if ((st = get_map(ctx, &mo, "rotation", &rot))) return st;
+  if (rot.node) {
+    yaml_node_t *axis_node;
+    if ((st = get_vec3(ctx, &rot, "axis", &def->axis, &axis_node))) return st;
+    if ((st = get_vec3(ctx, &rot, "center", &def->center, NULL))) return st;
+    if ((st = get_number(ctx, &rot, "speed", &def->angular_speed, NULL))) return st;
+    if (!(v3_norm(def->axis) > 0.0)) {
+      join(path, sizeof path, rot.path, "axis");
+      return fail(ctx, axis_node, path, "must be a non-zero vector");
+    }
+  }
+  return ADEM_OK;
+}
+
+/* A wall name may not be both a plane's and a mesh group's: the CSV columns would clash. */
+static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
+  const adem_world *w = ctx->w;
+  for (int g = 0; g < w->mesh.ngroups; ++g)
+    for (int k = 0; k < w->nplanes; ++k)
+      if (!strcmp(w->mesh.groups[g].name, w->planes[k].def.name))
+        return fail(ctx, m->node, m->path,
+                    "the name `%s` is used by a plane and by a mesh group; give one of them "
+                    "another `name`",
+                    w->planes[k].def.name);
+  return ADEM_OK;
+}
+
+/* `rotate`: one {axis, angle} mapping or a list of them, composed in order onto tf. */
+static adem_status read_rotations(case_ctx *ctx, const map_cursor *wall, adem_mesh_transform *tf) {
+  const adem_schema_entry *e;
+  yaml_node_t *v;
+  char path[KEY_PATH_MAX];
+  adem_status st = lookup(ctx, wall, "rotate", &e, &v, path);
+  if (st || !v || is_null(v)) return st;
+  size_t n = 1;
+  if (v->type == YAML_SEQUENCE_NODE)
+    n = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+  else if (v->type != YAML_MAPPING_NODE)
+    return fail(ctx, v, path, "expected `{axis: [x, y, z], angle: degrees}` or a list of them");
+  for (size_t k = 0; k < n; ++k) {
+    map_cursor r;
+    char rp[KEY_PATH_MAX];
+    yaml_node_t *item = v;
+    if (v->type == YAML_SEQUENCE_NODE) {
+      snprintf(rp, sizeof rp, "%.200s[%zu]", path, k);
+      item = node_at(ctx, v->data.sequence.items.start[k]);
+    } else {
+      snprintf(rp, sizeof rp, "%s", path);
+    }
+    if ((st = map_open(ctx, item, v, rp, "walls[].rotate[]", NULL, &r))) return st;
+    if (!r.node) return fail(ctx, item, rp, "expected `{axis: [x, y, z], angle: degrees}`");
+    adem_vec3 axis;
+    double angle = 0.0;
+    yaml_node_t *axis_node;
+    if ((st = get_vec3(ctx, &r, "axis", &axis, &axis_node))) return st;
+    if ((st = get_number(ctx, &r, "angle", &angle, NULL))) return st;
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_mesh_transform_rotate(tf, axis, angle, &werr)) {
+      char ap[KEY_PATH_MAX];
+      join(ap, sizeof ap, rp, "axis");
+      return fail(ctx, axis_node, ap, "%s", werr.message);
+    }
+  }
+  return ADEM_OK;
+}
+
+/* The file of a mesh wall: relative paths start from the case file's folder. */
+static char *mesh_path(const case_ctx *ctx, const char *file) {
+  bool as_is = file[0] == '/' || !ctx->base_dir || !*ctx->base_dir || !strcmp(ctx->base_dir, ".");
+  size_t n = (as_is ? 0 : strlen(ctx->base_dir) + 1) + strlen(file) + 1;
+  char *p = malloc(n);
+  if (p) snprintf(p, n, "%s%s%s", as_is ? "" : ctx->base_dir, as_is ? "" : "/", file);
+  return p;
+}
+
+static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, const char *name) {
+  adem_world *w = ctx->w;
+  adem_mesh_transform tf = adem_default_mesh_transform();
+  tf.material = mat;
+  char file[ADEM_PATH_MAX], path[KEY_PATH_MAX];
+  yaml_node_t *file_node, *own_node, *about_node, *motion_node = NULL;
+  adem_error werr = {ADEM_OK, ""};
+  char *resolved = NULL;
+  int first = w->mesh.ngroups;
+  adem_status st;
+  if ((st = get_string(ctx, m, "file", file, sizeof file, &file_node))) return st;
+  if ((st = get_number(ctx, m, "scale", &tf.scale, NULL))) return st;
+  if ((st = read_rotations(ctx, m, &tf))) return st;
+  if ((st = get_vec3(ctx, m, "translate", &tf.translation, NULL))) return st;
+  adem_vec3 about;
+  if ((st = get_vec3(ctx, m, "torque_about", &about, &about_node))) return st;
+  adem_motion_def md;
+  double *times = NULL;
+  adem_vec3 *vels = NULL;
+  bool moves = false, own = false;
+  st = read_motion(ctx, m, &md, &times, &vels, &moves, &motion_node);
+  if (!st) st = get_bool(ctx, m, "own_vertices", &own);
+  if (st) goto done;
+  own_node = map_get(ctx, m->node, "own_vertices");
+  if (!own_node) own = moves;
+  if (moves && !own) {
+    join(path, sizeof path, m->path, "own_vertices");
+    st = fail(ctx, own_node, path,
+              "a mesh with a `motion` needs its own vertices: set `own_vertices: true`");
+    goto done;
+  }
+  tf.own_vertices = own;
+  resolved = mesh_path(ctx, file);
+  if (!resolved) {
+    st = nomem(ctx);
+    goto done;
+  }
+  st = adem_world_add_mesh(w, resolved, &tf, name, v3_zero(), &werr);
+  join(path, sizeof path, m->path, "file");
+  if (st) {
+    st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
+    goto done;
+  }
+  for (int g = first; g < w->mesh.ngroups && moves; ++g) {
+    if (adem_world_set_mesh_motion(w, g, &md, &werr)) {
+      join(path, sizeof path, m->path, "motion");
+      st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, motion_node, path, "%s", werr.message);
+      goto done;
+    }
+    /* a rotating mesh's points move at up to omega times their distance from the axis */
+    ctx->vmax = fmax(ctx->vmax, fabs(md.angular_speed) * w->mesh_reach[g]);
+  }
+  if (about_node && adem_world_set_mesh_torque_point(w, w->nmesh_walls - 1, about, &werr)) {
+    join(path, sizeof path, m->path, "torque_about");
+    st = fail(ctx, about_node, path, "%s", werr.message);
+    goto done;
+  }
+  if (first < w->mesh.ngroups) { /* the file's bounding box */
+    const adem_mesh *mesh = &w->mesh;
+    for (size_t t = mesh->groups[first].first; t < mesh->ntris; ++t)
+      for (int k = 0; k < 3; ++k) {
+        adem_vec3 x = mesh->vert[mesh->tri[t][k]];
+        box_include(ctx, x, x);
+      }
+  }
+done:
+  free(resolved);
+  free(times);
+  free(vels);
+  return st;
+}
+
+/* `motion` of plane `plane` (not together with its `velocity`). */
+static adem_status plane_motion(case_ctx *ctx, const map_cursor *m, int plane,
+                                const yaml_node_t *velocity_node) {
+  adem_motion_def md;
+  double *times = NULL;
+  adem_vec3 *vels = NULL;
+  bool moves = false;
+  yaml_node_t *at = NULL;
+  char path[KEY_PATH_MAX];
+  adem_status st = read_motion(ctx, m, &md, &times, &vels, &moves, &at);
+  join(path, sizeof path, m->path, "motion");
+  if (!st && moves && velocity_node)
+    st = fail(ctx, at, path, "give either `velocity` or `motion`, not both");
+  adem_error werr = {ADEM_OK, ""};
+  if (!st && moves && adem_world_set_plane_motion(ctx->w, plane, &md, &werr))
+    st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, at, path, "%s", werr.message);
+  free(times);
+  free(vels);
+  return st;
+}
+
+/* `active: false`: the planes and mesh groups the wall made are switched off. */
+static adem_status wall_active(case_ctx *ctx, const map_cursor *m, int planes_before,
+                               int meshes_before) {
+  bool active = true;
+  adem_status st = get_bool(ctx, m, "active", &active);
+  adem_error werr = {ADEM_OK, ""};
+  for (int k = planes_before; !st && !active && k < ctx->w->nplanes; ++k)
+    if (adem_world_set_plane_active(ctx->w, k, false, &werr)) st = nomem(ctx);
+  for (int g = meshes_before; !st && !active && g < ctx->w->mesh.ngroups; ++g)
+    if (adem_world_set_mesh_active(ctx->w, g, false, &werr)) st = nomem(ctx);
+  return st;
+}
+
 static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = get_list(ctx, root, "walls", &l);
@@ -1286,6 +1423,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *name_node, *mat_node;
     int mat;
     if ((st = list_item(ctx, &l, i, &m))) break;
+    int planes_before = ctx->w->nplanes, meshes_before = ctx->w->mesh.ngroups;
     if ((st = get_string(ctx, &m, "name", names[i], sizeof names[i], &name_node))) break;
     if (!name_node) snprintf(names[i], sizeof names[i], "wall%zu", i);
     nodes[i] = name_node ? name_node : m.node;
@@ -1309,7 +1447,8 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       d.material = mat;
       if ((st = get_vec3(ctx, &m, "point", &d.point, NULL))) break;
       if ((st = get_vec3(ctx, &m, "normal", &d.normal, &normal_node))) break;
-      if ((st = get_vec3(ctx, &m, "velocity", &d.velocity, NULL))) break;
+      yaml_node_t *velocity_node;
+      if ((st = get_vec3(ctx, &m, "velocity", &d.velocity, &velocity_node))) break;
       double len = v3_norm(d.normal);
       if (!(len > 0) || !isfinite(len)) {
         join(path, sizeof path, m.path, "normal");
@@ -1323,6 +1462,9 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       }
       box_include(ctx, d.point, d.point);
       ctx->vmax = fmax(ctx->vmax, v3_norm(d.velocity));
+      if ((st = plane_motion(ctx, &m, ctx->w->nplanes - 1, velocity_node))) break;
+    } else if (!strcmp(m.variant, "mesh")) {
+      if ((st = build_mesh_wall(ctx, &m, mat, name_node ? names[i] : NULL))) break;
     } else {
       adem_vec3 lo, hi;
       yaml_node_t *hi_node;
@@ -1335,6 +1477,8 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       }
       box_include(ctx, lo, hi);
     }
+    st = check_wall_names(ctx, &m);
+    if (!st) st = wall_active(ctx, &m, planes_before, meshes_before);
   }
   free(names);
   free(nodes);
@@ -1367,10 +1511,10 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
       lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
       hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
     }
-    sphere_grid g;
-    if (grid_init(&g, lo, hi, 2.0 * rmax, rmax, l.n)) return nomem(ctx);
+    adem_sphere_grid g;
+    if (adem_insert_grid_init(&g, lo, hi, 2.0 * rmax, rmax, l.n)) return nomem(ctx);
     for (size_t i = first; i < ctx->n && !st; ++i) {
-      int64_t j = grid_overlap(&g, ctx, ctx->pos[i], ctx->rad[i]);
+      int64_t j = adem_insert_grid_overlap(&g, ctx->pos, ctx->rad, ctx->pos[i], ctx->rad[i]);
       if (j >= 0) {
         size_t a = (size_t)j - first, b = i - first;
         yaml_node_t *na = node_at(ctx, l.node->data.sequence.items.start[a]);
@@ -1382,11 +1526,11 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
         st = fail(ctx, nb, pb,
                   "overlaps %s (at %s): centre distance %g m < sum of radii %g m", pa, first_at,
                   v3_norm(v3_sub(ctx->pos[i], ctx->pos[j])), ctx->rad[i] + ctx->rad[j]);
-      } else if (grid_insert(&g, ctx, i)) {
+      } else if (adem_insert_grid_add(&g, ctx->pos, ctx->rad, i)) {
         st = nomem(ctx);
       }
     }
-    grid_free(&g);
+    adem_insert_grid_free(&g);
     if (st) return st;
   }
   return flush_spheres(ctx, first, mat, group, set->node, set->path);
@@ -1444,149 +1588,471 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   return flush_spheres(ctx, first, mat, group, m->node, m->path);
 }
 
-/* Radii of a random set, drawn before any position so the grid knows the largest. */
-static adem_status draw_radii(case_ctx *ctx, const map_cursor *m, adem_rng *rng, double rfit,
-                              double *radii, size_t count) {
-  map_cursor d;
-  adem_status st = get_map(ctx, m, "radius", &d);
+/* ---- insertion: size distributions, regions, random fills ---- */
+
+/* A list [a, b, ...] of numbers under key (absent: *n = 0, *node NULL), each in the entry's
+ * range; a fresh array in *out. */
+static adem_status get_numbers(case_ctx *ctx, const map_cursor *m, const char *key, double **out,
+                               size_t *n, yaml_node_t **node) {
+  const adem_schema_entry *e;
+  yaml_node_t *v;
+  char path[KEY_PATH_MAX];
+  *out = NULL;
+  *n = 0;
+  adem_status st = lookup(ctx, m, key, &e, &v, path);
+  if (node) *node = v;
+  if (st || !v) return st;
+  if (v->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, v, path);
+  size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
+  if (count == 0) return fail(ctx, v, path, "needs at least one number");
+  *out = malloc(count * sizeof **out);
+  if (!*out) return nomem(ctx);
+  for (size_t k = 0; k < count; ++k) {
+    yaml_node_t *item = node_at(ctx, v->data.sequence.items.start[k]);
+    char p[KEY_PATH_MAX + 24];
+    snprintf(p, sizeof p, "%s[%zu]", path, k);
+    if ((st = read_number(ctx, e, item, p, &(*out)[k]))) {
+      free(*out);
+      *out = NULL;
+      return st;
+    }
+  }
+  *n = count;
+  return ADEM_OK;
+}
+
+/* `radius` of a random set or a pour: the distribution, checked against the largest radius the
+ * region holds (fit, called `fit_what` of the `region_word` in messages). */
+static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, const char *fit_what,
+                             const char *region_word, adem_size_dist *d, map_cursor *dm) {
+  memset(d, 0, sizeof *d);
+  adem_status st = get_map(ctx, m, "radius", dm);
   if (st) return st;
   char path[KEY_PATH_MAX];
   yaml_node_t *node;
-  if (!strcmp(d.variant, "constant")) {
-    double r = 0.0;
-    if ((st = get_number(ctx, &d, "value", &r, &node))) return st;
-    if (r > rfit) {
-      join(path, sizeof path, d.path, "value");
-      return fail(ctx, node, path, "radius %g m does not fit the box (half its smallest side is %g m)",
-                  r, rfit);
+  d->limit = fit;
+  if (!strcmp(dm->variant, "constant")) {
+    d->kind = ADEM_SIZE_CONSTANT;
+    if ((st = get_number(ctx, dm, "value", &d->value, &node))) return st;
+    join(path, sizeof path, dm->path, "value");
+    if (d->value > fit)
+      return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->value,
+                  region_word, fit_what, fit);
+  } else if (!strcmp(dm->variant, "uniform")) {
+    d->kind = ADEM_SIZE_UNIFORM;
+    if ((st = get_number(ctx, dm, "min", &d->min, NULL))) return st;
+    if ((st = get_number(ctx, dm, "max", &d->max, &node))) return st;
+    join(path, sizeof path, dm->path, "max");
+    if (!(d->max > d->min)) return fail(ctx, node, path, "must be greater than `min` (%g m)", d->min);
+    if (d->max > fit)
+      return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->max,
+                  region_word, fit_what, fit);
+  } else if (!strcmp(dm->variant, "discrete")) {
+    d->kind = ADEM_SIZE_DISCRETE;
+    double *weights = NULL;
+    size_t nw = 0;
+    yaml_node_t *wnode;
+    if ((st = get_numbers(ctx, dm, "values", &d->values, &d->n, &node))) return st;
+    if ((st = get_numbers(ctx, dm, "weights", &weights, &nw, &wnode))) return st;
+    d->cumulative = malloc(d->n * sizeof *d->cumulative);
+    if (!d->cumulative) {
+      free(weights);
+      return nomem(ctx);
     }
-    for (size_t k = 0; k < count; ++k) radii[k] = r;
-    return ADEM_OK;
-  }
-  if (!strcmp(d.variant, "uniform")) {
-    double a = 0.0, b = 0.0;
-    if ((st = get_number(ctx, &d, "min", &a, NULL))) return st;
-    if ((st = get_number(ctx, &d, "max", &b, &node))) return st;
-    join(path, sizeof path, d.path, "max");
-    if (!(b > a)) return fail(ctx, node, path, "must be greater than `min` (%g m)", a);
-    if (b > rfit)
-      return fail(ctx, node, path, "radius %g m does not fit the box (half its smallest side is %g m)",
-                  b, rfit);
-    for (size_t k = 0; k < count; ++k) radii[k] = a + (b - a) * adem_rng_uniform(rng);
-    return ADEM_OK;
-  }
-  double mean, std;
-  if ((st = get_number(ctx, &d, "mean", &mean, NULL))) return st;
-  if ((st = get_number(ctx, &d, "std", &std, NULL))) return st;
-  bool lognormal = !strcmp(d.variant, "lognormal");
-  double sigma = 0, mu = 0;
-  if (lognormal) {
-    double s2 = log1p(std * std / (mean * mean));
-    sigma = sqrt(s2);
-    mu = log(mean) - 0.5 * s2;
-  }
-  for (size_t k = 0; k < count; ++k) {
-    int tries = 0;
-    double r = 0.0;
-    do {
-      if (++tries > 1000)
-        return fail(ctx, d.node, d.path,
-                    "could not draw a radius in (0, %g m] (half the box's smallest side) in 1000 "
-                    "tries; the distribution does not fit the box",
-                    rfit);
-      double z = adem_rng_normal(rng);
-      r = lognormal ? exp(mu + sigma * z) : mean + std * z;
-    } while (!(r > 0 && r <= rfit));
-    radii[k] = r;
+    double sum = 0.0;
+    for (size_t k = 0; k < d->n; ++k) {
+      sum += wnode ? (k < nw ? weights[k] : 0.0) : 1.0;
+      d->cumulative[k] = sum;
+    }
+    free(weights);
+    join(path, sizeof path, dm->path, "weights");
+    if (wnode && nw != d->n)
+      return fail(ctx, wnode, path, "has %zu weights for %zu values; give one weight per value", nw,
+                  d->n);
+    if (!(sum > 0.0)) return fail(ctx, wnode, path, "the weights are all 0");
+    join(path, sizeof path, dm->path, "values");
+    for (size_t k = 0; k < d->n; ++k)
+      if (d->values[k] > fit)
+        return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->values[k],
+                    region_word, fit_what, fit);
+  } else {
+    d->kind = !strcmp(dm->variant, "lognormal") ? ADEM_SIZE_LOGNORMAL : ADEM_SIZE_NORMAL;
+    if ((st = get_number(ctx, dm, "mean", &d->mean, NULL))) return st;
+    if ((st = get_number(ctx, dm, "std", &d->std, NULL))) return st;
   }
   return ADEM_OK;
 }
 
-static int compare_descending(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x < y) - (x > y);
-}
-
-static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_index, int mat,
-                                int group) {
-  adem_vec3 lo, hi, v, w;
-  uint64_t count, max_attempts;
-  yaml_node_t *hi_node, *attempts_node;
-  adem_status st;
-  if ((st = get_vec3(ctx, m, "min", &lo, NULL))) return st;
-  if ((st = get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
-  if ((st = check_box(ctx, lo, hi, hi_node, m))) return st;
-  if ((st = get_uint(ctx, m, "count", &count, NULL))) return st;
-  if ((double)count > MAX_SET_SPHERES)
-    return fail(ctx, m->node, m->path, "count %llu is more than %.0g spheres per set",
-                (unsigned long long)count, MAX_SET_SPHERES);
-  if ((st = get_uint(ctx, m, "max_attempts", &max_attempts, &attempts_node))) return st;
-  if (!attempts_node) max_attempts = count * 100 > 1000000 ? count * 100 : 1000000;
-  if ((st = get_vec3(ctx, m, "velocity", &v, NULL))) return st;
-  if ((st = get_vec3(ctx, m, "angular_velocity", &w, NULL))) return st;
-
-  /* Each set draws from its own stream, so editing one set leaves the others' spheres alone. */
-  adem_rng rng = adem_rng_seed(ctx->c->seed ^ (0x9e3779b97f4a7c15ULL * (uint64_t)(set_index + 1)));
-  adem_vec3 size = v3_sub(hi, lo);
-  double rfit = 0.5 * fmin(size.x, fmin(size.y, size.z));
-  double *radii = malloc((count ? count : 1) * sizeof *radii);
-  if (!radii) return nomem(ctx);
-  if ((st = draw_radii(ctx, m, &rng, rfit, radii, count))) {
-    free(radii);
-    return st;
-  }
-  /* Largest first: the big spheres find room while the box is empty, the small fill the gaps. */
-  qsort(radii, count, sizeof *radii, compare_descending);
-  double rnew = count ? radii[0] : 0.0;
-  double h = fmax(2.0 * rnew, cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
-  adem_vec3 glo = v3_sub(lo, v3(h, h, h)), ghi = v3_add(hi, v3(h, h, h));
-  sphere_grid g;
-  if (grid_init(&g, glo, ghi, h, rnew, count)) {
-    free(radii);
-    return nomem(ctx);
-  }
-  /* Spheres of earlier sets that reach the box. */
-  for (size_t i = 0; i < ctx->n && !st; ++i) {
-    adem_vec3 p = ctx->pos[i];
-    double e = ctx->rad[i] + rnew;
-    if (p.x > lo.x - e && p.y > lo.y - e && p.z > lo.z - e && p.x < hi.x + e && p.y < hi.y + e &&
-        p.z < hi.z + e && grid_insert(&g, ctx, i))
-      st = nomem(ctx);
-  }
-  size_t first = ctx->n, placed = 0;
-  uint64_t attempts = 0;
-  for (size_t k = 0; k < count && !st && attempts < max_attempts; ++k) {
-    double r = radii[k];
-    while (attempts < max_attempts) {
-      ++attempts;
-      double ux = adem_rng_uniform(&rng), uy = adem_rng_uniform(&rng), uz = adem_rng_uniform(&rng);
-      adem_vec3 p = v3(lo.x + r + ux * (size.x - 2.0 * r), lo.y + r + uy * (size.y - 2.0 * r),
-                       lo.z + r + uz * (size.z - 2.0 * r));
-      if (grid_overlap(&g, ctx, p, r) >= 0) continue;
-      if ((st = push_sphere(ctx, p, r, v, w))) break;
-      if (grid_insert(&g, ctx, ctx->n - 1)) st = nomem(ctx);
-      ++placed;
-      break;
+/* The region of a random set (`region`, or the box `min`/`max`: box_keys) or of a pour. *word
+ * names its kind for messages. */
+static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys, adem_region *r,
+                               const char **word) {
+  map_cursor rm;
+  memset(&rm, 0, sizeof rm);
+  adem_status st = ADEM_OK;
+  /* absent from a random set: the box keys are used (an absent mapping with a `shape` to
+   * choose would be reported missing) */
+  if (!box_keys || map_get(ctx, m->node, "region")) st = get_map(ctx, m, "region", &rm);
+  if (st) return st;
+  char path[KEY_PATH_MAX];
+  adem_vec3 lo, hi;
+  yaml_node_t *lo_node = NULL, *hi_node = NULL;
+  if (box_keys) {
+    if ((st = get_vec3(ctx, m, "min", &lo, &lo_node))) return st;
+    if ((st = get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
+    if (rm.node && (lo_node || hi_node)) {
+      join(path, sizeof path, m->path, lo_node ? "min" : "max");
+      return fail(ctx, lo_node ? lo_node : hi_node, path,
+                  "give either the box `min`/`max` or a `region`, not both");
+    }
+    if (!rm.node) {
+      *word = "box";
+      if (!lo_node || !hi_node) {
+        const char *key = lo_node ? "max" : "min";
+        join(path, sizeof path, m->path, key);
+        return missing(ctx, m, adem_schema_find(m->schema, key, m->variant), path);
+      }
+      if ((st = check_box(ctx, lo, hi, hi_node, m))) return st;
+      adem_insert_region_box(r, lo, hi);
+      return ADEM_OK;
     }
   }
-  grid_free(&g);
-  free(radii);
-  if (st) return st;
-  if (placed < count) {
-    char loc[LOC_MAX];
-    where(ctx, m->node, loc, sizeof loc);
-    adem_log(ADEM_LOG_WARN,
-             "%s: %s: random fill placed %zu of %llu spheres before max_attempts (%llu) ran out; "
-             "the box may be too full",
-             loc, m->path, placed, (unsigned long long)count, (unsigned long long)max_attempts);
+  adem_error werr = {ADEM_OK, ""};
+  if (!strcmp(rm.variant, "box")) {
+    *word = "box";
+    if ((st = get_vec3(ctx, &rm, "min", &lo, NULL))) return st;
+    if ((st = get_vec3(ctx, &rm, "max", &hi, &hi_node))) return st;
+    if ((st = check_box(ctx, lo, hi, hi_node, &rm))) return st;
+    adem_insert_region_box(r, lo, hi);
+  } else if (!strcmp(rm.variant, "cylinder")) {
+    *word = "cylinder";
+    adem_vec3 a, b;
+    double radius = 0.0;
+    yaml_node_t *end_node;
+    if ((st = get_vec3(ctx, &rm, "start", &a, NULL))) return st;
+    if ((st = get_vec3(ctx, &rm, "end", &b, &end_node))) return st;
+    if ((st = get_number(ctx, &rm, "radius", &radius, NULL))) return st;
+    if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
+      join(path, sizeof path, rm.path, "end");
+      return fail(ctx, end_node, path, "%s", werr.message);
+    }
+  } else {
+    *word = "mesh region";
+    char file[ADEM_PATH_MAX];
+    yaml_node_t *file_node;
+    adem_mesh_transform tf = adem_default_mesh_transform();
+    if ((st = get_string(ctx, &rm, "file", file, sizeof file, &file_node))) return st;
+    if ((st = get_number(ctx, &rm, "scale", &tf.scale, NULL))) return st;
+    if ((st = get_vec3(ctx, &rm, "translate", &tf.translation, NULL))) return st;
+    char *resolved = mesh_path(ctx, file);
+    if (!resolved) return nomem(ctx);
+    st = adem_insert_region_mesh(r, resolved, &tf, &werr);
+    free(resolved);
+    join(path, sizeof path, rm.path, "file");
+    if (st) return werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
   }
+  return ADEM_OK;
+}
+
+/* A random non-overlapping fill of a box, cylinder or closed mesh, up to a count or a solid
+ * fraction; keeps clear of the walls built so far and of every earlier sphere. */
+static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_index, int mat,
+                                int group) {
+  adem_region reg;
+  adem_size_dist dist;
+  memset(&reg, 0, sizeof reg);
+  memset(&dist, 0, sizeof dist);
+  const char *word = "box", *fit_what = "";
+  uint64_t count = 0, max_attempts = 0;
+  double fraction = 0.0;
+  yaml_node_t *count_node, *fraction_node, *attempts_node;
+  adem_vec3 v, w;
+  map_cursor dm;
+  char path[KEY_PATH_MAX];
+  adem_fill_result res;
+  memset(&res, 0, sizeof res);
+  adem_status st = read_region(ctx, m, true, &reg, &word);
+  if (!st) st = get_uint(ctx, m, "count", &count, &count_node);
+  if (!st) st = get_number(ctx, m, "solid_fraction", &fraction, &fraction_node);
+  if (!st && count_node && fraction_node) {
+    join(path, sizeof path, m->path, "solid_fraction");
+    st = fail(ctx, fraction_node, path, "give either `count` or `solid_fraction`, not both");
+  }
+  if (!st && !count_node && !fraction_node) {
+    join(path, sizeof path, m->path, "count");
+    st = missing(ctx, m, adem_schema_find(m->schema, "count", m->variant), path);
+  }
+  if (!st && (double)count > MAX_SET_SPHERES)
+    st = fail(ctx, m->node, m->path, "count %llu is more than %.0g spheres per set",
+              (unsigned long long)count, MAX_SET_SPHERES);
+  if (!st) st = get_uint(ctx, m, "max_attempts", &max_attempts, &attempts_node);
+  if (!st && !attempts_node) max_attempts = 0;
+  if (!st) st = get_vec3(ctx, m, "velocity", &v, NULL);
+  if (!st) st = get_vec3(ctx, m, "angular_velocity", &w, NULL);
+  double fit = adem_insert_region_fit(&reg, &fit_what);
+  if (!st) st = read_dist(ctx, m, fit, fit_what, word, &dist, &dm);
+  if (!st) {
+    /* Each set draws from its own stream, so editing one set leaves the others' spheres alone. */
+    adem_rng rng = adem_rng_seed(ctx->c->seed ^ (0x9e3779b97f4a7c15ULL * (uint64_t)(set_index + 1)));
+    adem_fill_def def = {&reg, &dist, count, fraction, max_attempts, ctx->w};
+    adem_error werr = {ADEM_OK, ""};
+    st = adem_insert_fill(&def, &rng, ctx->pos, ctx->rad, ctx->n, &res, &werr);
+    if (st == ADEM_ERR_NOMEM) st = nomem(ctx);
+    else if (st) st = fail(ctx, dm.node, dm.path, "%s the %s (%s is %g m)", werr.message, word,
+                           fit_what, fit);
+  }
+  size_t first = ctx->n;
+  for (size_t k = 0; k < res.n && !st; ++k) st = push_sphere(ctx, res.pos[k], res.radius[k], v, w);
+  if (!st && res.n < res.wanted) {
+    char loc[LOC_MAX], frac[160] = "";
+    where(ctx, m->node, loc, sizeof loc);
+    if (fraction_node)
+      snprintf(frac, sizeof frac, " (solid fraction %.4g of the %.4g asked)",
+               res.volume / reg.volume, fraction);
+    adem_log(ADEM_LOG_WARN,
+             "%s: %s: random fill placed %zu of %zu spheres before max_attempts (%llu) ran out%s; "
+             "the %s may be too full",
+             loc, m->path, res.n, res.wanted, (unsigned long long)res.attempts, frac, word);
+  }
+  adem_insert_fill_result_free(&res);
+  adem_insert_dist_free(&dist);
+  adem_insert_region_free(&reg);
+  if (st) return st;
   return flush_spheres(ctx, first, mat, group, m->node, m->path);
+}
+
+/* ---- pours ---- */
+
+/* Material of a set or pour that makes particles: exists, not rigid, has a density. */
+static adem_status particle_material(case_ctx *ctx, const map_cursor *m, int *mat) {
+  char material[ADEM_NAME_MAX], path[KEY_PATH_MAX];
+  yaml_node_t *mat_node;
+  adem_status st = get_string(ctx, m, "material", material, sizeof material, &mat_node);
+  if (st) return st;
+  join(path, sizeof path, m->path, "material");
+  if ((st = find_material(ctx, material, mat_node, path, mat))) return st;
+  if (ctx->mat_rigid[*mat])
+    return fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
+                material);
+  if (!ctx->mat_density[*mat]) {
+    char at[LOC_MAX];
+    where_short(ctx, ctx->mat_node[*mat], at, sizeof at);
+    return fail(ctx, mat_node, path,
+                "material `%s` (at %s) has no `density`; materials of particles need one", material,
+                at);
+  }
+  return ADEM_OK;
+}
+
+static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
+  list_cursor l;
+  adem_status st = get_list(ctx, root, "pours", &l);
+  if (st || l.n == 0) return st;
+  adem_world *w = ctx->w;
+  if (!w->insert_rmin) {
+    w->insert_rmin = malloc((size_t)(w->nmaterials > 0 ? w->nmaterials : 1) * sizeof *w->insert_rmin);
+    if (!w->insert_rmin) return nomem(ctx);
+    for (int k = 0; k < w->nmaterials; ++k) w->insert_rmin[k] = INFINITY;
+  }
+  for (size_t i = 0; i < l.n && !st; ++i) {
+    map_cursor m, dm;
+    adem_pour_def d;
+    memset(&d, 0, sizeof d);
+    char path[KEY_PATH_MAX], group_name[ADEM_NAME_MAX];
+    yaml_node_t *name_node, *group_node, *rate_node, *mass_node, *end_node, *interval_node;
+    const char *word = "", *fit_what = "";
+    if ((st = list_item(ctx, &l, i, &m))) break;
+    if ((st = get_string(ctx, &m, "name", d.name, sizeof d.name, &name_node))) break;
+    if (!name_node) snprintf(d.name, sizeof d.name, "pour%zu", i);
+    for (int k = 0; ctx->c->pours && k < ctx->c->pours->n && !st; ++k)
+      if (!strcmp(ctx->c->pours->p[k].def.name, d.name)) {
+        join(path, sizeof path, m.path, "name");
+        st = fail(ctx, name_node ? name_node : m.node, path, "duplicate pour name `%s`", d.name);
+      }
+    if (st) break;
+    if ((st = particle_material(ctx, &m, &d.material))) break;
+    if ((st = get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) break;
+    join(path, sizeof path, m.path, "group");
+    if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &d.group))) break;
+    if ((st = get_number(ctx, &m, "rate", &d.rate, &rate_node))) break;
+    if ((st = get_number(ctx, &m, "mass_rate", &d.mass_rate, &mass_node))) break;
+    if (rate_node && mass_node) {
+      join(path, sizeof path, m.path, "mass_rate");
+      st = fail(ctx, mass_node, path, "give either `rate` (particles/s) or `mass_rate` (kg/s), not both");
+      break;
+    }
+    if (!rate_node && !mass_node) {
+      join(path, sizeof path, m.path, "rate");
+      st = missing(ctx, &m, adem_schema_find("pours[]", "rate", NULL), path);
+      break;
+    }
+    if ((st = get_number(ctx, &m, "start", &d.start, NULL))) break;
+    if ((st = get_number(ctx, &m, "end", &d.end, &end_node))) break;
+    if (!(d.end > d.start)) {
+      join(path, sizeof path, m.path, "end");
+      st = fail(ctx, end_node, path, "the window ends (%g s) before it starts (`start`: %g s)",
+                d.end, d.start);
+      break;
+    }
+    if (d.end > ctx->c->end_time) {
+      char loc[LOC_MAX];
+      where(ctx, end_node, loc, sizeof loc);
+      adem_log(ADEM_LOG_WARN, "%s: %s.end: the pour ends at t = %g s, after time.end = %g s: the "
+               "run stops before it is complete", loc, m.path, d.end, ctx->c->end_time);
+    }
+    d.interval = (d.end - d.start) / 20.0;
+    if ((st = get_number(ctx, &m, "interval", &d.interval, &interval_node))) break;
+    if ((st = get_vec3(ctx, &m, "velocity", &d.velocity, NULL))) break;
+    if ((st = get_vec3(ctx, &m, "angular_velocity", &d.angular_velocity, NULL))) break;
+    if ((st = get_uint(ctx, &m, "max_attempts", &d.max_attempts, NULL))) break;
+    if ((st = read_region(ctx, &m, false, &d.region, &word))) break;
+    double fit = adem_insert_region_fit(&d.region, &fit_what);
+    if ((st = read_dist(ctx, &m, fit, fit_what, word, &d.dist, &dm))) {
+      adem_insert_region_free(&d.region);
+      adem_insert_dist_free(&d.dist);
+      break;
+    }
+    d.seed = ctx->c->seed ^ (0xd1b54a32d192ed03ULL * (uint64_t)(i + 1));
+    w->insert_rmin[d.material] = fmin(w->insert_rmin[d.material], adem_insert_dist_smallest(&d.dist));
+    box_include(ctx, d.region.lo, d.region.hi);
+    ctx->vmax = fmax(ctx->vmax, v3_norm(d.velocity));
+    ctx->rmax = fmax(ctx->rmax, adem_insert_dist_largest(&d.dist));
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_pours_add(&ctx->c->pours, &d, w->materials[d.material].def.density, &werr)) {
+      adem_insert_region_free(&d.region);
+      adem_insert_dist_free(&d.dist);
+      st = nomem(ctx);
+    }
+  }
+  return st;
+}
+
+/* ---- stages ---- */
+
+/* Appends text to a growing string. */
+static bool emit_text(char **buf, size_t *len, size_t *cap, const char *s, size_t n) {
+  if (*len + n + 1 > *cap) {
+    size_t c = 2 * (*len + n + 1);
+    char *b = realloc(*buf, c);
+    if (!b) return false;
+    *buf = b;
+    *cap = c;
+  }
+  memcpy(*buf + *len, s, n);
+  *len += n;
+  (*buf)[*len] = '\0';
+  return true;
+}
+
+/* A YAML value written back as flow-style text that --set's parser reads as the same value:
+ * plain scalars stay plain (numbers, booleans, `auto`), others are double-quoted. */
+static bool emit_node(case_ctx *ctx, yaml_node_t *v, char **buf, size_t *len, size_t *cap,
+                      int depth) {
+  if (depth > 64) return false;
+  if (v->type == YAML_SCALAR_NODE) {
+    const char *s = sval(v);
+    size_t n = v->data.scalar.length;
+    if (is_null(v)) return emit_text(buf, len, cap, "~", 1);
+    if (is_plain(v) && !strpbrk(s, ",[]{}#:\"'\n") && s[0] != ' ' && s[0] != '&' && s[0] != '*' &&
+        s[0] != '!' && s[0] != '|' && s[0] != '>' && s[0] != '%' && s[0] != '@' && s[0] != '`')
+      return emit_text(buf, len, cap, s, n);
+    if (!emit_text(buf, len, cap, "\"", 1)) return false;
+    for (size_t k = 0; k < n; ++k) {
+      char esc[8];
+      unsigned char ch = (unsigned char)s[k];
+      if (ch == '"' || ch == '\\') snprintf(esc, sizeof esc, "\\%c", ch);
+      else if (ch < 0x20) snprintf(esc, sizeof esc, "\\x%02x", ch);
+      else snprintf(esc, sizeof esc, "%c", ch);
+      if (!emit_text(buf, len, cap, esc, strlen(esc))) return false;
+    }
+    return emit_text(buf, len, cap, "\"", 1);
+  }
+  bool seq = v->type == YAML_SEQUENCE_NODE;
+  if (!emit_text(buf, len, cap, seq ? "[" : "{", 1)) return false;
+  if (seq) {
+    for (yaml_node_item_t *it = v->data.sequence.items.start; it < v->data.sequence.items.top; ++it)
+      if ((it > v->data.sequence.items.start && !emit_text(buf, len, cap, ", ", 2)) ||
+          !emit_node(ctx, node_at(ctx, *it), buf, len, cap, depth + 1))
+        return false;
+  } else {
+    for (yaml_node_pair_t *p = v->data.mapping.pairs.start; p < v->data.mapping.pairs.top; ++p)
+      if ((p > v->data.mapping.pairs.start && !emit_text(buf, len, cap, ", ", 2)) ||
+          !emit_node(ctx, node_at(ctx, p->key), buf, len, cap, depth + 1) ||
+          !emit_text(buf, len, cap, ": ", 2) ||
+          !emit_node(ctx, node_at(ctx, p->value), buf, len, cap, depth + 1))
+        return false;
+  }
+  return emit_text(buf, len, cap, seq ? "]" : "}", 1);
+}
+
+/* `stages`: names, durations and the `set` of each, as "path=value" strings for the loader. */
+static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
+  list_cursor l;
+  adem_status st = get_list(ctx, root, "stages", &l);
+  if (st || l.n == 0) return st;
+  adem_case *c = ctx->c;
+  for (size_t i = 0; i < l.n && !st; ++i) {
+    map_cursor m;
+    char name[ADEM_NAME_MAX], path[KEY_PATH_MAX], loc[LOC_MAX];
+    yaml_node_t *name_node, *duration_node, *v;
+    const adem_schema_entry *e;
+    double duration = -1.0;
+    if ((st = list_item(ctx, &l, i, &m))) break;
+    if ((st = get_string(ctx, &m, "name", name, sizeof name, &name_node))) break;
+    if (!name_node) snprintf(name, sizeof name, "stage%zu", i);
+    for (int k = 0; c->stages && k < c->stages->n && !st; ++k)
+      if (!strcmp(c->stages->s[k].name, name)) {
+        join(path, sizeof path, m.path, "name");
+        st = fail(ctx, name_node ? name_node : m.node, path, "duplicate stage name `%s`", name);
+      }
+    if (st) break;
+    if ((st = get_number(ctx, &m, "duration", &duration, &duration_node))) break;
+    if (!duration_node) duration = -1.0;
+    where(ctx, m.node, loc, sizeof loc);
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_stages_add(&c->stages, name, duration, loc, &werr)) {
+      st = nomem(ctx);
+      break;
+    }
+    if ((st = lookup(ctx, &m, "set", &e, &v, path))) break;
+    if (!v || is_null(v)) continue;
+    if (v->type != YAML_MAPPING_NODE) {
+      st = wrong_type(ctx, e, v, path);
+      break;
+    }
+    for (yaml_node_pair_t *p = v->data.mapping.pairs.start; p < v->data.mapping.pairs.top && !st; ++p) {
+      yaml_node_t *k = node_at(ctx, p->key);
+      char kp[KEY_PATH_MAX];
+      if (k->type != YAML_SCALAR_NODE || is_null(k)) {
+        st = fail(ctx, k, path, "a key must be a key path such as materials.glass.friction");
+        break;
+      }
+      join(kp, sizeof kp, path, sval(k));
+      const char *why = adem_stages_check_path(sval(k));
+      if (why) {
+        st = fail(ctx, k, kp, "cannot change in a stage: %s", why);
+        break;
+      }
+      char *text = NULL;
+      size_t len = 0, cap = 0;
+      bool ok = emit_text(&text, &len, &cap, sval(k), strlen(sval(k))) &&
+                emit_text(&text, &len, &cap, "=", 1) &&
+                emit_node(ctx, node_at(ctx, p->value), &text, &len, &cap, 0);
+      if (!ok || adem_stages_add_set(c->stages, text, &werr)) st = nomem(ctx);
+      free(text);
+    }
+  }
+  return st;
 }
 
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = get_list(ctx, root, "particles", &l);
   if (st) return st;
+  if (l.n == 0 && !map_get(ctx, root->node, "pours")) { /* a case needs something to move */
+    if (!l.node) return missing(ctx, root, l.e, l.path);
+    return fail(ctx, l.node, l.path, "needs at least 1 item (or give `pours`)");
+  }
   for (size_t i = 0; i < l.n; ++i) {
     map_cursor m;
     char material[ADEM_NAME_MAX], group_name[ADEM_NAME_MAX], path[KEY_PATH_MAX];
@@ -1700,6 +2166,7 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
     rmin[ng * nm + m] = fmin(rmin[ng * nm + m], w->p.radius[i]);
   }
   for (int k = 0; k < w->nplanes; ++k) wall[w->planes[k].def.material] = true;
+  for (int k = 0; k < w->mesh.ngroups; ++k) wall[w->mesh.groups[k].material] = true;
   for (size_t g = 0; g < ng; ++g) {
     double force = v3_norm(w->groups[g].external_force);
     if (!(force > 0.0)) continue;
@@ -1804,6 +2271,7 @@ static adem_status build(case_ctx *ctx) {
   if ((st = build_groups(ctx, &root))) return st;
   if ((st = build_walls(ctx, &root))) return st;
   if ((st = build_particles(ctx, &root))) return st;
+  if ((st = build_pours(ctx, &root))) return st;
 
   adem_vec3 g;
   if ((st = get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
@@ -1830,7 +2298,10 @@ static adem_status build(case_ctx *ctx) {
   if ((st = get_number(ctx, &out, "checkpoint_interval", &o->checkpoint_interval, NULL))) return st;
   if ((st = get_bool(ctx, &out, "plot", &plot))) return st;
   o->plot = plot;
+  if ((st = get_bool(ctx, &out, "plot_loads", &plot))) return st;
+  o->plot_loads = plot;
   if ((st = read_track(ctx, &out))) return st;
+  if ((st = build_stages(ctx, &root))) return st;
 
   if ((st = get_map(ctx, &root, "domain", &domain))) return st;
   if (domain.node) {
@@ -1875,9 +2346,35 @@ static char *copy_text(const char *s) {
   return t;
 }
 
+/* c->base_dir: dir made absolute, so that a checkpoint finds the case's files from any working
+ * folder. */
+static bool set_base_dir(adem_case *c, const char *dir) {
+  if (dir[0] == '/') {
+    snprintf(c->base_dir, sizeof c->base_dir, "%s", dir);
+    return strlen(dir) < sizeof c->base_dir;
+  }
+  char cwd[ADEM_PATH_MAX];
+  if (!getcwd(cwd, sizeof cwd)) return false;
+  int n = strcmp(dir, ".") == 0 ? snprintf(c->base_dir, sizeof c->base_dir, "%s", cwd)
+                                 : snprintf(c->base_dir, sizeof c->base_dir, "%s/%s", cwd, dir);
+  return n > 0 && (size_t)n < sizeof c->base_dir;
+}
+
 adem_status adem_case_load_string(const char *text, const char *name_for_messages,
                                   const char *const *sets, int nsets, adem_case **out,
                                   adem_error *err) {
+  return adem_case_load_string_at(text, name_for_messages, NULL, sets, nsets, out, err);
+}
+
+adem_status adem_case_load_string_at(const char *text, const char *name_for_messages,
+                                     const char *base_dir, const char *const *sets, int nsets,
+                                     adem_case **out, adem_error *err) {
+  return adem_case_load_string_flags(text, name_for_messages, base_dir, sets, nsets, 0, out, err);
+}
+
+adem_status adem_case_load_string_flags(const char *text, const char *name_for_messages,
+                                        const char *base_dir, const char *const *sets, int nsets,
+                                        unsigned flags, adem_case **out, adem_error *err) {
   if (out) *out = NULL;
   if (!text || !out || nsets < 0 || (nsets > 0 && !sets))
     return adem_error_set(err, ADEM_ERR_INPUT, "adem_case_load_string: no case text");
@@ -1891,9 +2388,15 @@ adem_status adem_case_load_string(const char *text, const char *name_for_message
   ctx.err = err;
   ctx.c = c;
   adem_status st = ADEM_OK;
-  c->source = copy_text(text);
+  char *dir = base_dir ? copy_text(base_dir) : adem_fileio_dirname(name_for_messages ? c->path : ".");
+  if (!dir) st = nomem(&ctx);
+  else if (!set_base_dir(c, dir))
+    st = adem_error_set(err, ADEM_ERR_INPUT, "%s: cannot tell the case's folder (%s): %s", c->path,
+                        dir, strerror(errno ? errno : ENAMETOOLONG));
+  ctx.base_dir = dir;
+  if (!st) c->source = copy_text(text);
   c->sets = calloc((size_t)(nsets > 0 ? nsets : 1), sizeof *c->sets);
-  if (!c->source || !c->sets) st = nomem(&ctx);
+  if (!st && (!c->source || !c->sets)) st = nomem(&ctx);
   for (int k = 0; k < nsets && !st; ++k) {
     if (!sets[k]) {
       st = adem_error_set(err, ADEM_ERR_INPUT, "--set: missing key.path=value");
@@ -1916,6 +2419,9 @@ adem_status adem_case_load_string(const char *text, const char *name_for_message
     st = c->world ? build(&ctx) : nomem(&ctx);
   }
   ctx_free(&ctx);
+  free(dir);
+  /* Stage configurations are whole loads of the case: not for a stage's own load. */
+  if (!st && !(flags & ADEM_CASE_LOAD_STAGE)) st = adem_stages_prepare(c, err);
   if (st) {
     adem_case_free(c);
     return st;
@@ -1968,6 +2474,8 @@ adem_status adem_case_load_file(const char *path, const char *const *sets, int n
 void adem_case_free(adem_case *c) {
   if (!c) return;
   adem_world_free(c->world);
+  adem_pours_free(c->pours);
+  adem_stages_free(c->stages);
   free(c->source);
   if (c->sets)
     for (int k = 0; k < c->nsets; ++k) free(c->sets[k]);

@@ -4,10 +4,13 @@
  * Layout, all in the writing machine's byte order (checked by a marker):
  *   header  "ADEMCKPT", u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a of the
  *           payload, u32 sizeof(adem_vec3), u32 sizeof(adem_contact_history)
- *   payload case: source text, --set strings, path, end time, dt, output settings
+ *   payload case: source text, --set strings, path, base folder, end time, dt, output settings,
+ *           the stage in force and the pours' state (streams, counts)
  *           world scalars: time, step, dt, next_id, energy_initial, gravity, limits, skin
  *           groups and planes (planes may move), particles (every array, current order),
  *           the pp and pw pair lists (pairs, history, touching flags and per-pair results),
+ *           the particle-mesh pairs (the same, plus region keys, owning triangles and each
+ *           particle's slot range) and the force and torque on every mesh face,
  *           "ADEMEND\0"
  * Strings are u64 length + bytes; arrays are u64 count + raw elements. */
 #include <errno.h>
@@ -16,12 +19,14 @@
 
 #include "adem/adem.h"
 #include "fileio.h"
+#include "insert.h"
 #include "log.h"
+#include "stages.h"
 #include "world.h"
 
 #define CKPT_MAGIC "ADEMCKPT"
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 1u
+#define CKPT_VERSION 3u
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
@@ -93,6 +98,22 @@ static void put_pairs(ck_writer *wr, const adem_pair_list *l) {
   put_array(wr, l->overlap_ratio, n, sizeof *l->overlap_ratio);
 }
 
+/* Particle-mesh contacts: the pair list, the slots' region keys and triangles, each particle's
+ * slot range, and the loads on the faces. */
+static void put_mesh_state(ck_writer *wr, const adem_world *w) {
+  const adem_mesh_pairs *pm = &w->pm;
+  size_t n = pm->l.n;
+  put_pairs(wr, &pm->l);
+  put_array(wr, pm->key, n, sizeof *pm->key);
+  put_array(wr, pm->owner, n, sizeof *pm->owner);
+  size_t ns = pm->start ? w->p.n + 1 : 0;
+  put_u64(wr, ns);
+  for (size_t i = 0; i < ns; ++i) put_u64(wr, pm->start[i]);
+  size_t nf = 3 * w->mesh.ntris;
+  put_array(wr, w->face_force, nf, sizeof *w->face_force);
+  put_array(wr, w->face_torque, nf, sizeof *w->face_torque);
+}
+
 static void put_header(ck_writer *wr, uint64_t payload_bytes, uint64_t hash) {
   unsigned char h[CKPT_HEADER_BYTES];
   uint32_t version = CKPT_VERSION, endian = CKPT_ENDIAN;
@@ -121,6 +142,7 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_u32(&wr, (uint32_t)c->nsets);
   for (int k = 0; k < c->nsets; ++k) put_str(&wr, c->sets[k]);
   put_str(&wr, c->path);
+  put_str(&wr, c->base_dir); /* mesh files are found from it, whatever the working folder */
   /* Settings a caller may have changed after loading (--out, a shorter end time). */
   put_f64(&wr, c->end_time);
   put_f64(&wr, c->dt);
@@ -130,6 +152,14 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
   put_f64(&wr, c->output.csv_interval);
   put_f64(&wr, c->output.checkpoint_interval);
   put_i32(&wr, c->output.plot);
+  /* Staged runs and pours: the stage in force (its configuration is replayed from the case) and
+   * the pours' random streams and counts. */
+  put_u32(&wr, (uint32_t)adem_stages_current(c));
+  size_t nruns = 0;
+  unsigned char *runs = adem_pours_pack(c->pours, &nruns);
+  if (!runs) wr.failed = 1;
+  put_array(&wr, runs, nruns, 1);
+  free(runs);
 
   /* World scalars. */
   put_u8(&wr, w->prepared ? 1 : 0);
@@ -181,6 +211,7 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
 
   put_pairs(&wr, &w->pp);
   put_pairs(&wr, &w->pw);
+  put_mesh_state(&wr, w);
   put(&wr, CKPT_END, 8);
 
   if (!wr.failed) {
@@ -281,6 +312,49 @@ static adem_status get_pairs(ck_reader *rd, adem_pair_list *l, adem_error *err) 
   return ADEM_OK;
 }
 
+static adem_status get_mesh_state(ck_reader *rd, adem_world *w, adem_error *err) {
+  adem_mesh_pairs *pm = &w->pm;
+  adem_status st = get_pairs(rd, &pm->l, err);
+  if (st || rd->short_read) return st;
+  if (adem_mesh_pairs_reserve(pm))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the mesh contacts");
+  size_t n = pm->l.n;
+  get_array(rd, pm->key, n, sizeof *pm->key);
+  get_array(rd, pm->owner, n, sizeof *pm->owner);
+  uint64_t ns = get_u64(rd);
+  if (rd->short_read || (ns != 0 && ns != (uint64_t)w->p.n + 1)) {
+    rd->short_read = 1;
+    return ADEM_OK;
+  }
+  if (ns > pm->start_cap) {
+    size_t *q = realloc(pm->start, (size_t)ns * sizeof *q);
+    if (!q) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the mesh contacts");
+    pm->start = q;
+    pm->start_cap = (size_t)ns;
+  }
+  for (size_t i = 0; i < ns; ++i) pm->start[i] = (size_t)get_u64(rd);
+  size_t nf = 3 * w->mesh.ntris;
+  get_array(rd, w->face_force, nf, sizeof *w->face_force);
+  get_array(rd, w->face_torque, nf, sizeof *w->face_torque);
+  return ADEM_OK;
+}
+
+/* Slot ranges that tile the list in particle order, particles and triangles that exist. */
+static bool mesh_state_consistent(const adem_world *w) {
+  const adem_mesh_pairs *pm = &w->pm;
+  size_t n = w->p.n;
+  if (pm->l.n == 0) return true;
+  if (!pm->start || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    if (pm->start[i + 1] < pm->start[i]) return false;
+    for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k)
+      if (pm->l.a[k] != i || pm->l.b[k] >= w->mesh.ntris ||
+          (pm->l.touching[k] && pm->owner[k] >= w->mesh.ntris))
+        return false;
+  }
+  return true;
+}
+
 static adem_status bad_file(adem_error *err, const char *path, const char *why) {
   return adem_error_set(err, ADEM_ERR_INPUT, "%s is not a usable adem checkpoint: %s", path, why);
 }
@@ -298,14 +372,16 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   if (!sets) nomem = 1;
   for (uint32_t k = 0; k < nsets && sets; ++k) sets[k] = get_str(rd, &nomem);
   char *case_path = get_str(rd, &nomem);
+  char *base_dir = get_str(rd, &nomem);
   adem_status st = ADEM_OK;
   adem_case *c = NULL;
   if (nomem) {
     st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory reading %s", path);
-  } else if (rd->short_read || !source || !case_path) {
+  } else if (rd->short_read || !source || !case_path || !base_dir) {
     st = bad_file(err, path, "it is truncated (case section)");
   } else {
-    st = adem_case_load_string(source, case_path, (const char *const *)sets, (int)nsets, &c, err);
+    st = adem_case_load_string_at(source, case_path, base_dir, (const char *const *)sets, (int)nsets,
+                                  &c, err);
     if (st) {
       /* Say where the case came from: the checkpoint, not the file named in the message. */
       char msg[ADEM_MSG_MAX];
@@ -317,6 +393,7 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   free(sets);
   free(source);
   free(case_path);
+  free(base_dir);
   if (st) return st;
 
   adem_world *w = c->world;
@@ -328,12 +405,19 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   c->output.csv_interval = get_f64(rd);
   c->output.checkpoint_interval = get_f64(rd);
   c->output.plot = get_i32(rd);
+  uint32_t stage = get_u32(rd);
+  uint64_t nruns = get_u64(rd);
+  if (rd->short_read || nruns > (uint64_t)(rd->end - rd->at)) goto truncated;
+  const unsigned char *runs = rd->at;
+  rd->at += nruns;
+  if ((st = adem_pours_unpack(c->pours, runs, (size_t)nruns, err))) goto mismatch;
 
   bool prepared = get_u8(rd) != 0;
   if (rd->short_read) goto truncated;
   if (!prepared) {
     /* Written before the first step: the loaded case is the whole state. */
     adem_world_set_dt(w, c->dt);
+    if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
     *out = c;
     return ADEM_OK;
   }
@@ -409,7 +493,8 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   get_array(rd, p->path_length, p->n, sizeof *p->path_length);
   if (rd->short_read) goto truncated;
 
-  if ((st = get_pairs(rd, &w->pp, err)) || (st = get_pairs(rd, &w->pw, err))) {
+  if ((st = get_pairs(rd, &w->pp, err)) || (st = get_pairs(rd, &w->pw, err)) ||
+      (st = get_mesh_state(rd, w, err))) {
     adem_case_free(c);
     return st;
   }
@@ -425,10 +510,14 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
     if (w->pp.a[k] >= p->n || w->pp.b[k] >= p->n) goto inconsistent;
   for (size_t k = 0; k < w->pw.n; ++k)
     if (w->pw.a[k] >= p->n || w->pw.b[k] >= (uint32_t)w->nplanes) goto inconsistent;
+  if (!mesh_state_consistent(w)) goto inconsistent;
   for (size_t i = 0; i < p->n; ++i)
     if (p->material[i] >= w->nmaterials || (w->ngroups > 0 && p->group[i] >= w->ngroups))
       goto inconsistent;
   c->dt = w->dt;
+  /* The stage in force: its materials, walls and settings, replayed stage start by stage start
+   * as the run made them (walls that started a new motion start it from where they were). */
+  if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
   /* The per-particle sums run over these lists: rebuilt in the order the neighbour build
    * makes them, so the forces of the next step are summed exactly as without the restart. */
   adem_world_place_walls(w, w->time); /* moving walls are a function of time */
@@ -445,6 +534,12 @@ truncated:
 inconsistent:
   adem_case_free(c);
   return bad_file(err, path, "its particle or pair indices are out of range");
+mismatch: {
+  char why[ADEM_MSG_MAX];
+  snprintf(why, sizeof why, "%s", err ? err->message : "its stage or pour state is damaged");
+  adem_case_free(c);
+  return bad_file(err, path, why);
+}
 }
 
 adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err) {

@@ -299,7 +299,9 @@ static double wall_rolling_distance(const adem_world *w) {
 /* Scales of the DTK contact at a = a0, with the F_C and a0 the contact uses (real ones under the
  * rolling modification, H section 3.2): xi_crit (H18), the period of rolling oscillations on the
  * spring k_r = 4 F_C (H20) about the contact point, (7/5) m r^2 theta'' = -k_r r theta with
- * xi = r theta, and v_rest = omega_r xi_crit. */
+ * xi = r theta, and v_rest = 2 omega_r xi_crit. An elastic oscillation confined to
+ * |xi| <= xi_crit has an amplitude of at most xi_crit, hence a speed of at most omega_r xi_crit;
+ * the factor 2 is a margin for the coupling with the tangential spring. */
 typedef struct rolling_scales {
   double xi_crit, t_roll, v_rest;
 } rolling_scales;
@@ -314,7 +316,7 @@ static rolling_scales rolling_scales_of(const adem_collision_spec *s,
   rs.xi_crit = adem_jkr_a0(g, p->R, E) / 12.0 * s->hysteresis; /* H18 */
   double omega = sqrt(4.0 * f_c / (1.4 * p->mstar * s->radius));
   rs.t_roll = 2.0 * ADEM_PI / omega;
-  rs.v_rest = omega * rs.xi_crit;
+  rs.v_rest = 2.0 * omega * rs.xi_crit;
   return rs;
 }
 
@@ -400,6 +402,9 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
       t_in = t - dt * cur.delta / (cur.delta - prev.delta); /* where the overlap crossed 0 */
       x_touch = pa->pos[0];
     }
+    if (wall && s->track)
+      s->track(t, touched ? along_wall(x_touch, pa->pos[0]) : 0.0,
+               hypot(pa->vel[0].x, pa->vel[0].y), wall_rolling_distance(w), s->track_user);
     if (touched) {
       r.max_overlap = fmax(r.max_overlap, cur.delta);
       if (cur.delta <= 0.0) { /* separated: no force acts any more */
@@ -423,7 +428,7 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
 
   /* Rolling phase (the rule is in collide.h). */
   r.outcome = r.stuck ? ADEM_OUTCOME_CAPTURED : ADEM_OUTCOME_REBOUND;
-  if (!st && done && wall && s->dtk && r.stuck) {
+  if (!st && done && wall && s->dtk && r.stuck && !s->capture_only) {
     rolling_scales rs = rolling_scales_of(s, &p);
     r.xi_crit = rs.xi_crit;
     r.t_roll = rs.t_roll;
@@ -453,6 +458,7 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
       }
       double xi = wall_rolling_distance(w);
       double v = hypot(pa->vel[0].x, pa->vel[0].y);
+      if (s->track) s->track(t, along_wall(x_touch, pa->pos[0]), v, xi, s->track_user);
       sat = xi >= rs.xi_crit * (1.0 - 1e-9);
       bool settled = normal_energy(&p, cur.delta, cur.v_n) <= settled_below;
       /* stuck: elastic rolling spring and a slow centre for a whole window */
@@ -528,6 +534,35 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
   return r;
 }
 
+adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, double *torque,
+                                    adem_error *err) {
+  adem_collision_spec s = *spec;
+  s.at_rest = true;
+  s.force_ext = s.force_hat = 0.0;
+  const char *bad = check_spec(&s);
+  if (!bad && !(s.kind == ADEM_COLLISION_WALL && s.dtk))
+    bad = "the DTK torque needs a wall spec with DTK";
+  if (!bad && !(xi >= 0.0 && isfinite(xi))) bad = "the rolling distance must be finite and >= 0";
+  if (bad) return adem_error_set(err, ADEM_ERR_INPUT, "%s", bad);
+  adem_collision_params p = adem_collide_params(&s);
+  double dt = 0.5 * p.t_osc / s.steps_per_tc;
+  adem_world *w = adem_world_create();
+  if (!w) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = build_world(&s, &p, dt, w, err);
+  if (!st) {
+    /* Rolling without slip along x at v = xi/dt: one force pass adds xi to the empty history. */
+    adem_particles *pa = &w->p;
+    double v = xi / dt;
+    pa->vel[0] = v3(v, 0.0, 0.0);
+    pa->omega[0] = v3(0.0, v / s.radius, 0.0);
+    for (size_t k = 0; k < w->pw.n; ++k) memset(&w->pw.hist[k], 0, sizeof w->pw.hist[k]);
+    adem_contacts_compute(w);
+    *torque = v3_norm(pa->rolling_torque[0]);
+  }
+  adem_world_free(w);
+  return st;
+}
+
 void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
                        int nthreads) {
   if (nthreads < 1) nthreads = 1;
@@ -559,6 +594,9 @@ adem_status adem_collide_threshold_split(const adem_collision_spec *base,
   adem_collision_spec sp[INNER + 2];
   adem_collision_result res[INNER + 2];
   double x[INNER + 2] = {lo, hi};
+  adem_collision_spec base_copy = *base;
+  if (split == ADEM_SPLIT_CAPTURE) base_copy.capture_only = true;
+  base = &base_copy;
   for (int k = 0; k < 2; ++k) {
     sp[k] = *base;
     set(&sp[k], x[k], user);

@@ -16,7 +16,7 @@ typedef enum adem_collision_kind {
 /* What became of a collision (H Fig. 9). */
 typedef enum adem_collision_outcome {
   ADEM_OUTCOME_REBOUND = 0,  /* the sphere separates (e1) */
-  ADEM_OUTCOME_CAPTURED = 1, /* it stays in contact; no rolling phase was run (no DTK or a pair) */
+  ADEM_OUTCOME_CAPTURED = 1, /* it stays in contact; no rolling phase (pair, no DTK, ...) */
   ADEM_OUTCOME_ROLLING = 2,  /* it stays in contact and keeps rolling (e2) */
   ADEM_OUTCOME_STUCK = 3     /* it stays in contact and comes to rest (e3) */
 } adem_collision_outcome;
@@ -26,6 +26,11 @@ const char *adem_collision_outcome_name(adem_collision_outcome o); /* "rebound",
  * approach speed (m/s, > 0 approaching) and the normal contact force (N, > 0 repulsive). */
 typedef void adem_collision_sample_fn(double t, double overlap, double v_n, double force_n,
                                       void *user);
+/* Wall impacts: called after every time step with the time since the start, the centre's travel
+ * along the wall since the first touch (m), its speed along the wall (m/s) and |xi| of the DTK
+ * contact (m, 0 without contact). */
+typedef void adem_collision_track_fn(double t, double travel, double v_along, double xi,
+                                     void *user);
 
 typedef struct adem_collision_spec {
   adem_collision_kind kind;
@@ -57,12 +62,16 @@ typedef struct adem_collision_spec {
   bool at_rest;            /* no impact: start at rest at the JKR equilibrium (a = a0) */
   double rest_periods;     /* decision window, in rolling periods T_r (default 3) */
   double max_roll_periods; /* longest rolling phase, in T_r (default 400); then undecided */
+  bool capture_only;       /* stop at the capture (outcome captured): no rolling phase */
+  adem_collision_track_fn *track; /* may be NULL */
+  void *track_user;
 } adem_collision_spec;
 adem_collision_spec adem_default_collision_spec(void);
 
 typedef struct adem_collision_result {
   adem_status status;   /* ADEM_OK, or why this collision could not be run (message) */
-  bool stuck;           /* the spheres never separate (the contact's energy says so) */
+  bool stuck;           /* captured: the spheres never separate (the contact's energy says so);
+                         * whether the sphere then rolls or rests is in `outcome` */
   bool undecided;       /* stopped after max_periods without separating or a sure capture */
   double e_eff;         /* separation / approach normal speed; 0 when stuck */
   double v_n_in;        /* normal approach speed, m/s */
@@ -114,6 +123,11 @@ adem_collision_params adem_collide_params(const adem_collision_spec *s);
 double adem_collide_yield_force(const adem_collision_spec *s);
 /* F_ext of the spec, N. */
 double adem_collide_force(const adem_collision_spec *s);
+/* The DTK torque the engine applies (N m, magnitude) to the spec's sphere resting on the wall at
+ * a = a0 after rolling a distance xi >= 0 without slip: k_r min(xi, xi_crit) (H20-H22). One force
+ * pass of the spec's world, so the material derivation and dtk_modification are the engine's. */
+adem_status adem_collide_dtk_torque(const adem_collision_spec *s, double xi, double *torque,
+                                    adem_error *err);
 
 /* Hertz collision time t_c = 2.86827 (m*^2/(R E^2 v))^(1/5) (notes section 6). */
 double adem_collide_hertz_time(double mstar, double R, double E, double v);
@@ -126,10 +140,10 @@ double adem_collide_hertz_time(double mstar, double R, double E, double v);
  * Rolling phase (wall with DTK, after a capture or from rest): the run goes on with the rolling
  * displacement xi of the contact watched at every step.
  *  - stuck: for a window of rest_periods T_r without a break, |xi| stays below xi_crit and the
- *    centre's speed along the wall below v_rest = omega_r xi_crit, omega_r = 2 pi / T_r. Below
+ *    centre's speed along the wall below v_rest = 2 omega_r xi_crit, omega_r = 2 pi / T_r. Below
  *    xi_crit the rolling spring is elastic, so the sphere cannot move more than 2 xi_crit from
- *    where it is, and v_rest is the fastest an elastic rolling oscillation moves the centre. The
- *    time to rest is the start of that window.
+ *    where it is, and an elastic rolling oscillation moves the centre at most at omega_r xi_crit
+ *    (the factor 2 is a margin). The time to rest is the start of that window.
  *  - rolling: for a window of rest_periods T_r without a break, |xi| = xi_crit (the rolling
  *    torque saturated at k_r xi_crit), the normal motion has settled (its energy within 1% of
  *    the JKR well depth of the equilibrium) and the speed along the wall at the end of the window
@@ -155,7 +169,8 @@ typedef enum adem_collision_split {
   ADEM_SPLIT_CAPTURE = 0, /* captured (stuck, rolling or captured) against rebound */
   ADEM_SPLIT_REST = 1     /* comes to rest (stuck) against anything else (rolling, rebound) */
 } adem_collision_split;
-/* adem_collide_threshold for either split. */
+/* adem_collide_threshold for either split. The capture split skips the rolling phase
+ * (capture_only): whether the sphere rolls or stops does not change a capture. */
 adem_status adem_collide_threshold_split(const adem_collision_spec *base,
                                          adem_collision_param_fn *set, void *user,
                                          adem_collision_split split, double lo, double hi,

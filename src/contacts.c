@@ -36,7 +36,7 @@ typedef struct contact_result {
  * a_jkr the JKR contact radius (DTK only), Sn the normal stiffness (model C). */
 static inline void contact_rolling(const adem_interaction *it, const contact_geometry *g,
                                    adem_contact_history *h, double dt, double f_load,
-                                   double a_jkr, double Sn, double vn, contact_result *r) {
+                                   double a_jkr, double Sn, contact_result *r) {
   bool wall = g->rj == 0.0;
   double R_r = wall ? g->ri : g->ri * g->rj / (g->ri + g->rj);
   /* A wall contact uses the particle's eta_r; a particle pair the mean of the two. */
@@ -71,9 +71,11 @@ static inline void contact_rolling(const adem_interaction *it, const contact_geo
       double ratio = a_jkr / a0_mod;
       double k_r = 4.0 * f_c * ratio * sqrt(ratio);            /* H20 */
       double xi_crit = a0_real / 12.0 * it->hysteresis;        /* H22 */
-      double size_factor = wall ? 1.0 : (g->rj - g->ri) / (g->ri + g->rj);
-      adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
-      adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R, size_factor, vt);
+      /* Rolling velocity without Marshall's slip term (as Wang et al. 2015, eq. 31, and LAMMPS):
+       * with it xi follows the translation while the couple acts on the spin alone, a
+       * circulatory law that feeds energy in when the tangential spring is soft (reduced
+       * stiffness). Pure rolling still gives |v_L| = the centre's speed. */
+      adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
       r->rolling = adem_rolling_dtk(&h->rolling, g->n, v_l, dt, k_r, xi_crit);
       /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
       r->elastic += 0.5 * k_r * v3_norm2(h->rolling) / g->R;
@@ -121,7 +123,7 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   r.force = v3_axpy(ft, -fn, g->n);
   r.elastic = e_elastic + 0.5 * St * v3_norm2(h->tangential);
-  contact_rolling(it, g, h, dt, f_load, a_jkr, Sn, vn, &r);
+  contact_rolling(it, g, h, dt, f_load, a_jkr, Sn, &r);
   return r;
 }
 
@@ -252,6 +254,7 @@ static void mesh_pairs(adem_world *w) {
       if (k >= s + nc) {
         l->touching[k] = false;
         pm->key[k] = 0;
+        pm->owner[k] = 0;
         memset(&l->hist[k], 0, sizeof l->hist[k]);
         l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
         l->rolling_capacity[k] = 0.0;
@@ -292,14 +295,24 @@ static void mesh_pairs(adem_world *w) {
       l->overlap_ratio[k] = g.delta / ri;
     }
   }
-  /* Force on each face, in slot order (fixed for any thread count). */
+  /* Force on each face, and its moment about the face's group's reference point: the force acts
+   * at the contact point, and the wall takes the opposite of the rolling couple. In slot order
+   * (fixed for any thread count). */
   memset(w->face_force, 0, 3 * m->ntris * sizeof *w->face_force);
+  memset(w->face_torque, 0, 3 * m->ntris * sizeof *w->face_torque);
   for (size_t k = 0; k < l->n; ++k) {
     if (!l->touching[k]) continue;
-    double *f = &w->face_force[3 * (size_t)pm->owner[k]];
-    f[0] -= l->force_a[k].x;
-    f[1] -= l->force_a[k].y;
-    f[2] -= l->force_a[k].z;
+    size_t t = pm->owner[k];
+    adem_vec3 fw = v3_neg(l->force_a[k]);
+    adem_vec3 arm = v3_sub(pm->found[k].point, w->mesh_ref[m->group[t]]);
+    adem_vec3 tw = v3_sub(v3_cross(arm, fw), l->rolling_a[k]);
+    double *f = &w->face_force[3 * t], *q = &w->face_torque[3 * t];
+    f[0] += fw.x;
+    f[1] += fw.y;
+    f[2] += fw.z;
+    q[0] += tw.x;
+    q[1] += tw.y;
+    q[2] += tw.z;
   }
 }
 

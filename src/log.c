@@ -10,6 +10,9 @@ static void default_hook(adem_log_level level, const char *message, void *user) 
 
 static adem_log_fn *log_hook = default_hook;
 static void *log_user = NULL;
+static int log_muted = 0;
+
+void adem_log_mute(int on) { log_muted += on ? 1 : -1; }
 
 void adem_log_set_hook(adem_log_fn *fn, void *user) {
   log_hook = fn ? fn : default_hook;
@@ -22,6 +25,7 @@ void adem_log(adem_log_level level, const char *fmt, ...) {
   va_start(ap, fmt);
   vsnprintf(buf, sizeof buf, fmt, ap);
   va_end(ap);
+  if (log_muted > 0) return;
   log_hook(level, buf, log_user);
 }
 

@@ -73,8 +73,8 @@ static long segment(const adem_motion *m, double t) {
   return (long)lo;
 }
 
-adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
-  if (m->n == 0) return v3_zero();
+/* Velocity at time t counted from t0 (the table's own clock). */
+static adem_vec3 velocity_at(const adem_motion *m, double t) {
   long k = segment(m, t);
   if (k < 0) return m->velocity[0];
   if ((size_t)k + 1 >= m->n) return m->velocity[m->n - 1];
@@ -82,13 +82,19 @@ adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
   return v3_add(v3_scale(m->velocity[k], 1.0 - s), v3_scale(m->velocity[k + 1], s));
 }
 
+adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
+  if (m->n == 0) return v3_zero();
+  return velocity_at(m, t - m->t0);
+}
+
 adem_vec3 adem_motion_displacement(const adem_motion *m, double t) {
   if (m->n == 0) return v3_zero();
+  t -= m->t0;
   long k = segment(m, t);
   if (k < 0) return v3_scale(m->velocity[0], t);
   double h = t - m->time[k];
   /* trapezoid over [time[k], t] is exact for a linear velocity */
-  return v3_axpy(m->displacement[k], 0.5 * h, v3_add(m->velocity[k], adem_motion_velocity(m, t)));
+  return v3_axpy(m->displacement[k], 0.5 * h, v3_add(m->velocity[k], velocity_at(m, t)));
 }
 
 /* Rodrigues' rotation of v by angle about the unit axis. */
@@ -101,12 +107,13 @@ static adem_vec3 rotate(adem_vec3 v, adem_vec3 axis, double angle) {
 
 adem_vec3 adem_motion_place(const adem_motion *m, double t, adem_vec3 x0) {
   adem_vec3 x = x0;
-  if (m->omega != 0.0) x = v3_add(m->center, rotate(v3_sub(x0, m->center), m->axis, m->omega * t));
+  if (m->omega != 0.0)
+    x = v3_add(m->center, rotate(v3_sub(x0, m->center), m->axis, m->omega * (t - m->t0)));
   return v3_add(x, adem_motion_displacement(m, t));
 }
 
 adem_vec3 adem_motion_turn(const adem_motion *m, double t, adem_vec3 v0) {
-  return m->omega != 0.0 ? rotate(v0, m->axis, m->omega * t) : v0;
+  return m->omega != 0.0 ? rotate(v0, m->axis, m->omega * (t - m->t0)) : v0;
 }
 
 adem_vec3 adem_motion_point_velocity(const adem_motion *m, double t, adem_vec3 x) {

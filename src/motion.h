@@ -26,6 +26,9 @@ typedef struct adem_motion {
   double omega;
   adem_vec3 center;
   bool moving;
+  /* Time the motion starts from (0 unless a stage changed the motion): the table's times, the
+   * rotation angle and the placement of x0 all count from t0. */
+  double t0;
 } adem_motion;
 
 /* Checks the table (finite, times strictly increasing) and copies it. */

@@ -235,6 +235,7 @@ static size_t wall_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, 
   double reach = w->p.radius[i] + w->nb.skin;
   for (int k = 0; k < w->nplanes; ++k) {
     const adem_plane_def *pl = &w->planes[k].def;
+    if (w->planes[k].inactive) continue;
     double d = v3_dot(v3_sub(x, pl->point), pl->normal);
     if (d < reach) {
       if (out) {
@@ -321,6 +322,7 @@ static size_t mesh_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, 
   }
   for (size_t e = tb; e < te; ++e) {
     uint32_t t = list ? list[e] : (uint32_t)e;
+    if (!adem_world_mesh_active(w, m->group[t])) continue;
     adem_vec3 q;
     adem_triangle_feature f;
     if (adem_triangle_distance2(m, t, x, &q, &f) >= reach * reach) continue;
@@ -369,6 +371,7 @@ static void restore_mesh_history(adem_world *w, const saved_history *s, size_t n
       bool has = lo < ns && s[lo].ka == id;
       l->touching[k] = has;
       pm->key[k] = has ? s[lo].kb : 0;
+      pm->owner[k] = 0; /* found again by the next force pass */
       if (has) l->hist[k] = s[lo++].h;
       else memset(&l->hist[k], 0, sizeof l->hist[k]);
       l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();

@@ -303,6 +303,44 @@ static char *sb_finish(strbuf *b) {
   return b->s;
 }
 
+/* Mesh loads: force and torque on every group, then on every file with several groups (a file
+ * of one group would repeat its columns). Names from the case: one CSV field per column. */
+static void csv_field_name(char *buf, size_t n, const char *name) {
+  snprintf(buf, n, "%s", name);
+  for (char *c = buf; *c; ++c)
+    if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
+}
+
+static void mesh_csv_header(strbuf *b, const adem_world *w) {
+  char name[ADEM_NAME_MAX];
+  for (int g = 0; g < w->mesh.ngroups + w->nmesh_walls; ++g) {
+    bool group = g < w->mesh.ngroups;
+    const adem_mesh_wall *mw = group ? NULL : &w->mesh_walls[g - w->mesh.ngroups];
+    if (mw && mw->count < 2) continue;
+    csv_field_name(name, sizeof name, group ? w->mesh.groups[g].name : mw->name);
+    sb_printf(b, ",%s_fx_N,%s_fy_N,%s_fz_N,%s_tx_Nm,%s_ty_Nm,%s_tz_Nm", name, name, name, name,
+              name, name);
+  }
+}
+
+static void mesh_csv_row(strbuf *b, const adem_world *w) {
+  size_t ng = (size_t)w->mesh.ngroups, nw = (size_t)w->nmesh_walls;
+  if (ng == 0) return;
+  adem_vec3 *f = malloc(2 * (ng + nw) * sizeof *f);
+  if (!f) {
+    b->failed = 1;
+    return;
+  }
+  adem_vec3 *t = f + ng + nw;
+  adem_world_mesh_loads(w, f, t, f + ng, t + ng);
+  for (size_t k = 0; k < ng + nw; ++k) {
+    if (k >= ng && w->mesh_walls[k - ng].count < 2) continue;
+    sb_printf(b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z, t[k].x, t[k].y,
+              t[k].z);
+  }
+  free(f);
+}
+
 char *adem_output_csv_header(const adem_world *w, const adem_output_track *track) {
   strbuf b = {0};
   sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
@@ -316,6 +354,7 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
       if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
     sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
   }
+  mesh_csv_header(&b, w);
   for (int k = 0; track && k < track->n; ++k) {
     unsigned long long id = (unsigned long long)track->id[k];
     sb_printf(&b, ",p%llu_rolling_torque_x_Nm,p%llu_rolling_torque_y_Nm,p%llu_rolling_torque_z_Nm", id,
@@ -342,6 +381,7 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
   adem_output_wall_forces(w, f);
   for (int k = 0; k < w->nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
   free(f);
+  mesh_csv_row(&b, w);
   const adem_particles *p = &w->p;
   for (int k = 0; track && k < track->n; ++k) {
     size_t i = 0; /* particles are reordered by cell: find the id (a few per row) */
@@ -435,7 +475,83 @@ adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, 
   return st;
 }
 
+/* Wall loads from the CSV: for every mesh group and plane, its force along gravity (what a load
+ * cell under it would read), and the particles' weight for reference. Columns as the header
+ * writes them: 9, then 3 per plane, then 6 per mesh group. */
+adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, const char *png_path,
+                                   const char *title, adem_error *err) {
+  double gn = v3_norm(w->gravity);
+  adem_vec3 down = gn > 0.0 ? v3_scale(w->gravity, 1.0 / gn) : v3(0.0, 0.0, -1.0);
+  double weight = 0.0;
+  for (size_t i = 0; i < w->p.n; ++i) weight += gn / w->p.inv_mass[i];
+  size_t qn = 2 * (strlen(csv_path) + strlen(title) + ADEM_NAME_MAX) + 8;
+  char *qcsv = malloc(qn), *qname = malloc(qn);
+  strbuf b = {0};
+  bool ok = qcsv && qname;
+  if (ok) {
+    sb_printf(&b, "set title %s\nset xlabel 'time (s)'\nset ylabel 'load along gravity (N)'\n"
+                  "set key outside right\nset grid\nset autoscale xfix\nset datafile separator ','\n"
+                  "f = %s\n",
+              adem_plot_quote(title, qname, qn), adem_plot_quote(csv_path, qcsv, qn));
+    sb_printf(&b, "plot %.17g with lines dt 2 lc rgb 'black' title 'weight of the particles'", weight);
+    for (int k = 0; k < w->mesh.ngroups + w->nplanes; ++k) {
+      bool mesh = k < w->mesh.ngroups;
+      int col = mesh ? 10 + 3 * w->nplanes + 6 * k : 10 + 3 * (k - w->mesh.ngroups);
+      const char *name = mesh ? w->mesh.groups[k].name : w->planes[k - w->mesh.ngroups].def.name;
+      sb_printf(&b, ", \\\n     f skip 1 using 1:(%.17g*column(%d)+%.17g*column(%d)+%.17g*column(%d)) "
+                    "with lines lw 2 title %s",
+                down.x, col, down.y, col + 1, down.z, col + 2, adem_plot_quote(name, qname, qn));
+    }
+    sb_printf(&b, "\n");
+  }
+  free(qcsv);
+  free(qname);
+  char *body = ok ? sb_finish(&b) : NULL;
+  if (!body) {
+    free(b.s);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  adem_status st = adem_plot_png(png_path, 1000, 600, body, err);
+  free(body);
+  return st;
+}
+
 /* ---------------------------------------------------------------- run output */
+
+/* Mesh frames: frames/mesh_NNNNNN.vtu beside each particle frame, listed in their own collection
+ * mesh.pvd with the particle frames' times. A second file rather than a second part of
+ * particles.pvd: ParaView would merge the parts into one multiblock, and a Glyph filter on the
+ * particles would then draw spheres at the mesh's vertices too. */
+static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
+  char *path = adem_fileio_join(o->dir, "mesh.pvd");
+  if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_afile af;
+  adem_status st = adem_fileio_open(&af, path, err);
+  free(path);
+  if (st) return st;
+  fprintf(af.f,
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"%s\">\n"
+          "  <Collection>\n",
+          little_endian() ? "LittleEndian" : "BigEndian");
+  for (size_t k = 0; k < o->pvd.n; ++k)
+    fprintf(af.f,
+            "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"frames/mesh_%06zu.vtu\"/>\n",
+            o->pvd.time[k], k);
+  fprintf(af.f, "  </Collection>\n</VTKFile>\n");
+  return adem_fileio_commit(&af, err);
+}
+
+static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_error *err) {
+  if (w->mesh.ntris == 0) return ADEM_OK;
+  char name[64];
+  snprintf(name, sizeof name, "frames/mesh_%06zu.vtu", o->next_frame);
+  char *path = adem_fileio_join(o->dir, name);
+  if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = adem_mesh_write_vtu(&w->mesh, w->face_force, path, err);
+  free(path);
+  return st;
+}
 
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
@@ -466,6 +582,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
       o->next_frame = frames_done;
       /* The PVD must not list frames the resumed run is about to rewrite. */
       if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+      if (!st && w->mesh.ntris > 0) st = mesh_pvd_write(o, err);
     }
   }
   free(frames_dir);
@@ -495,6 +612,8 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   free(path);
   if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
   if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+  if (!st) st = mesh_frame(o, w, err);
+  if (!st && w->mesh.ntris > 0) st = mesh_pvd_write(o, err);
   if (!st) o->next_frame++;
   return st;
 }

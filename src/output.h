@@ -45,6 +45,11 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track);
 adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, const char *title,
                                     adem_error *err);
 
+/* Wall-load PNG (loads.png) from the CSV: each mesh group's and plane's force along gravity
+ * against time, with the particles' weight. Like the energy plot, a missing gnuplot is a warning. */
+adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, const char *png_path,
+                                   const char *title, adem_error *err);
+
 /* The output of one run: files under dir, the PVD entries and the open CSV. */
 typedef struct adem_output {
   char *dir, *pvd_path, *csv_path, *png_path;

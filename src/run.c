@@ -16,6 +16,7 @@
 #include "log.h"
 #include "output.h"
 #include "schedule.h"
+#include "stages.h"
 #include "world.h"
 
 /* Most steps between two looks at the stop flag. */
@@ -66,6 +67,7 @@ static void report(const adem_run_options *opt, const adem_world *w, double end_
     p.eta_seconds = (double)(total > w->step ? total - w->step : 0) / p.steps_per_second;
   for (size_t k = 0; k < w->pp.n; ++k) p.contacts += w->pp.touching[k];
   for (size_t k = 0; k < w->pw.n; ++k) p.contacts += w->pw.touching[k];
+  for (size_t k = 0; k < w->pm.l.n; ++k) p.contacts += w->pm.l.touching[k];
   opt->progress(&p, opt->progress_user);
 }
 
@@ -80,6 +82,27 @@ static void note_kept(adem_error *err, const char *dir, double t_checkpoint, boo
   else
     snprintf(err->message + len, sizeof err->message - len,
              "; the output written before is kept in %s", dir);
+}
+
+/* output.plot_loads: loads.png from the CSV written by the run. */
+static adem_status plot_loads(const adem_case *c, const char *dir, bool have_csv, adem_error *err) {
+  if (!have_csv) {
+    adem_log(ADEM_LOG_WARN, "output.plot_loads needs the CSV time series, which is off: no plot");
+    return ADEM_OK;
+  }
+  char *csv = adem_fileio_join(dir, "timeseries.csv");
+  char *png = adem_fileio_join(dir, "loads.png");
+  adem_status st;
+  if (csv && png) {
+    char title[ADEM_NAME_MAX + 32];
+    snprintf(title, sizeof title, "%s: wall loads", c->name[0] ? c->name : "adem");
+    st = adem_output_plot_loads(c->world, csv, png, title, err);
+  } else {
+    st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  free(csv);
+  free(png);
+  return st;
 }
 
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
@@ -102,21 +125,23 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   const double dt = w->dt;
   const uint64_t total = adem_schedule_total_steps(c->end_time, dt);
-  const uint64_t k_frame = adem_schedule_period(c->output.frame_interval, dt);
-  const uint64_t k_csv = adem_schedule_period(c->output.csv_interval, dt);
-  const uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
-  const uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
+  /* A stage may change the intervals: they are taken again after each stage start. */
+  uint64_t k_frame = adem_schedule_period(c->output.frame_interval, dt);
+  uint64_t k_csv = adem_schedule_period(c->output.csv_interval, dt);
+  uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
+  uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
   const uint64_t step0 = w->step;
   if (resume && step0 >= total) {
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
     return ADEM_OK;
   }
-  /* Frames 0, k, 2k, ... up to this step were written before the checkpoint. */
-  size_t frames_done = resume && k_frame ? (size_t)(step0 / k_frame + 1) : 0;
+  /* Frames 0, k, 2k, ... up to this step (k of each stage) were written before the checkpoint. */
+  size_t frames_done = resume ? (size_t)adem_stages_frames_done(c, step0) : 0;
 
   adem_output out;
   adem_output_track track = {c->output.ntrack, c->output.track};
-  st = adem_output_open(&out, dir, w, k_frame > 0, k_csv > 0, resume, frames_done,
+  st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
+                        resume, frames_done,
                         (double)k_frame * dt, w->time, &track, err);
   if (st) return st;
   char *ckpt_path = adem_fileio_join(dir, "checkpoint");
@@ -130,6 +155,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   if (!resume) {
     st = adem_output_frame(&out, w, err);
     if (!st) st = adem_output_csv_append(&out, w, err);
+    if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
   }
   const double t0 = wall_now();
   double last_report = t0;
@@ -138,6 +164,8 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   while (!st && w->step < total) {
     uint64_t target = next_event(w->step, total, periods, 3);
+    uint64_t staged = adem_stages_next_step(c, w->step); /* stage starts, pour batches */
+    if (staged < target) target = staged;
     uint64_t n = target - w->step;
     if (n > chunk_cap) n = chunk_cap;
     double tc = wall_now();
@@ -157,7 +185,16 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     bool last = s >= total;
     if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
     if (!st && (last || due(s, k_csv))) st = adem_output_csv_append(&out, w, err);
-    if (!st && (last || due(s, k_ckpt))) {
+    bool ckpt_due = last || due(s, k_ckpt);
+    /* Stage starts and pour batches follow the outputs of their step and precede its
+     * checkpoint: a resumed run finds them done. */
+    if (!st && !last) {
+      st = adem_stages_events(c, err);
+      k_frame = periods[0] = adem_schedule_period(c->output.frame_interval, dt);
+      k_csv = periods[1] = adem_schedule_period(c->output.csv_interval, dt);
+      k_ckpt = periods[2] = adem_schedule_period(c->output.checkpoint_interval, dt);
+    }
+    if (!st && ckpt_due) {
       st = adem_checkpoint_write(c, ckpt_path, err);
       if (!st) {
         have_ckpt = true;
@@ -199,6 +236,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
       free(png);
     }
   }
+  if (!st && c->output.plot_loads) st = plot_loads(c, dir, k_csv > 0, err);
   free(ckpt_path);
   return st;
 }

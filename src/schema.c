@@ -17,6 +17,9 @@
 #define MAP ADEM_SCHEMA_MAP
 #define LIST ADEM_SCHEMA_LIST
 #define IDS ADEM_SCHEMA_ID_LIST
+#define TABLE ADEM_SCHEMA_TABLE
+#define NUMS ADEM_SCHEMA_NUMBER_LIST
+#define SETS ADEM_SCHEMA_SETTINGS
 #define REQ .need = ADEM_SCHEMA_REQUIRED
 #define GT(x) .lo = (x), .range = ADEM_RANGE_MIN_OPEN
 #define GE(x) .lo = (x), .range = ADEM_RANGE_MIN
@@ -53,8 +56,8 @@ static const adem_schema_entry schema[] = {
     {"groups[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; `default` sets the force of the particles without a `group`."},
     {"groups[].external_force", NULL, VEC3, "N", "[0, 0, 0]", NULL, .doc = "Constant force on every particle of the group."},
 
-    {"particles", NULL, LIST, "", NULL, NULL, GE(1), REQ, .discriminator = "type", .doc = "Particle sets, created in order; each has a `type`."},
-    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box."},
+    {"particles", NULL, LIST, "", NULL, NULL, .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless there are `pours`", .discriminator = "type", .doc = "Particle sets, created in order; each has a `type`."},
+    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box, a cylinder or a closed STL volume (docs/insertion-and-stages.md)."},
     {"particles[].material", NULL, NAME, "", NULL, NULL, REQ, .doc = "Material of the set's spheres; it needs a `density` and must not be rigid."},
     {"particles[].group", NULL, NAME, "", "default", NULL, .doc = "Group of the set's spheres."},
     {"particles[].spheres", "list", LIST, "", NULL, NULL, GE(1), REQ, .doc = "The spheres; two spheres of the list must not overlap."},
@@ -65,29 +68,97 @@ static const adem_schema_entry schema[] = {
     {"particles[].radius", "lattice", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Radius of every sphere."},
     {"particles[].spacing", "lattice", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Distance between neighbouring centres; at least 2 radius."},
     {"particles[].radius", "random", MAP, "", NULL, NULL, REQ, .discriminator = "distribution", .doc = "Radius distribution, e.g. `{distribution: uniform, min: 1e-3, max: 2e-3}`."},
-    {"particles[].radius.distribution", NULL, ENUM, "", NULL, NULL, REQ, .choices = "constant|uniform|normal|lognormal", .doc = "Shape of the distribution; normal and lognormal are truncated to radii that fit the box (redrawn)."},
+    {"particles[].radius.distribution", NULL, ENUM, "", NULL, NULL, REQ, .choices = "constant|uniform|normal|lognormal|discrete", .doc = "Shape of the distribution; normal and lognormal are truncated to radii that fit the region (drawn again)."},
     {"particles[].radius.value", "constant", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "The radius."},
     {"particles[].radius.min", "uniform", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Smallest radius."},
     {"particles[].radius.max", "uniform", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Largest radius; greater than `min`."},
     {"particles[].radius.mean", "normal|lognormal", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Mean of the radius."},
     {"particles[].radius.std", "normal|lognormal", NUM, "m", NULL, NULL, GE(0), REQ, .doc = "Standard deviation of the radius (for lognormal: of the radius itself, not of its logarithm)."},
-    {"particles[].min", "lattice|random", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box; whole spheres lie inside it."},
-    {"particles[].max", "lattice|random", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner of the box; greater than `min` in every component."},
+    {"particles[].radius.values", "discrete", NUMS, "m", NULL, NULL, GT(0), REQ, .doc = "The radii, e.g. `[0.01, 0.015, 0.02]`."},
+    {"particles[].radius.weights", "discrete", NUMS, "", NULL, "all equal", GE(0), .doc = "Relative number frequency of each radius (same length as `values`, not all 0)."},
+    {"particles[].min", "lattice", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box; whole spheres lie inside it."},
+    {"particles[].max", "lattice", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner of the box; greater than `min` in every component."},
+    {"particles[].min", "random", VEC3, "m", NULL, NULL, .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `region` is given", .doc = "Lower corner of the box to fill; whole spheres lie inside it."},
+    {"particles[].max", "random", VEC3, "m", NULL, NULL, .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `region` is given", .doc = "Upper corner of the box; greater than `min` in every component."},
+    {"particles[].region", "random", MAP, "", NULL, NULL, .discriminator = "shape", .doc = "Region to fill instead of the box `min`/`max`: `{shape: box, min, max}`, `{shape: cylinder, start, end, radius}` or `{shape: mesh, file}` (a closed STL surface)."},
+    {"particles[].region.shape", NULL, ENUM, "", NULL, NULL, REQ, .choices = "box|cylinder|mesh", .doc = "`box`: axis-aligned box; `cylinder`: any axis; `mesh`: the inside of a closed STL surface (ray parity), whole spheres at least a radius from it."},
+    {"particles[].region.min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
+    {"particles[].region.max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
+    {"particles[].region.start", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of one end disc."},
+    {"particles[].region.end", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of the other end disc; the axis runs from `start` to `end`."},
+    {"particles[].region.radius", "cylinder", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Radius of the cylinder."},
+    {"particles[].region.file", "mesh", STR, "", NULL, NULL, REQ, .doc = "Closed STL surface (every edge shared by two triangles); a relative path is taken from the folder of the case file."},
+    {"particles[].region.scale", "mesh", NUM, "", "1", NULL, GT(0), .doc = "Factor from file units to metres, applied first."},
+    {"particles[].region.translate", "mesh", VEC3, "m", "[0, 0, 0]", NULL, .doc = "Translation applied after the scale."},
     {"particles[].count", "lattice", INT, "", "0", NULL, GE(0), .doc = "Most spheres to create, filling x first, then y, then z; 0 fills the box."},
-    {"particles[].count", "random", INT, "", NULL, NULL, GE(1), REQ, .doc = "Number of spheres to place."},
+    {"particles[].count", "random", INT, "", NULL, NULL, GE(1), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `solid_fraction` is given", .doc = "Number of spheres to place."},
+    {"particles[].solid_fraction", "random", NUM, "", NULL, NULL, GT_LT(0, 1), .doc = "Instead of `count`: radii are drawn until their volume is closest to this fraction of the region's volume (within half the largest sphere's volume); random packing jams near 0.3-0.4."},
     {"particles[].max_attempts", "random", INT, "", NULL, "max(1000000, 100 count)", GE(1), .doc = "Total number of trial positions; when used up, the fill stops with a warning giving the number placed."},
     {"particles[].velocity", "lattice|random", VEC3, "m/s", "[0, 0, 0]", NULL, .doc = "Initial velocity of every sphere."},
     {"particles[].angular_velocity", "lattice|random", VEC3, "rad/s", "[0, 0, 0]", NULL, .doc = "Initial angular velocity of every sphere."},
 
     {"walls", NULL, LIST, "", NULL, NULL, .discriminator = "type", .doc = "Walls; each has a `type`."},
-    {"walls[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "plane|box", .doc = "`plane`: an infinite plane; `box`: six planes facing inwards, named NAME.xmin, NAME.xmax, ..."},
-    {"walls[].name", NULL, NAME, "", NULL, "`wall<index>`", .doc = "Unique name (used in output)."},
+    {"walls[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "plane|box|mesh", .doc = "`plane`: an infinite plane; `box`: six planes facing inwards, named NAME.xmin, NAME.xmax, ...; `mesh`: the triangles of an STL file (docs/meshes.md), one group per file or per `solid` of an ASCII file."},
+    {"walls[].name", NULL, NAME, "", NULL, "`wall<index>`; a mesh: the solid's name, else the file's stem", .doc = "Unique name (used in output). A mesh file with several solids makes groups NAME.SOLID."},
     {"walls[].material", NULL, NAME, "", NULL, NULL, REQ, .doc = "Material of the wall."},
+    {"walls[].active", NULL, BOOL, "", "true", NULL, .doc = "`false`: the wall is there but switched off (no contacts) until a stage sets `walls.NAME.active: true`."},
     {"walls[].point", "plane", VEC3, "m", NULL, NULL, REQ, .doc = "A point of the plane."},
     {"walls[].normal", "plane", VEC3, "", NULL, NULL, REQ, .doc = "Normal pointing to the particles' side; non-zero, normalised by the loader."},
     {"walls[].velocity", "plane", VEC3, "m/s", "[0, 0, 0]", NULL, .doc = "Translation velocity of the plane."},
+    {"walls[].motion", "plane|mesh", MAP, "", NULL, NULL, .doc = "Prescribed motion, an exact function of time: a translation (`velocity` or `table`) and a `rotation`. A mesh that moves needs its own vertices."},
+    {"walls[].motion.velocity", NULL, VEC3, "m/s", NULL, NULL, .doc = "Constant translation velocity; not with `table`."},
+    {"walls[].motion.table", NULL, TABLE, "s, m/s", NULL, NULL, GE(1), .doc = "Piecewise-linear translation velocity: rows [t, vx, vy, vz], t strictly increasing; constant before the first row and after the last; not with `velocity`."},
+    {"walls[].motion.rotation", NULL, MAP, "", NULL, NULL, .doc = "Rotation at a constant rate about an axis through `center`; the axis travels with the translation."},
+    {"walls[].motion.rotation.axis", NULL, VEC3, "", NULL, NULL, REQ, .doc = "Axis direction (any length > 0); the rotation is right-handed about it."},
+    {"walls[].motion.rotation.center", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "A point of the axis at t = 0."},
+    {"walls[].motion.rotation.speed", NULL, NUM, "rad/s", NULL, NULL, REQ, .doc = "Angular speed."},
     {"walls[].min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
     {"walls[].max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner of the box; greater than `min` in every component."},
+    {"walls[].file", "mesh", STR, "", NULL, NULL, REQ, .doc = "STL file, ASCII or binary; a relative path is taken from the folder of the case file."},
+    {"walls[].scale", "mesh", NUM, "", "1", NULL, GT(0), .doc = "Factor from file units to metres (0.001 for a file in mm), applied first."},
+    {"walls[].rotate", "mesh", LIST, "", NULL, NULL, .doc = "Rotation applied after the scale: `{axis: [x, y, z], angle: degrees}`, or a list of them applied in order. Multiples of 90 degrees about a coordinate axis are exact."},
+    {"walls[].rotate[].axis", NULL, VEC3, "", NULL, NULL, REQ, .doc = "Axis direction (any length > 0); right-handed."},
+    {"walls[].rotate[].angle", NULL, NUM, "deg", NULL, NULL, REQ, .doc = "Angle."},
+    {"walls[].translate", "mesh", VEC3, "m", "[0, 0, 0]", NULL, .doc = "Translation applied last: x' = R (scale x) + translate."},
+    {"walls[].own_vertices", "mesh", BOOL, "", NULL, "`true` if the mesh has a `motion`, else `false`", .doc = "`true`: share no vertex with other meshes (needed to move); `false`: points equal to another mesh's are joined, so a seam is an ordinary edge."},
+    {"walls[].torque_about", "mesh", VEC3, "m", NULL, "each group's area centroid (and the file's)", .doc = "Point at t = 0, carried with the wall's motion, that the CSV torques of the mesh's groups and of the whole file are taken about."},
+
+    {"pours", NULL, LIST, "", NULL, NULL, .doc = "Particles inserted while the run goes on: in a region, at a rate, during a time window, overlapping nothing already there (docs/insertion-and-stages.md)."},
+    {"pours[].name", NULL, NAME, "", NULL, "`pour<index>`", .doc = "Unique name (for messages)."},
+    {"pours[].material", NULL, NAME, "", NULL, NULL, REQ, .doc = "Material of the poured spheres; it needs a `density` and must not be rigid."},
+    {"pours[].group", NULL, NAME, "", "default", NULL, .doc = "Group of the poured spheres."},
+    {"pours[].radius", NULL, MAP, "", NULL, NULL, REQ, .discriminator = "distribution", .doc = "Radius distribution, as for a random particle set."},
+    {"pours[].radius.distribution", NULL, ENUM, "", NULL, NULL, REQ, .choices = "constant|uniform|normal|lognormal|discrete", .doc = "Shape of the distribution; normal and lognormal are truncated to radii that fit the region (drawn again)."},
+    {"pours[].radius.value", "constant", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "The radius."},
+    {"pours[].radius.min", "uniform", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Smallest radius."},
+    {"pours[].radius.max", "uniform", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Largest radius; greater than `min`."},
+    {"pours[].radius.mean", "normal|lognormal", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Mean of the radius."},
+    {"pours[].radius.std", "normal|lognormal", NUM, "m", NULL, NULL, GE(0), REQ, .doc = "Standard deviation of the radius (for lognormal: of the radius itself, not of its logarithm)."},
+    {"pours[].radius.values", "discrete", NUMS, "m", NULL, NULL, GT(0), REQ, .doc = "The radii, e.g. `[0.01, 0.015, 0.02]`."},
+    {"pours[].radius.weights", "discrete", NUMS, "", NULL, "all equal", GE(0), .doc = "Relative number frequency of each radius (same length as `values`, not all 0)."},
+    {"pours[].region", NULL, MAP, "", NULL, NULL, REQ, .discriminator = "shape", .doc = "Region the particles are put in: `{shape: box, min, max}`, `{shape: cylinder, start, end, radius}` or `{shape: mesh, file}` (a closed STL surface)."},
+    {"pours[].region.shape", NULL, ENUM, "", NULL, NULL, REQ, .choices = "box|cylinder|mesh", .doc = "`box`: axis-aligned box; `cylinder`: any axis; `mesh`: the inside of a closed STL surface (ray parity), whole spheres at least a radius from it."},
+    {"pours[].region.min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
+    {"pours[].region.max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
+    {"pours[].region.start", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of one end disc."},
+    {"pours[].region.end", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of the other end disc; the axis runs from `start` to `end`."},
+    {"pours[].region.radius", "cylinder", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Radius of the cylinder."},
+    {"pours[].region.file", "mesh", STR, "", NULL, NULL, REQ, .doc = "Closed STL surface (every edge shared by two triangles); a relative path is taken from the folder of the case file."},
+    {"pours[].region.scale", "mesh", NUM, "", "1", NULL, GT(0), .doc = "Factor from file units to metres, applied first."},
+    {"pours[].region.translate", "mesh", VEC3, "m", "[0, 0, 0]", NULL, .doc = "Translation applied after the scale."},
+    {"pours[].rate", NULL, NUM, "1/s", NULL, NULL, GT(0), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `mass_rate` is given", .doc = "Particles per second; the pour inserts round(rate (end - start)) in all."},
+    {"pours[].mass_rate", NULL, NUM, "kg/s", NULL, NULL, GT(0), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `rate` is given", .doc = "Instead of `rate`: kilograms per second (the total is met to within half a particle)."},
+    {"pours[].start", NULL, NUM, "s", "0", NULL, GE(0), .doc = "Start of the window."},
+    {"pours[].end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End of the window; after `start`."},
+    {"pours[].interval", NULL, NUM, "s", NULL, "(end - start) / 20", GT(0), .doc = "Time between batches; each batch brings the total up to the rate times the time elapsed at the end of its interval."},
+    {"pours[].velocity", NULL, VEC3, "m/s", "[0, 0, 0]", NULL, .doc = "Initial velocity of every poured sphere."},
+    {"pours[].angular_velocity", NULL, VEC3, "rad/s", "[0, 0, 0]", NULL, .doc = "Initial angular velocity."},
+    {"pours[].max_attempts", NULL, INT, "", "1000", NULL, GE(1), .doc = "Trial positions per particle; a particle that finds no room is left for the next batch, and a pour that ends short says how many it inserted."},
+
+    {"stages", NULL, LIST, "", NULL, NULL, .doc = "Consecutive stages of the run, each with a duration and the case-file values it changes (docs/insertion-and-stages.md)."},
+    {"stages[].name", NULL, NAME, "", NULL, "`stage<index>`", .doc = "Unique name (for messages)."},
+    {"stages[].duration", NULL, NUM, "s", NULL, NULL, GT(0), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "except for the last stage", .doc = "Length of the stage; the last stage without one runs until `time.end`."},
+    {"stages[].set", NULL, SETS, "", NULL, NULL, .doc = "Values that change when the stage begins, as `--set` paths: `{materials.ballast.friction: 0, walls.aux.active: false}`. They stay until a later stage changes them. Allowed: materials, interactions, groups, walls, gravity, limits, neighbor, output.frame_interval, output.csv_interval, output.checkpoint_interval."},
 
     {"gravity", NULL, VEC3, "m/s^2", "[0, 0, -9.81]", NULL, .doc = "Gravitational acceleration."},
     {"domain", NULL, MAP, "", NULL, "derived, see above", .doc = "Box the particles must stay in; a particle leaving it stops the run (escape check)."},
@@ -111,6 +182,7 @@ static const adem_schema_entry schema[] = {
     {"output.csv_interval", NULL, NUM, "s", NULL, "time.end / 1000", GE(0), .doc = "Simulated time between rows of the CSV time series."},
     {"output.checkpoint_interval", NULL, NUM, "s", NULL, "time.end / 10", GE(0), .doc = "Simulated time between checkpoint rewrites."},
     {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run."},
+    {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run: the load along gravity on every mesh group and plane against time, with the particles' weight."},
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
 
@@ -249,6 +321,11 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
       snprintf(buf, n, "a list of mappings");
     break;
   case ADEM_SCHEMA_ID_LIST: snprintf(buf, n, "a list [id, ...] of particle ids (at most %g)", e->hi); break;
+  case ADEM_SCHEMA_TABLE: snprintf(buf, n, "a list of rows [t, x, y, z] of 4 numbers%s", unit); break;
+  case ADEM_SCHEMA_NUMBER_LIST:
+    snprintf(buf, n, "a list [a, b, ...] of numbers%s%s%s", sp, range, unit);
+    break;
+  case ADEM_SCHEMA_SETTINGS: snprintf(buf, n, "a mapping of key paths to values (key.path: value)"); break;
   }
 }
 
@@ -277,6 +354,9 @@ static void md_type(FILE *f, const adem_schema_entry *e) {
   case ADEM_SCHEMA_MAP: fputs("mapping", f); break;
   case ADEM_SCHEMA_LIST: fputs("list", f); break;
   case ADEM_SCHEMA_ID_LIST: fputs("[id, ...]", f); break;
+  case ADEM_SCHEMA_TABLE: fputs("[[t, x, y, z], ...]", f); break;
+  case ADEM_SCHEMA_NUMBER_LIST: fputs("[number, ...]", f); break;
+  case ADEM_SCHEMA_SETTINGS: fputs("{key.path: value, ...}", f); break;
   }
 }
 
@@ -364,26 +444,52 @@ void adem_schema_write_markdown(FILE *f) {
         "## Values computed by the loader\n\n"
         "- **Reference speed** (`time.reference_speed: auto`): v_ref = max(v0, sqrt(2 |g| H), "
         "0.1 m/s), where v0 is the largest initial speed of a particle or a plane wall and H is the "
-        "extent, along gravity, of the bounding box of the particles and the walls (box corners and "
-        "plane points).\n"
+        "extent, along gravity, of the bounding box of the particles and the walls (box corners, "
+        "plane points and mesh vertices); v0 includes the speeds of moving walls.\n"
         "- **Time step** (`time.step: auto`): dt = min(t_collision/50, 0.2 t_Rayleigh): the "
         "shortest Hertz collision time at v_ref and the shortest Rayleigh time over the material "
         "pairs in use (particle-particle and particle-wall), each for the smallest sphere of its "
         "material. A given `time.step` larger than that is used, with a warning saying by how much "
         "it exceeds the proposal.\n"
         "- **Domain** (no `domain`): the bounding box B of the particles (whole spheres) and the "
-        "walls (box corners and plane points), widened on every side by the largest of: the longest "
+        "walls (box corners, plane points and mesh vertices), widened on every side by the largest of: the longest "
         "side of B, 10 largest diameters, and v0 t_end + |g| t_end^2 / 2.\n"
         "- **Lattice**: centres at min + radius + i spacing along each axis for as long as the "
         "whole sphere stays inside the box; filled x first, then y, then z.\n"
-        "- **Random fill**: radii are drawn first and placed largest first; each sphere is tried at "
-        "uniform random positions (whole sphere inside the box) until it overlaps no sphere already "
-        "placed by this or an earlier set. Each random set draws from its own stream of `seed`: "
-        "the same seed gives the same spheres (bit for bit on every platform for `constant` and "
-        "`uniform` radii; `normal` and `lognormal` also use the C library's log, cos and exp). "
-        "Normal and lognormal radii outside (0, half the box's smallest side] are redrawn; a lognormal radius with mean m "
+        "- **Random fill**: radii are drawn first (`count` of them, or, for `solid_fraction`, while "
+        "their volume plus half the next one stays within the fraction of the region's volume) and "
+        "placed largest first; each sphere is tried at uniform random positions (whole sphere inside "
+        "the region: the box, the cylinder, or inside a closed STL surface by ray parity and at least "
+        "its radius from every triangle) until it overlaps no sphere already placed by this or an "
+        "earlier set and clears every active wall built so far. Each random set draws from its own "
+        "stream of `seed`: "
+        "the same seed gives the same spheres (bit for bit on every platform for `constant`, "
+        "`uniform` and `discrete` radii; `normal` and `lognormal` also use the C library's log, cos "
+        "and exp). Normal and lognormal radii outside (0, r_fit] are redrawn, r_fit the largest "
+        "sphere the region holds (half a box's smallest side; a cylinder's radius or half its "
+        "length; half the smallest side of a mesh's bounding box); a lognormal radius with mean m "
         "and standard deviation s has sigma^2 = ln(1 + s^2/m^2), mu = ln m - sigma^2/2.\n"
-        "- **Output intervals** default to fractions of `time.end`.\n\n"
+        "- **Pours**: batches at fixed steps, every round(interval/dt) steps from round(start/dt); "
+        "batch j brings the number poured to round(N min(1, (j+1) interval / (end - start))), N = "
+        "round(rate (end - start)), placed as a random fill among the particles and walls already "
+        "there; with `mass_rate`, radii are drawn while the mass stays within half a particle of the "
+        "target. `time.step: auto` counts poured particles at the 0.1 % quantile of their radius "
+        "(the smallest value of constant, uniform and discrete; max(mean - 3.09 std, mean / 10) for "
+        "normal; exp(mu - 3.09 sigma) for lognormal), and the domain includes the pour regions.\n"
+        "- **Stages**: stage k begins at step round((sum of the earlier durations) / dt); its `set` "
+        "entries are applied, after those of the stages before it, to the case as written (with "
+        "`--set`), and the result is loaded and validated like a case. `time.step: auto` takes the "
+        "smallest step any stage proposes.\n"
+        "- **Output intervals** default to fractions of `time.end`.\n"
+        "- **Mesh walls** (`type: mesh`): `file` is read relative to the case file's folder (a "
+        "checkpoint keeps that folder as an absolute path, so `adem run --resume` works from "
+        "anywhere). The transform is x' = R (scale x) + translate, R the `rotate` entries in order. "
+        "Each group (the file, or each `solid` of an ASCII file with several) gets CSV columns "
+        "`GROUP_fx_N` ... and `GROUP_tx_Nm` ...: the force of the particles on it and its torque "
+        "about `torque_about` (default: the group's area centroid), the point carried with the "
+        "wall's motion; a file with several groups also gets the columns of its total, its torque "
+        "about the file's centroid. A particle cutting into a mesh face at the start is an "
+        "error.\n\n"
         "Spheres of an explicit `list` must not overlap each other (the loader names both). "
         "Overlaps between spheres of different sets, and spheres behind a wall, are reported when "
         "the run starts.\n\n",

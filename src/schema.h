@@ -19,7 +19,10 @@ typedef enum adem_schema_type {
   ADEM_SCHEMA_NAME_PAIR, /* [name, name] */
   ADEM_SCHEMA_MAP,       /* mapping; its keys are entries "path.key" */
   ADEM_SCHEMA_LIST,      /* list of mappings; their keys are entries "path[].key" */
-  ADEM_SCHEMA_ID_LIST    /* list of particle ids [0, 5, ...]; range bounds the item count */
+  ADEM_SCHEMA_ID_LIST,   /* list of particle ids [0, 5, ...]; range bounds the item count */
+  ADEM_SCHEMA_TABLE,     /* list of rows [t, x, y, z] of 4 numbers; range bounds the row count */
+  ADEM_SCHEMA_NUMBER_LIST, /* [a, b, ...] of numbers; range bounds each number */
+  ADEM_SCHEMA_SETTINGS   /* mapping of case-file key paths to values (stages[].set) */
 } adem_schema_type;
 
 /* Bounds of a number (for lists: of the item count). */

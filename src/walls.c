@@ -67,6 +67,33 @@ int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 
   return first;
 }
 
+/* Area-weighted centroid of triangles first .. first + count - 1 (the mean vertex if no area). */
+static adem_vec3 area_centroid(const adem_mesh *m, uint32_t first, uint32_t count, double *area) {
+  adem_vec3 c = v3_zero(), mean = v3_zero();
+  double a = 0.0;
+  for (uint32_t t = first; t < first + count; ++t) {
+    adem_vec3 x0 = m->vert[m->tri[t][0]], x1 = m->vert[m->tri[t][1]], x2 = m->vert[m->tri[t][2]];
+    adem_vec3 g = v3_scale(v3_add(x0, v3_add(x1, x2)), 1.0 / 3.0);
+    c = v3_axpy(c, m->area[t], g);
+    mean = v3_add(mean, g);
+    a += m->area[t];
+  }
+  *area = a;
+  if (a > 0.0) return v3_scale(c, 1.0 / a);
+  return count > 0 ? v3_scale(mean, 1.0 / count) : v3_zero();
+}
+
+/* The file's name without folder and extension (the default prefix of its groups). */
+static void path_stem(const char *path, char *buf, size_t n) {
+  const char *base = strrchr(path, '/');
+  base = base ? base + 1 : path;
+  const char *dot = strrchr(base, '.');
+  size_t len = dot && dot != base ? (size_t)(dot - base) : strlen(base);
+  if (len >= n) len = n - 1;
+  memcpy(buf, base, len);
+  buf[len] = '\0';
+}
+
 adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
                                 const char *name, adem_vec3 velocity, adem_error *err) {
   adem_mesh_transform def = adem_default_mesh_transform();
@@ -79,6 +106,7 @@ adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "%s: a moving mesh needs a finite velocity and its own vertices", path);
   int before = w->mesh.ngroups;
+  size_t nv_before = w->mesh.nverts, nt_before = w->mesh.ntris;
   adem_status st = adem_mesh_load_stl(path, tf, name, &w->mesh, err);
   if (st) return st;
   size_t ng = (size_t)w->mesh.ngroups, nv = w->mesh.nverts, nt = w->mesh.ntris;
@@ -92,14 +120,40 @@ adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh
   if (n0) w->mesh_normal0 = n0;
   double *ff = realloc(w->face_force, (3 * nt + 1) * sizeof *ff);
   if (ff) w->face_force = ff;
-  if (!mo || !reach || !v0 || !n0 || !ff)
+  double *ft = realloc(w->face_torque, (3 * nt + 1) * sizeof *ft);
+  if (ft) w->face_torque = ft;
+  adem_vec3 *r0 = realloc(w->mesh_ref0, ng * sizeof *r0);
+  if (r0) w->mesh_ref0 = r0;
+  adem_vec3 *r = realloc(w->mesh_ref, ng * sizeof *r);
+  if (r) w->mesh_ref = r;
+  adem_mesh_wall *mw = realloc(w->mesh_walls, (size_t)(w->nmesh_walls + 1) * sizeof *mw);
+  if (mw) w->mesh_walls = mw;
+  if (!mo || !reach || !v0 || !n0 || !ff || !ft || !r0 || !r || !mw)
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding %s", path);
-  memcpy(w->mesh_vert0, w->mesh.vert, nv * sizeof *v0);
-  memcpy(w->mesh_normal0, w->mesh.normal, nt * sizeof *n0);
+  /* the walls are where they are at time 0 (meshes are added before stepping) */
+  memcpy(w->mesh_vert0 + nv_before, w->mesh.vert + nv_before, (nv - nv_before) * sizeof *v0);
+  memcpy(w->mesh_normal0 + nt_before, w->mesh.normal + nt_before, (nt - nt_before) * sizeof *n0);
   memset(w->face_force, 0, 3 * nt * sizeof *ff);
+  memset(w->face_torque, 0, 3 * nt * sizeof *ft);
+  adem_mesh_wall *wall = &w->mesh_walls[w->nmesh_walls];
+  memset(wall, 0, sizeof *wall);
+  wall->first = before;
+  wall->count = w->mesh.ngroups - before;
+  if (wall->count == 1)
+    snprintf(wall->name, sizeof wall->name, "%s", w->mesh.groups[before].name);
+  else if (name && *name)
+    snprintf(wall->name, sizeof wall->name, "%s", name);
+  else
+    path_stem(path, wall->name, sizeof wall->name);
+  double area = 0.0;
+  uint32_t t_first = wall->count > 0 ? w->mesh.groups[before].first : 0;
+  wall->ref0 = area_centroid(&w->mesh, t_first, (uint32_t)(nt - nt_before), &area);
+  w->nmesh_walls++;
   for (int g = before; g < w->mesh.ngroups; ++g) {
     memset(&w->mesh_motion[g], 0, sizeof w->mesh_motion[g]);
     w->mesh_reach[g] = 0.0;
+    const adem_mesh_group *grp = &w->mesh.groups[g];
+    w->mesh_ref0[g] = w->mesh_ref[g] = area_centroid(&w->mesh, grp->first, grp->count, &area);
     if (moving) {
       double t0 = 0.0;
       adem_motion_def md = {.n = 1, .time = &t0, .velocity = &velocity};
@@ -107,7 +161,59 @@ adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh
       if (st) return st;
     }
   }
+  w->prepared = false;
   return ADEM_OK;
+}
+
+adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,
+                                             adem_error *err) {
+  if (wall < 0 || wall >= w->nmesh_walls)
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh wall %d does not exist", wall);
+  if (!v3_isfinite(point))
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh wall '%s': the torque point must be finite",
+                          w->mesh_walls[wall].name);
+  adem_mesh_wall *mw = &w->mesh_walls[wall];
+  mw->ref0 = point;
+  for (int g = mw->first; g < mw->first + mw->count; ++g) {
+    w->mesh_ref0[g] = point;
+    w->mesh_ref[g] = adem_motion_place(&w->mesh_motion[g], w->wall_time, point);
+  }
+  return ADEM_OK;
+}
+
+void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
+                           adem_vec3 *wall_force, adem_vec3 *wall_torque) {
+  const adem_mesh *m = &w->mesh;
+  for (int g = 0; g < m->ngroups; ++g) {
+    const adem_mesh_group *grp = &m->groups[g];
+    adem_vec3 f = v3_zero(), t = v3_zero();
+    for (size_t k = grp->first; k < (size_t)grp->first + grp->count; ++k) {
+      f = v3_add(f, v3(w->face_force[3 * k], w->face_force[3 * k + 1], w->face_force[3 * k + 2]));
+      t = v3_add(t, v3(w->face_torque[3 * k], w->face_torque[3 * k + 1], w->face_torque[3 * k + 2]));
+    }
+    if (group_force) group_force[g] = f;
+    if (group_torque) group_torque[g] = t;
+  }
+  if (!wall_force && !wall_torque) return;
+  for (int k = 0; k < w->nmesh_walls; ++k) {
+    const adem_mesh_wall *mw = &w->mesh_walls[k];
+    adem_vec3 f = v3_zero(), t = v3_zero();
+    /* the wall's point travels with its first group; each group's torque is moved onto it */
+    adem_vec3 ref = mw->count > 0 ? adem_motion_place(&w->mesh_motion[mw->first], w->wall_time, mw->ref0)
+                                  : mw->ref0;
+    for (int g = mw->first; g < mw->first + mw->count; ++g) {
+      const adem_mesh_group *grp = &m->groups[g];
+      adem_vec3 fg = v3_zero(), tg = v3_zero();
+      for (size_t j = grp->first; j < (size_t)grp->first + grp->count; ++j) {
+        fg = v3_add(fg, v3(w->face_force[3 * j], w->face_force[3 * j + 1], w->face_force[3 * j + 2]));
+        tg = v3_add(tg, v3(w->face_torque[3 * j], w->face_torque[3 * j + 1], w->face_torque[3 * j + 2]));
+      }
+      f = v3_add(f, fg);
+      t = v3_add(t, v3_add(tg, v3_cross(v3_sub(w->mesh_ref[g], ref), fg)));
+    }
+    if (wall_force) wall_force[k] = f;
+    if (wall_torque) wall_torque[k] = t;
+  }
 }
 
 adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
@@ -130,6 +236,7 @@ adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_moti
   for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v)
     reach = fmax(reach, v3_norm(v3_sub(w->mesh_vert0[v], m.center)));
   w->mesh_reach[group] = reach;
+  w->mesh_ref[group] = adem_motion_place(&m, w->wall_time, w->mesh_ref0[group]);
   return ADEM_OK;
 }
 
@@ -163,6 +270,7 @@ void adem_world_place_walls(adem_world *w, double t) {
       m->vert[v] = adem_motion_place(mo, t, w->mesh_vert0[v]);
     for (uint32_t k = grp->first; k < grp->first + grp->count; ++k)
       m->normal[k] = adem_motion_turn(mo, t, w->mesh_normal0[k]);
+    w->mesh_ref[g] = adem_motion_place(mo, t, w->mesh_ref0[g]);
   }
 }
 
@@ -194,7 +302,33 @@ void adem_walls_free(adem_world *w) {
   free(w->mesh_reach);
   free(w->mesh_vert0);
   free(w->mesh_normal0);
+  free(w->face_torque);
+  free(w->mesh_ref0);
+  free(w->mesh_ref);
+  free(w->mesh_walls);
   w->planes = NULL;
   w->mesh_motion = NULL;
   w->nplanes = 0;
+}
+
+adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err) {
+  if (plane < 0 || plane >= w->nplanes)
+    return adem_error_set(err, ADEM_ERR_INPUT, "plane %d does not exist", plane);
+  w->planes[plane].inactive = !active;
+  return ADEM_OK;
+}
+
+adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err) {
+  if (group < 0 || group >= w->mesh.ngroups)
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh group %d does not exist", group);
+  if (group >= w->mesh_inactive_n) { /* groups beyond the array are active */
+    if (active) return ADEM_OK;
+    uint8_t *f = realloc(w->mesh_inactive, (size_t)w->mesh.ngroups);
+    if (!f) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    memset(f + w->mesh_inactive_n, 0, (size_t)(w->mesh.ngroups - w->mesh_inactive_n));
+    w->mesh_inactive = f;
+    w->mesh_inactive_n = w->mesh.ngroups;
+  }
+  w->mesh_inactive[group] = !active;
+  return ADEM_OK;
 }

@@ -31,6 +31,8 @@ void adem_world_free(adem_world *w) {
   adem_mesh_free(&w->mesh);
   adem_walls_free(w);
   free(w->face_force);
+  free(w->mesh_inactive);
+  free(w->insert_rmin);
   adem_neighbors_free(&w->nb);
   free(w->materials);
   free(w->interactions);
@@ -164,6 +166,8 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   for (int k = 0; k < nm; ++k) rmin[k] = INFINITY;
   for (size_t i = 0; i < w->p.n; ++i)
     rmin[w->p.material[i]] = fmin(rmin[w->p.material[i]], w->p.radius[i]);
+  if (w->insert_rmin) /* particles poured later count as present */
+    for (int k = 0; k < nm; ++k) rmin[k] = fmin(rmin[k], w->insert_rmin[k]);
   for (int a = 0; a < nm; ++a) {
     if (!isfinite(rmin[a])) continue;
     const adem_material *ma = &w->materials[a];
@@ -213,6 +217,29 @@ static double total_energy(const adem_diagnostics *d) {
   return d->kinetic + d->rotational + d->potential + d->elastic;
 }
 
+/* Rejects particles that cut into a mesh face at the start, naming the first by index (as the
+ * pp check does): a wall cannot push a particle out gently, it would shoot it off. */
+static adem_status check_initial_mesh(const adem_world *w, adem_error *err) {
+  const adem_particles *p = &w->p;
+  const adem_mesh_pairs *pm = &w->pm;
+  if (w->mesh.ntris == 0 || !pm->start) return ADEM_OK;
+  for (size_t i = 0; i < p->n; ++i)
+    for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k) {
+      uint32_t t = pm->l.b[k];
+      adem_vec3 q;
+      adem_triangle_feature f;
+      double d = sqrt(adem_triangle_distance2(&w->mesh, t, p->pos[i], &q, &f));
+      double overlap = p->radius[i] - d;
+      if (overlap > 1e-9 * p->radius[i])
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "particle id %llu at (%g, %g, %g) overlaps mesh group '%s' (triangle "
+                              "%u) by %g m at the start; move it off the wall or shrink it",
+                              (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
+                              w->mesh.groups[w->mesh.group[t]].name, t, overlap);
+    }
+  return ADEM_OK;
+}
+
 /* Rejects overlapping particles and particles behind a wall, naming them. */
 static adem_status check_initial_state(const adem_world *w, adem_error *err) {
   const adem_particles *p = &w->p;
@@ -232,6 +259,7 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
   for (size_t i = 0; i < p->n; ++i)
     for (int k = 0; k < w->nplanes; ++k) {
       const adem_plane_def *pl = &w->planes[k].def;
+      if (w->planes[k].inactive) continue;
       double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -240,7 +268,7 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
                               (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
                               pl->name, -d);
     }
-  return ADEM_OK;
+  return check_initial_mesh(w, err);
 }
 
 /* Escape check box: the case's domain, or the initial extent of particles and wall points
@@ -259,6 +287,12 @@ static void default_domain(adem_world *w) {
     adem_vec3 x = w->planes[k].def.point;
     lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
     hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+  }
+  if (w->mesh.nverts > 0) { /* the meshes where they are now */
+    adem_vec3 mlo, mhi;
+    adem_mesh_bounds(&w->mesh, &mlo, &mhi);
+    lo = v3(fmin(lo.x, mlo.x), fmin(lo.y, mlo.y), fmin(lo.z, mlo.z));
+    hi = v3(fmax(hi.x, mhi.x), fmax(hi.y, mhi.y), fmax(hi.z, mhi.z));
   }
   double ext = fmax(fmax(hi.x - lo.x, hi.y - lo.y), fmax(hi.z - lo.z, 100.0 * rmax));
   w->domain_lo = v3(lo.x - ext, lo.y - ext, lo.z - ext);
@@ -380,6 +414,16 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
                             (unsigned long long)p->id[l->a[k]], other, name, l->overlap_ratio[k],
                             w->max_overlap_ratio, w->time, (unsigned long long)w->step);
     }
+  }
+  const adem_pair_list *lm = &w->pm.l;
+  for (size_t k = 0; k < lm->n; ++k) {
+    if (!(lm->overlap_ratio[k] > w->max_overlap_ratio)) continue;
+    return adem_error_set(err, ADEM_ERR_RUNTIME,
+                          "particle id %llu overlaps mesh group '%s' by %.3g of its radius (limit "
+                          "%.3g) at t = %.9g s (step %llu); the time step is probably too large",
+                          (unsigned long long)p->id[lm->a[k]],
+                          w->mesh.groups[w->mesh.group[w->pm.owner[k]]].name, lm->overlap_ratio[k],
+                          w->max_overlap_ratio, w->time, (unsigned long long)w->step);
   }
   return ADEM_OK;
 }

@@ -62,6 +62,7 @@ typedef struct adem_plane {
   adem_plane_def def;      /* point and unit normal where the plane is now */
   adem_vec3 point0, normal0; /* at time 0 */
   adem_motion motion;      /* prescribed motion (def.velocity makes a constant one) */
+  bool inactive;           /* switched off (walls[].active: false, or a stage): no contacts */
 } adem_plane;
 
 /* Contact history carried from step to step, keyed by the pair's stable ids. */
@@ -125,6 +126,14 @@ typedef struct adem_neighbors {
   double time_at_build;  /* moving walls use up the skin from then on */
 } adem_neighbors;
 
+/* One mesh wall: the groups one STL file made (several for an ASCII file with several solids),
+ * for its whole-file loads. */
+typedef struct adem_mesh_wall {
+  char name[ADEM_NAME_MAX]; /* the group's name, or the prefix of its groups' names */
+  int first, count;         /* its groups */
+  adem_vec3 ref0;           /* point its total torque is taken about, at time 0 */
+} adem_mesh_wall;
+
 /* Every field that changes while stepping must also be saved and restored in checkpoint.c
  * (tests/golden/test_restart.c fails otherwise). */
 struct adem_world {
@@ -157,7 +166,18 @@ struct adem_world {
   adem_vec3 *mesh_normal0;  /* triangle normals at time 0 */
   double wall_time;         /* time the walls are placed at (the time of the forces) */
   double *face_force;       /* 3 per triangle: force of the particles on it, last force pass */
+  uint8_t *mesh_inactive;   /* per group < mesh_inactive_n, 1: switched off (no contacts) */
+  int mesh_inactive_n;
+  double *face_torque;      /* 3 per triangle: its moment about its group's reference point */
+  adem_vec3 *mesh_ref0;     /* per group: the point its torque is taken about, at time 0 */
+  adem_vec3 *mesh_ref;      /* per group: that point where the group's motion has it now */
+  adem_mesh_wall *mesh_walls; /* one per STL file loaded */
+  int nmesh_walls;
   adem_mesh_pairs pm;
+
+  /* smallest radius per material of particles inserted while running (pours), INFINITY for
+   * none; NULL when nothing is poured. The step estimate counts them as present. */
+  double *insert_rmin;
 
   /* safety limits */
   double max_overlap_ratio;   /* stop when a contact overlaps more than this fraction */
@@ -197,6 +217,16 @@ void adem_mesh_pairs_free(adem_mesh_pairs *pm);
  * several solids), moving with velocity (non-zero needs tf->own_vertices). */
 adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
                                 const char *name, adem_vec3 velocity, adem_error *err);
+/* Point (at time 0) the torques of mesh wall `wall` (adem_world_add_mesh's order) and of each of
+ * its groups are taken about; by default each group's area centroid and the file's. */
+adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,
+                                             adem_error *err);
+/* Force and torque of the particles on each mesh group (ngroups entries each) and on each mesh
+ * wall (nmesh_walls entries; either pair of pointers may be NULL): sums of face_force and
+ * face_torque in face order, so the same for any thread count. Torques are about the reference
+ * points where the walls' motion has them now. */
+void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
+                           adem_vec3 *wall_force, adem_vec3 *wall_torque);
 /* Prescribed motion of a mesh group (loaded with own vertices) or of a plane. */
 adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
                                        adem_error *err);
@@ -206,6 +236,12 @@ adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_mot
 void adem_walls_free(adem_world *w);
 /* Puts planes and mesh groups where their motion has them at time t (walls.c). */
 void adem_world_place_walls(adem_world *w, double t);
+/* Switches a plane or a mesh group on or off (walls.c); the neighbour lists need a rebuild. */
+adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err);
+adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err);
+static inline bool adem_world_mesh_active(const adem_world *w, uint32_t group) {
+  return (int)group >= w->mesh_inactive_n || !w->mesh_inactive[group];
+}
 /* Largest distance a moving wall has travelled since the last neighbour build. */
 double adem_world_wall_shift(const adem_world *w);
 

@@ -19,15 +19,21 @@ typedef struct adem_output_settings {
   double csv_interval;        /* CSV time series rows */
   double checkpoint_interval; /* checkpoint rewrites */
   int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
+  int plot_loads;             /* 1: write a PNG of the wall loads against time at the end */
   /* output.track: particles whose rolling torque, angular velocity and distance from their
    * initial centre get CSV columns. */
   int ntrack;
   uint64_t track[ADEM_TRACK_MAX];         /* stable ids */
 } adem_output_settings;
 
+/* Particles poured while running (src/insert.h) and consecutive stages (src/stages.h). */
+typedef struct adem_pours adem_pours;
+typedef struct adem_stages adem_stages;
+
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
 typedef struct adem_case {
   char path[ADEM_PATH_MAX];   /* file it came from, for messages */
+  char base_dir[ADEM_PATH_MAX]; /* absolute folder that relative paths in it start from */
   char name[ADEM_NAME_MAX];
   char *source;               /* the YAML text as read (kept for checkpoints) */
   char **sets;                /* --set overrides applied on top of the text */
@@ -40,6 +46,8 @@ typedef struct adem_case {
   adem_step_estimate estimate;
   adem_output_settings output;
   uint64_t seed;
+  adem_pours *pours;          /* NULL: nothing is poured */
+  adem_stages *stages;        /* NULL: one stage, the case as written */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */
@@ -48,6 +56,11 @@ adem_status adem_case_load_file(const char *path, const char *const *sets, int n
 adem_status adem_case_load_string(const char *text, const char *name_for_messages,
                                   const char *const *sets, int nsets, adem_case **out,
                                   adem_error *err);
+/* As adem_case_load_string, with relative file paths of the case (mesh files) taken from
+ * base_dir (NULL: the folder of name_for_messages, or the working folder). */
+adem_status adem_case_load_string_at(const char *text, const char *name_for_messages,
+                                     const char *base_dir, const char *const *sets, int nsets,
+                                     adem_case **out, adem_error *err);
 void adem_case_free(adem_case *c);
 
 /* The case-file reference (every key, type, unit, default, range, doc) as Markdown. */

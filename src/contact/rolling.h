@@ -33,12 +33,12 @@ static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, ade
   return v3_axpy(m, -c_r, omega_rel);
 }
 
-/* DTK rolling velocity (Marshall 2009) with n from i to j: v_L = -R (omega_i - omega_j) x n
- * + 1/2 (r_j - r_i)/(r_i + r_j) v_S, v_S the slip velocity of i's surface relative to j's. For a
- * wall (r_j -> infinity) the factor of v_S is 1/2. */
-static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, double R,
-                                                  double size_factor, adem_vec3 v_slip) {
-  return v3_axpy(v3_scale(v3_cross(omega_rel, n), -R), 0.5 * size_factor, v_slip);
+/* DTK rolling velocity with n from i to j: v_L = -R (omega_i - omega_j) x n. Marshall (2009) adds
+ * 1/2 (r_j - r_i)/(r_i + r_j) v_S (v_S the slip velocity; 1/2 v_S on a wall); adem leaves it out
+ * because it lets the couple do positive work on a wall when the tangential spring is soft
+ * (docs/models.md). */
+static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, double R) {
+  return v3_scale(v3_cross(omega_rel, n), -R);
 }
 
 /* DTK torque (H18-H22): xi += v_L dt in the tangent plane, |xi| <= xi_crit, torque on i

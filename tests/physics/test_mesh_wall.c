@@ -179,10 +179,9 @@ static void test_moving_mesh_drags(void **state) {
   const double V = 0.2;
   assert_int_equal(adem_world_add_mesh(w, plate, &tf, "belt", v3(V, 0, 0), &err), ADEM_OK);
   double r = 0.005;
-  /* resting overlap: m g = (4/3) E sqrt(r) d^1.5 with E = 1e7 / (2 (1 - nu^2)) */
-  double m = test_sphere_mass(r, 2500.0), E = 1e7 / (1.0 - 0.25 * 0.25);
-  double d = pow(m * 9.81 / ((4.0 / 3.0) * E * sqrt(r)), 2.0 / 3.0);
-  test_particle(w, glass, v3(0, 0, r - d), v3_zero(), r);
+  /* just touching: a particle may not start inside a mesh face; it sinks by the resting overlap
+   * (about 2 um) with a bounce far too small to matter */
+  test_particle(w, glass, v3(0, 0, r), v3_zero(), r);
   adem_world_set_dt(w, 5e-6);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   assert_int_equal(adem_world_step(w, 40000, &err), ADEM_OK); /* 0.2 s; slip ends after ~0.02 s */

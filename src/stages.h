@@ -1,0 +1,107 @@
+/* Staged runs: consecutive stages, each with a duration and changes written as case-file paths
+ * (the --set syntax: `materials.ballast.friction: 0`). Stage k's configuration is the case loaded
+ * again with the changes of stages 0..k applied on top of it (so a value stays until a later
+ * stage changes it); the loader validates it like any case. At the step where a stage begins,
+ * what may change is carried into the running world: materials and interactions (the pair table
+ * is derived again), gravity, group forces, walls (on/off, material, position, motion), limits,
+ * the neighbour skin and the output intervals. Particles never change.
+ *
+ * A wall whose motion a stage changes starts the new motion where it is at the stage's start, and
+ * the motion's times count from there. A checkpoint records the stage in force; reading it loads
+ * the case (stage 0) and replays the stage starts up to that stage, so a resumed run continues
+ * bit for bit. */
+#ifndef ADEM_STAGES_H
+#define ADEM_STAGES_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "adem/adem.h"
+#include "motion.h"
+
+/* What a stage sets in the running world, taken from its configuration. */
+typedef struct adem_stage_wall {
+  adem_plane_def def;
+  adem_vec3 point0, normal0;
+  adem_motion motion;
+  bool inactive;
+} adem_stage_wall;
+
+typedef struct adem_stage_mesh {
+  adem_motion motion;
+  int material;
+  bool inactive;
+} adem_stage_mesh;
+
+typedef struct adem_stage_config {
+  adem_material_def *materials;
+  int nmaterials;
+  adem_interaction_def *interactions;
+  int ninteractions;
+  adem_vec3 *group_force;
+  int ngroups;
+  adem_vec3 gravity;
+  adem_stage_wall *planes;
+  int nplanes;
+  adem_stage_mesh *meshes;
+  int nmeshes;
+  double frame_interval, csv_interval, checkpoint_interval;
+  double max_overlap_ratio, skin_fraction;
+  double dt_proposed; /* the step the stage's materials propose (for a warning) */
+} adem_stage_config;
+
+typedef struct adem_stage {
+  char name[ADEM_NAME_MAX];
+  double duration;          /* s; < 0: until time.end (the last stage only) */
+  char where[640];          /* file:line:column of the stage, for messages */
+  char **sets;              /* "path=value" */
+  int nsets;
+  adem_stage_config config;
+} adem_stage;
+
+struct adem_stages {
+  int n;
+  int current;              /* stage in force */
+  adem_stage *s;
+  adem_stage_config base;   /* the case as written, before stage 0 */
+};
+
+/* ---- building (case.c) ---- */
+
+adem_status adem_stages_add(adem_stages **s, const char *name, double duration, const char *where,
+                            adem_error *err);
+/* Adds "path=value" to the last stage. */
+adem_status adem_stages_add_set(adem_stages *s, const char *set, adem_error *err);
+/* NULL if a stage may set the key path; otherwise why not (a static string). */
+const char *adem_stages_check_path(const char *path);
+/* After the case is loaded: loads each stage's configuration (errors name the stage), checks it
+ * changes only what may change, and puts stage 0 in force. */
+adem_status adem_stages_prepare(adem_case *c, adem_error *err);
+void adem_stages_free(adem_stages *s);
+
+/* Loads a case as adem_case_load_string does; with ADEM_CASE_LOAD_STAGE it is a stage's
+ * configuration: its own stages are read but not prepared, and nothing is logged. (case.c) */
+enum { ADEM_CASE_LOAD_STAGE = 1 };
+adem_status adem_case_load_string_flags(const char *text, const char *name_for_messages,
+                                        const char *base_dir, const char *const *sets, int nsets,
+                                        unsigned flags, adem_case **out, adem_error *err);
+
+/* ---- running (run.c, checkpoint.c) ---- */
+
+/* Step at which stage k begins: round(sum of the earlier durations / dt). */
+uint64_t adem_stages_start_step(const adem_case *c, int k);
+/* Smallest step > step at which a stage begins or a pour batch is due (UINT64_MAX: none). */
+uint64_t adem_stages_next_step(const adem_case *c, uint64_t step);
+/* Everything due at the world's current step: the start of a stage, then pour batches. */
+adem_status adem_stages_events(adem_case *c, adem_error *err);
+/* True when some stage (or the case) writes that output: 0 frames, 1 CSV rows, 2 checkpoints. */
+bool adem_stages_output_on(const adem_case *c, int which);
+/* Frames written from step 0 through `step` (the frame at step 0 included), with each stage's
+ * frame interval. */
+uint64_t adem_stages_frames_done(const adem_case *c, uint64_t step);
+int adem_stages_current(const adem_case *c);
+/* Puts stage `current` in force in a case just read from a checkpoint (no rebuild, no energy
+ * change: the checkpoint holds that state). */
+adem_status adem_stages_resume(adem_case *c, int current, adem_error *err);
+
+#endif

@@ -1,0 +1,301 @@
+/* Mesh walls in case files, bad input through the adem command: every mistake exits 2 and the
+ * message names the case file's line and column and, for a bad STL, the STL file and the line
+ * (ASCII) or byte offset (binary) where it goes wrong. A valid mesh case runs, writes mesh frames
+ * and resumes from another working folder. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include <ctype.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static char tmpdir[256];
+
+/* A valid case: one sphere in the unit cube of tests/data scaled to 0.1 m, a lid that moves. */
+static const char *const base_case =
+    "name: meshcli\n"
+    "materials:\n"
+    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}\n"
+    "  - {name: steel, rigid: true}\n"
+    "particles:\n"
+    "  - type: list\n"
+    "    material: glass\n"
+    "    spheres:\n"
+    "      - {position: [0.05, 0.05, 0.05], radius: 0.005}\n"
+    "walls:\n"
+    "  - type: mesh\n"
+    "    name: box\n"
+    "    material: steel\n"
+    "    file: meshes/cube.stl\n"
+    "    scale: 0.1\n"
+    "  - type: mesh\n"
+    "    name: lid\n"
+    "    material: steel\n"
+    "    file: meshes/cube.stl\n"
+    "    scale: 0.02\n"
+    "    translate: [0.04, 0.04, 0.08]\n"
+    "    motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}\n"
+    "time:\n"
+    "  end: 0.004\n"
+    "output:\n"
+    "  frame_interval: 0.001\n"
+    "  csv_interval: 0.0005\n"
+    "  checkpoint_interval: 0.001\n";
+
+static char *replaced(const char *text, const char *from, const char *to) {
+  const char *at = strstr(text, from);
+  assert_non_null(at);
+  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
+  char *s = malloc(n);
+  assert_non_null(s);
+  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+  return s;
+}
+
+static char *path_in_tmp(const char *name) {
+  size_t n = strlen(tmpdir) + strlen(name) + 2;
+  char *p = malloc(n);
+  assert_non_null(p);
+  snprintf(p, n, "%s/%s", tmpdir, name);
+  return p;
+}
+
+static char *write_file(const char *name, const void *data, size_t n) {
+  char *p = path_in_tmp(name);
+  FILE *f = fopen(p, "wb");
+  assert_non_null(f);
+  assert_int_equal(fwrite(data, 1, n, f), n);
+  fclose(f);
+  return p;
+}
+
+static char *write_case(const char *name, const char *text) {
+  return write_file(name, text, strlen(text));
+}
+
+static int adem(char **out, const char *fmt, ...) {
+  char args[4096], cmd[8192];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(args, sizeof args, fmt, ap);
+  va_end(ap);
+  char *log = path_in_tmp("output.txt");
+  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
+  int status = system(cmd);
+  assert_true(status != -1 && WIFEXITED(status));
+  FILE *f = fopen(log, "r");
+  assert_non_null(f);
+  static char buf[1 << 16];
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  buf[n] = '\0';
+  fclose(f);
+  free(log);
+  *out = buf;
+  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
+  return WEXITSTATUS(status);
+}
+
+static int mentions(const char *text, const char *word) {
+  size_t n = strlen(word);
+  for (const char *s = text; *s; ++s) {
+    size_t k = 0;
+    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
+    if (k == n) return 1;
+  }
+  return 0;
+}
+
+#define assert_mentions(text, word)                                     \
+  do {                                                                  \
+    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text); \
+  } while (0)
+
+static void copy_data(const char *from, const char *to) {
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cp '%s/tests/data/%s' '%s/meshes/%s'", ADEM_SOURCE_DIR, from, tmpdir, to);
+  assert_int_equal(system(cmd), 0);
+}
+
+static int setup(void **state) {
+  (void)state;
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_meshcli_XXXXXX");
+  if (!mkdtemp(tmpdir)) return -1;
+  char *d = path_in_tmp("meshes");
+  int r = mkdir(d, 0777);
+  free(d);
+  if (r) return -1;
+  copy_data("cube_ascii.stl", "cube.stl");
+  copy_data("bad_endloop.stl", "bad_endloop.stl");
+  copy_data("nan_vertex.stl", "nan_vertex.stl");
+  copy_data("two_solids.stl", "two_solids.stl");
+  return 0;
+}
+
+static int teardown(void **state) {
+  (void)state;
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  return system(cmd) == 0 ? 0 : -1;
+}
+
+/* `adem check` and `adem run` on the case text must exit 2 and mention every word given. */
+static void expect_bad(const char *text, const char *const *words) {
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 2);
+  for (const char *const *w = words; *w; ++w) assert_mentions(out, *w);
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_bad'", path, tmpdir), 2);
+  for (const char *const *w = words; *w; ++w) assert_mentions(out, *w);
+  free(path);
+}
+
+/* Claim: the valid mesh case checks, runs (mesh frames and mesh.pvd beside the particle ones,
+ * box and lid columns in the CSV) and resumes from its checkpoint when run from another working
+ * folder: the checkpoint finds meshes/cube.stl through the case's absolute folder. */
+static void test_valid_mesh_case(void **state) {
+  (void)state;
+  char *path = write_case("ok.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "24 triangles in 2 groups: box, lid");
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_ok'", path, tmpdir), 0);
+  const char *files[] = {"out_ok/frames/mesh_000004.vtu", "out_ok/mesh.pvd",
+                         "out_ok/frames/particles_000004.vtu"};
+  for (int k = 0; k < 3; ++k) {
+    char *f = path_in_tmp(files[k]);
+    struct stat st;
+    if (stat(f, &st) != 0 || st.st_size == 0) fail_msg("%s is missing", f);
+    free(f);
+  }
+  char *csv = path_in_tmp("out_ok/timeseries.csv");
+  FILE *f = fopen(csv, "r");
+  assert_non_null(f);
+  char header[4096];
+  assert_non_null(fgets(header, sizeof header, f));
+  fclose(f);
+  free(csv);
+  assert_mentions(header, "box_fz_N,box_tx_Nm");
+  assert_mentions(header, "lid_fx_N");
+  /* resuming loads the case again with its meshes, here from the working folder / */
+  char cmd[1024];
+  snprintf(cmd, sizeof cmd, "cd / && '%s' run --quiet --resume '%s/out_ok/checkpoint' > /dev/null 2>&1",
+           ADEM_BINARY, tmpdir);
+  int status = system(cmd);
+  assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  free(path);
+}
+
+/* Claim: a malformed ASCII STL (a facet without `endloop`) is refused naming the case file's
+ * line:column of `file`, the key, the STL file and its line. */
+static void test_bad_ascii_stl(void **state) {
+  (void)state;
+  char *text = replaced(base_case, "file: meshes/cube.stl", "file: meshes/bad_endloop.stl");
+  const char *words[] = {"bad.yaml:14:11", "walls[0].file", "bad_endloop.stl:14", "endloop", NULL};
+  expect_bad(text, words);
+  free(text);
+  text = replaced(base_case, "file: meshes/cube.stl", "file: meshes/nan_vertex.stl");
+  const char *nan_words[] = {"bad.yaml:14:11", "nan_vertex.stl:", "non-finite", NULL};
+  expect_bad(text, nan_words);
+  free(text);
+}
+
+/* Claim: a binary STL cut short, or with a NaN coordinate, is refused naming the case file's
+ * line:column, the STL file and the byte offset. */
+static void test_bad_binary_stl(void **state) {
+  (void)state;
+  unsigned char data[84 + 2 * 50];
+  memset(data, 0, sizeof data);
+  uint32_t n = 2;
+  memcpy(data + 80, &n, 4);
+  float tri[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0};
+  for (int t = 0; t < 2; ++t) memcpy(data + 84 + 50 * t, tri, sizeof tri);
+  /* 1.5 triangles of the 2 announced */
+  char *p = write_file("meshes/cut.stl", data, 84 + 75);
+  free(p);
+  char *text = replaced(base_case, "file: meshes/cube.stl", "file: meshes/cut.stl");
+  const char *words[] = {"bad.yaml:14:11", "cut.stl", "byte", "134", NULL};
+  expect_bad(text, words);
+  free(text);
+  float nan = NAN;
+  memcpy(data + 84 + 50 + 12 + 4, &nan, 4); /* triangle 1, vertex 0, y at byte 150 */
+  p = write_file("meshes/nan.stl", data, sizeof data);
+  free(p);
+  text = replaced(base_case, "file: meshes/cube.stl", "file: meshes/nan.stl");
+  const char *nan_words[] = {"bad.yaml:14:11", "nan.stl", "byte offset 150", "non-finite", NULL};
+  expect_bad(text, nan_words);
+  free(text);
+}
+
+/* Claim: a group name used twice is refused: two walls given the same name (at the second
+ * name's line), and a file whose solids make group names another file already has (at the
+ * second `file`, naming the solid's line). */
+static void test_group_name_twice(void **state) {
+  (void)state;
+  char *text = replaced(base_case, "name: lid", "name: box");
+  const char *words[] = {"bad.yaml:17:11", "duplicate wall name `box`", NULL};
+  expect_bad(text, words);
+  free(text);
+  char *t1 = replaced(base_case, "    name: box\n    material: steel\n    file: meshes/cube.stl\n",
+                      "    material: steel\n    file: meshes/two_solids.stl\n");
+  char *t2 = replaced(t1, "    name: lid\n    material: steel\n    file: meshes/cube.stl\n",
+                      "    material: steel\n    file: meshes/two_solids.stl\n");
+  const char *solid_words[] = {"bad.yaml:17:11", "two_solids.stl:1", "two_solids.floor",
+                               "already used", NULL};
+  expect_bad(t2, solid_words);
+  free(t1);
+  free(t2);
+}
+
+/* Claim: a motion table whose times do not increase is refused at the offending row; a moving
+ * mesh without its own vertices and a plane with both `velocity` and `motion` are refused too. */
+static void test_bad_motion(void **state) {
+  (void)state;
+  char *text = replaced(base_case, "[[0, 0, 0, 0], [0.002, 0, 0, -1]]",
+                        "[[0, 0, 0, 0], [0.002, 0, 0, -1], [0.001, 0, 0, 0]]");
+  const char *words[] = {"bad.yaml:22:", "walls[1].motion.table[2]", "not ordered in time",
+                         "0.001", NULL};
+  expect_bad(text, words);
+  free(text);
+  text = replaced(base_case, "    motion:", "    own_vertices: false\n    motion:");
+  const char *own_words[] = {"bad.yaml:22:", "own_vertices: true", NULL};
+  expect_bad(text, own_words);
+  free(text);
+  text = replaced(base_case, "time:\n",
+                  "  - {type: plane, name: floor, material: steel, point: [0, 0, -1],\n"
+                  "     normal: [0, 0, 1], velocity: [0, 0, 1], motion: {velocity: [1, 0, 0]}}\n"
+                  "time:\n");
+  const char *plane_words[] = {"bad.yaml:24:54", "either `velocity` or `motion`", NULL};
+  expect_bad(text, plane_words);
+  free(text);
+}
+
+/* Claim: a sphere that starts cutting into a mesh face is refused when the run starts, naming
+ * the particle and the group. */
+static void test_particle_in_mesh(void **state) {
+  (void)state;
+  char *text = replaced(base_case, "position: [0.05, 0.05, 0.05]", "position: [0.05, 0.05, 0.003]");
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_bad'", path, tmpdir), 2);
+  assert_mentions(out, "particle id 0");
+  assert_mentions(out, "mesh group 'box'");
+  free(path);
+  free(text);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_valid_mesh_case),  cmocka_unit_test(test_bad_ascii_stl),
+      cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
+      cmocka_unit_test(test_bad_motion),       cmocka_unit_test(test_particle_in_mesh),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
