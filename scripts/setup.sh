@@ -26,8 +26,8 @@ cmake --build build -j"$jobs"
 
 case "$what" in
   demo)
-    ./build/adem run cases/pour.yaml --out out/pour
-    echo "adem setup: frames in out/pour/particles.pvd (open in ParaView), plot in out/pour/energy.png"
+    ./build/adem run cases/hopper.yaml --out out/hopper
+    echo "adem setup: frames in out/hopper/particles.pvd and out/hopper/mesh.pvd (open in ParaView), plot in out/hopper/loads.png"
     ;;
   test)
     ctest --test-dir build --output-on-failure -j"$jobs"

@@ -1239,16 +1239,31 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   return ADEM_OK;
 }
 
-/* A wall name may not be both a plane's and a mesh group's: the CSV columns would clash. */
+/* Planes, mesh groups and files of several groups each get CSV columns under their name: no
+ * name may be two of them. */
 static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
   const adem_world *w = ctx->w;
-  for (int g = 0; g < w->mesh.ngroups; ++g)
+  int ng = w->mesh.ngroups, nw = w->nmesh_walls;
+  for (int a = 0; a < ng + nw; ++a) {
+    const char *an = a < ng ? w->mesh.groups[a].name : w->mesh_walls[a - ng].name;
+    if (a >= ng && w->mesh_walls[a - ng].count < 2) continue;
     for (int k = 0; k < w->nplanes; ++k)
-      if (!strcmp(w->mesh.groups[g].name, w->planes[k].def.name))
+      if (!strcmp(an, w->planes[k].def.name))
         return fail(ctx, m->node, m->path,
-                    "the name `%s` is used by a plane and by a mesh group; give one of them "
+                    "the name `%s` is used by a plane and by a mesh; give one of them another "
+                    "`name`",
+                    an);
+    for (int b = ng; b < a; ++b)
+      if (w->mesh_walls[b - ng].count >= 2 && !strcmp(an, w->mesh_walls[b - ng].name))
+        return fail(ctx, m->node, m->path,
+                    "the name `%s` is used by two meshes; give one of them another `name`", an);
+    for (int g = 0; a >= ng && g < ng; ++g)
+      if (!strcmp(an, w->mesh.groups[g].name))
+        return fail(ctx, m->node, m->path,
+                    "the name `%s` is used by a mesh file and by a mesh group; give one of them "
                     "another `name`",
-                    w->planes[k].def.name);
+                    an);
+  }
   return ADEM_OK;
 }
 

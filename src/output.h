@@ -67,7 +67,8 @@ typedef struct adem_output {
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
                              double t_resume, const adem_output_track *track, adem_error *err);
-/* Writes frames/particles_NNNNNN.vtu and rewrites the PVD. */
+/* Writes frames/particles_NNNNNN.vtu and rewrites the PVD; with mesh walls also
+ * frames/mesh_NNNNNN.vtu (face force and pressure) and mesh.pvd, the same times. */
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);
 /* Appends one CSV row with a single write. */
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err);

@@ -306,6 +306,10 @@ void adem_walls_free(adem_world *w) {
   free(w->mesh_ref0);
   free(w->mesh_ref);
   free(w->mesh_walls);
+  w->face_torque = NULL;
+  w->mesh_ref0 = w->mesh_ref = NULL;
+  w->mesh_walls = NULL;
+  w->nmesh_walls = 0;
   w->planes = NULL;
   w->mesh_motion = NULL;
   w->nplanes = 0;

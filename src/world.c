@@ -28,8 +28,8 @@ void adem_world_free(adem_world *w) {
   adem_pair_list_free(&w->pp);
   adem_pair_list_free(&w->pw);
   adem_mesh_pairs_free(&w->pm);
+  adem_walls_free(w); /* the mesh's group count says how many motions to free */
   adem_mesh_free(&w->mesh);
-  adem_walls_free(w);
   free(w->face_force);
   free(w->mesh_inactive);
   free(w->insert_rmin);
