@@ -7,97 +7,13 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include <ctype.h>
 #include <math.h>
-#include <stdlib.h>
-#include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-static char tmpdir[256];
-
-static char *path_in_tmp(const char *name) {
-  size_t n = strlen(tmpdir) + strlen(name) + 2;
-  char *p = malloc(n);
-  assert_non_null(p);
-  snprintf(p, n, "%s/%s", tmpdir, name);
-  return p;
-}
-
-/* Runs `adem ARGS` with stdout and stderr captured; returns the exit status, *out the text. */
-static int adem(char **out, const char *fmt, ...) {
-  char args[4096], cmd[8192];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(args, sizeof args, fmt, ap);
-  va_end(ap);
-  char *log = path_in_tmp("output.txt");
-  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
-  int status = system(cmd);
-  assert_true(status != -1 && WIFEXITED(status));
-  FILE *f = fopen(log, "r");
-  assert_non_null(f);
-  static char buf[1 << 17];
-  size_t n = fread(buf, 1, sizeof buf - 1, f);
-  buf[n] = '\0';
-  fclose(f);
-  free(log);
-  *out = buf;
-  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
-  return WEXITSTATUS(status);
-}
-
-static int mentions(const char *text, const char *word) {
-  size_t n = strlen(word);
-  for (const char *s = text; *s; ++s) {
-    size_t k = 0;
-    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
-    if (k == n) return 1;
-  }
-  return 0;
-}
-
-#define assert_mentions(text, word)                                     \
-  do {                                                                  \
-    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text); \
-  } while (0)
+#include "cli_run.h"
 
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_dtk_cli_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
-}
-
-/* Cell `name` of CSV row `row` (1 = first data row), as text. */
-static const char *csv_cell(const char *path, int row, const char *name) {
-  FILE *f = fopen(path, "r");
-  assert_non_null(f);
-  static char line[1 << 14], cell[256];
-  int col = -1;
-  assert_non_null(fgets(line, sizeof line, f));
-  int k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
-    if (!strcmp(tok, name)) col = k;
-  if (col < 0) fail_msg("no column %s in %s", name, path);
-  for (int r = 1; r <= row; ++r) assert_non_null(fgets(line, sizeof line, f));
-  fclose(f);
-  cell[0] = '\0';
-  k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
-    if (k == col) snprintf(cell, sizeof cell, "%s", tok);
-  return cell;
-}
-
-static double csv_value(const char *path, int row, const char *name) {
-  return strtod(csv_cell(path, row, name), NULL);
+  return tmpdir_make("adem_dtk_cli");
 }
 
 /* Claim: `adem collide --at-rest --dtk` classifies a resting PSL sphere pushed along quartz with
@@ -182,8 +98,7 @@ static void test_validate_quick(void **state) {
     char rel[128];
     snprintf(rel, sizeof rel, "v/%s.csv", names[k]);
     char *p = path_in_tmp(rel);
-    struct stat st;
-    assert_true(stat(p, &st) == 0 && st.st_size > 0);
+    assert_true(file_exists(p));
     free(p);
   }
 }
@@ -195,5 +110,5 @@ int main(void) {
       cmocka_unit_test(test_bad_options),
       cmocka_unit_test(test_validate_quick),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

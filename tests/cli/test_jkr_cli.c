@@ -7,15 +7,9 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include <ctype.h>
 #include <math.h>
-#include <stdlib.h>
-#include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-static char tmpdir[256];
+#include "cli_run.h"
 
 /* PSL spheres pulled away from a quartz floor; stiffness reduced 100 times. Line numbers below
  * refer to this text. */
@@ -58,87 +52,9 @@ static const char *const jkr_case =
     "time:\n"
     "  end: 1e-6\n";
 
-static char *replaced(const char *text, const char *from, const char *to) {
-  const char *at = strstr(text, from);
-  assert_non_null(at);
-  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-  char *s = malloc(n);
-  assert_non_null(s);
-  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
-  return s;
-}
-
-static char *path_in_tmp(const char *name) {
-  size_t n = strlen(tmpdir) + strlen(name) + 2;
-  char *p = malloc(n);
-  assert_non_null(p);
-  snprintf(p, n, "%s/%s", tmpdir, name);
-  return p;
-}
-
-static char *write_case(const char *name, const char *text) {
-  char *p = path_in_tmp(name);
-  FILE *f = fopen(p, "w");
-  assert_non_null(f);
-  fputs(text, f);
-  fclose(f);
-  return p;
-}
-
-/* Runs `adem ARGS` with stdout and stderr captured; returns the exit status, *out the text. */
-static int adem(char **out, const char *fmt, ...) {
-  char args[4096], cmd[8192];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(args, sizeof args, fmt, ap);
-  va_end(ap);
-  char *log = path_in_tmp("output.txt");
-  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
-  int status = system(cmd);
-  assert_true(status != -1 && WIFEXITED(status));
-  FILE *f = fopen(log, "r");
-  assert_non_null(f);
-  static char buf[1 << 17];
-  size_t n = fread(buf, 1, sizeof buf - 1, f);
-  buf[n] = '\0';
-  fclose(f);
-  free(log);
-  *out = buf;
-  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
-  return WEXITSTATUS(status);
-}
-
-static int mentions(const char *text, const char *word) {
-  size_t n = strlen(word);
-  for (const char *s = text; *s; ++s) {
-    size_t k = 0;
-    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
-    if (k == n) return 1;
-  }
-  return 0;
-}
-
-#define assert_mentions(text, word)                                     \
-  do {                                                                  \
-    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text); \
-  } while (0)
-
-static int file_exists(const char *path) {
-  struct stat st;
-  return stat(path, &st) == 0 && st.st_size > 0;
-}
-
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_jkr_cli_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_jkr_cli");
 }
 
 /* `adem check` on jkr_case with one replacement exits 2 and names each word. */
@@ -222,26 +138,6 @@ static void test_check_prints_jkr(void **state) {
   free(path);
 }
 
-/* Column `name` of CSV row `row` (1 = first data row) as a number. */
-static double csv_value(const char *path, int row, const char *name) {
-  FILE *f = fopen(path, "r");
-  assert_non_null(f);
-  static char line[1 << 14];
-  int col = -1;
-  assert_non_null(fgets(line, sizeof line, f));
-  int k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
-    if (!strcmp(tok, name)) col = k;
-  assert_true(col >= 0);
-  double v = NAN;
-  for (int r = 1; r <= row; ++r) assert_non_null(fgets(line, sizeof line, f));
-  k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
-    if (k == col) v = strtod(tok, NULL);
-  fclose(f);
-  return v;
-}
-
 /* Claim: `adem collide` runs the product of its lists in order, writes one CSV row each, gives
  * the same e_eff for f = 1 and 0.1 (H24), sticks below the capture speed, and refuses bad
  * values. */
@@ -322,5 +218,5 @@ int main(void) {
       cmocka_unit_test(test_collide_command),
       cmocka_unit_test(test_validate_fig5_quick),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -8,16 +8,10 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include <ctype.h>
 #include <math.h>
 #include <stdint.h>
-#include <stdlib.h>
-#include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-static char tmpdir[256];
+#include "cli_run.h"
 
 /* A valid case: one sphere in the unit cube of tests/data scaled to 0.1 m, a lid that moves. */
 static const char *const base_case =
@@ -50,74 +44,6 @@ static const char *const base_case =
     "  csv_interval: 0.0005\n"
     "  checkpoint_interval: 0.001\n";
 
-static char *replaced(const char *text, const char *from, const char *to) {
-  const char *at = strstr(text, from);
-  assert_non_null(at);
-  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-  char *s = malloc(n);
-  assert_non_null(s);
-  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
-  return s;
-}
-
-static char *path_in_tmp(const char *name) {
-  size_t n = strlen(tmpdir) + strlen(name) + 2;
-  char *p = malloc(n);
-  assert_non_null(p);
-  snprintf(p, n, "%s/%s", tmpdir, name);
-  return p;
-}
-
-static char *write_file(const char *name, const void *data, size_t n) {
-  char *p = path_in_tmp(name);
-  FILE *f = fopen(p, "wb");
-  assert_non_null(f);
-  assert_int_equal(fwrite(data, 1, n, f), n);
-  fclose(f);
-  return p;
-}
-
-static char *write_case(const char *name, const char *text) {
-  return write_file(name, text, strlen(text));
-}
-
-static int adem(char **out, const char *fmt, ...) {
-  char args[4096], cmd[8192];
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(args, sizeof args, fmt, ap);
-  va_end(ap);
-  char *log = path_in_tmp("output.txt");
-  snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
-  int status = system(cmd);
-  assert_true(status != -1 && WIFEXITED(status));
-  FILE *f = fopen(log, "r");
-  assert_non_null(f);
-  static char buf[1 << 16];
-  size_t n = fread(buf, 1, sizeof buf - 1, f);
-  buf[n] = '\0';
-  fclose(f);
-  free(log);
-  *out = buf;
-  printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
-  return WEXITSTATUS(status);
-}
-
-static int mentions(const char *text, const char *word) {
-  size_t n = strlen(word);
-  for (const char *s = text; *s; ++s) {
-    size_t k = 0;
-    while (k < n && s[k] && tolower((unsigned char)s[k]) == tolower((unsigned char)word[k])) ++k;
-    if (k == n) return 1;
-  }
-  return 0;
-}
-
-#define assert_mentions(text, word)                                     \
-  do {                                                                  \
-    if (!mentions(text, word)) fail_msg("'%s' not in: %s", word, text); \
-  } while (0)
-
 static void copy_data(const char *from, const char *to) {
   char cmd[1024];
   snprintf(cmd, sizeof cmd, "cp '%s/tests/data/%s' '%s/meshes/%s'", ADEM_SOURCE_DIR, from, tmpdir, to);
@@ -126,8 +52,7 @@ static void copy_data(const char *from, const char *to) {
 
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_meshcli_XXXXXX");
-  if (!mkdtemp(tmpdir)) return -1;
+  if (tmpdir_make("adem_meshcli")) return -1;
   char *d = path_in_tmp("meshes");
   int r = mkdir(d, 0777);
   free(d);
@@ -137,13 +62,6 @@ static int setup(void **state) {
   copy_data("nan_vertex.stl", "nan_vertex.stl");
   copy_data("two_solids.stl", "two_solids.stl");
   return 0;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
 }
 
 /* `adem check` and `adem run` on the case text must exit 2 and mention every word given. */
@@ -171,8 +89,7 @@ static void test_valid_mesh_case(void **state) {
                          "out_ok/frames/particles_000004.vtu"};
   for (int k = 0; k < 3; ++k) {
     char *f = path_in_tmp(files[k]);
-    struct stat st;
-    if (stat(f, &st) != 0 || st.st_size == 0) fail_msg("%s is missing", f);
+    if (!file_exists(f)) fail_msg("%s is missing", f);
     free(f);
   }
   char *csv = path_in_tmp("out_ok/timeseries.csv");
@@ -297,5 +214,5 @@ int main(void) {
       cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
       cmocka_unit_test(test_bad_motion),       cmocka_unit_test(test_particle_in_mesh),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -11,15 +11,15 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
-#include "fileio.h"
 #include "golden/settle_case.h"
+#include "plate_stl.h"
+#include "restart_run.h"
 
 #define MESH_STEPS 3000
 
-static char tmpdir[256], case_path[512], cwd[4096];
+static char case_path[512], cwd[4096];
 
 static const char *const mesh_case =
     "name: meshsettle\n"
@@ -54,37 +54,17 @@ static const char *const mesh_case =
     "  csv_interval: 0.00035\n"
     "  checkpoint_interval: 0\n";
 
-/* A 0.012 m plate of 3 x 3 squares centred on the origin at z = 0. */
-static void write_plate(const char *path) {
-  FILE *f = fopen(path, "w");
-  assert_non_null(f);
-  fprintf(f, "solid plate\n");
-  double h = 0.004, o = -0.006;
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 3; ++i) {
-      double x0 = o + i * h, x1 = x0 + h, y0 = o + j * h, y1 = y0 + h;
-      double t[2][9] = {{x0, y0, 0, x1, y0, 0, x1, y1, 0}, {x0, y0, 0, x1, y1, 0, x0, y1, 0}};
-      for (int k = 0; k < 2; ++k)
-        fprintf(f, "facet normal 0 0 1\nouter loop\nvertex %.17g %.17g %.17g\nvertex %.17g %.17g "
-                   "%.17g\nvertex %.17g %.17g %.17g\nendloop\nendfacet\n",
-                t[k][0], t[k][1], t[k][2], t[k][3], t[k][4], t[k][5], t[k][6], t[k][7], t[k][8]);
-    }
-  fprintf(f, "endsolid plate\n");
-  fclose(f);
-}
-
 static int setup(void **state) {
   (void)state;
   if (!getcwd(cwd, sizeof cwd)) return -1;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_meshrestart_XXXXXX");
-  if (!mkdtemp(tmpdir)) return -1;
+  if (tmpdir_make("adem_meshrestart")) return -1;
   char dir[300], cmd[1400];
   snprintf(dir, sizeof dir, "%s/case/meshes", tmpdir);
   snprintf(cmd, sizeof cmd, "mkdir -p '%s' && cp '%s/tests/data/cube_ascii.stl' '%s/cube.stl'", dir,
            ADEM_SOURCE_DIR, dir);
   if (system(cmd) != 0) return -1;
   snprintf(cmd, sizeof cmd, "%s/plate.stl", dir);
-  write_plate(cmd);
+  write_plate(cmd, 3, 0.004); /* a 0.012 m plate of 3 x 3 squares */
   snprintf(case_path, sizeof case_path, "%s/case/mesh.yaml", tmpdir);
   FILE *f = fopen(case_path, "w");
   if (!f) return -1;
@@ -95,10 +75,8 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
   (void)state;
-  char cmd[512];
   if (chdir(cwd) != 0) return -1;
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_remove();
 }
 
 /* The case loaded from its file (relative mesh paths), output into tmpdir/subdir. */
@@ -148,20 +126,6 @@ static void mesh_activity(const adem_world *w, size_t *loaded, size_t *on_plate)
   }
 }
 
-static void assert_same_file(const char *dir_a, const char *dir_b, const char *name) {
-  char pa[512], pb[512];
-  snprintf(pa, sizeof pa, "%s/%s/%s", tmpdir, dir_a, name);
-  snprintf(pb, sizeof pb, "%s/%s/%s", tmpdir, dir_b, name);
-  char *a, *b;
-  size_t na, nb;
-  adem_error err;
-  if (adem_fileio_read_all(pa, &a, &na, &err)) fail_msg("%s", err.message);
-  if (adem_fileio_read_all(pb, &b, &nb, &err)) fail_msg("%s", err.message);
-  if (na != nb || memcmp(a, b, na) != 0) fail_msg("%s differs after the restart", name);
-  free(a);
-  free(b);
-}
-
 /* Stop halfway, checkpoint, read it back from another working folder, go on. */
 static void test_restart_halfway(void **state) {
   (void)state;
@@ -208,27 +172,15 @@ static void test_run_interrupted_everywhere(void **state) {
   adem_case *a = load_mesh_case("run_a");
   adem_run_options opt = adem_default_run_options();
   if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
-  volatile sig_atomic_t stop = 1;
-  opt.stop_flag = &stop;
   adem_case *b = load_mesh_case("run_b");
-  char ckpt[512];
-  snprintf(ckpt, sizeof ckpt, "%s/run_b/checkpoint", tmpdir);
   int stops = 0;
-  for (;;) {
-    adem_status st = adem_run(b, &opt, &err);
-    if (st == ADEM_OK) break;
-    if (st != ADEM_INTERRUPTED) fail_msg("%s", err.message);
-    ++stops;
-    adem_case_free(b);
-    b = NULL;
-    if (adem_checkpoint_read(ckpt, &b, &err)) fail_msg("%s", err.message);
-  }
+  b = run_stopped_everywhere(b, opt, &stops);
   printf("# stopped and resumed %d times\n", stops);
   assert_true(stops >= 20);
   assert_same(a->world, b->world);
   const char *files[] = {"timeseries.csv", "particles.pvd", "mesh.pvd", "frames/mesh_000002.vtu",
-                         "frames/mesh_000004.vtu", "frames/particles_000004.vtu"};
-  for (int k = 0; k < 6; ++k) assert_same_file("run_a", "run_b", files[k]);
+                         "frames/mesh_000004.vtu", "frames/particles_000004.vtu", NULL};
+  assert_same_files("run_a", "run_b", files, "the restart");
   adem_case_free(a);
   adem_case_free(b);
 }

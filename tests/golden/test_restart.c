@@ -7,26 +7,12 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include <stdlib.h>
-#include <string.h>
-#include <unistd.h>
-
-#include "fileio.h"
 #include "golden/settle_case.h"
-
-static char tmpdir[256];
+#include "restart_run.h"
 
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_restart_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_restart");
 }
 
 static adem_case *load_settle(const char *subdir) {
@@ -41,20 +27,6 @@ static adem_case *load_settle(const char *subdir) {
 static void assert_same(const adem_world *a, const adem_world *b) {
   const char *what = "";
   if (!settle_same_state(a, b, &what)) fail_msg("restarted run differs in %s", what);
-}
-
-static void assert_same_file(const char *dir_a, const char *dir_b, const char *name) {
-  char pa[512], pb[512];
-  snprintf(pa, sizeof pa, "%s/%s/%s", tmpdir, dir_a, name);
-  snprintf(pb, sizeof pb, "%s/%s/%s", tmpdir, dir_b, name);
-  char *a, *b;
-  size_t na, nb;
-  adem_error err;
-  if (adem_fileio_read_all(pa, &a, &na, &err)) fail_msg("%s", err.message);
-  if (adem_fileio_read_all(pb, &b, &nb, &err)) fail_msg("%s", err.message);
-  if (na != nb || memcmp(a, b, na) != 0) fail_msg("%s differs after the restart", name);
-  free(a);
-  free(b);
 }
 
 /* Stop halfway through world stepping, write a checkpoint, read it into a new case, go on. */
@@ -101,27 +73,14 @@ static void test_run_interrupted_everywhere(void **state) {
   if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
   assert_int_equal(a->world->step, SETTLE_STEPS);
 
-  volatile sig_atomic_t stop = 1;
-  opt.stop_flag = &stop;
   adem_case *b = load_settle("run_b");
-  char ckpt[512];
-  snprintf(ckpt, sizeof ckpt, "%s/run_b/checkpoint", tmpdir);
   int stops = 0;
-  for (;;) {
-    adem_status st = adem_run(b, &opt, &err);
-    if (st == ADEM_OK) break;
-    if (st != ADEM_INTERRUPTED) fail_msg("%s", err.message);
-    ++stops;
-    adem_case_free(b);
-    b = NULL;
-    if (adem_checkpoint_read(ckpt, &b, &err)) fail_msg("%s", err.message);
-  }
+  b = run_stopped_everywhere(b, opt, &stops);
   printf("# stopped and resumed %d times\n", stops);
   assert_true(stops >= 20);
   assert_same(a->world, b->world);
-  assert_same_file("run_a", "run_b", "timeseries.csv");
-  assert_same_file("run_a", "run_b", "particles.pvd");
-  assert_same_file("run_a", "run_b", "frames/particles_000004.vtu");
+  const char *files[] = {"timeseries.csv", "particles.pvd", "frames/particles_000004.vtu", NULL};
+  assert_same_files("run_a", "run_b", files, "the restart");
   adem_case_free(a);
   adem_case_free(b);
 }
@@ -131,5 +90,5 @@ int main(void) {
       cmocka_unit_test(test_restart_halfway),
       cmocka_unit_test(test_run_interrupted_everywhere),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -11,14 +11,11 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
-#include "fileio.h"
 #include "golden/settle_case.h"
 #include "insert.h"
+#include "restart_run.h"
 #include "staged_run.h"
-
-static char tmpdir[256];
 
 static void quiet(adem_log_level level, const char *message, void *user) {
   (void)level, (void)message, (void)user;
@@ -27,15 +24,7 @@ static void quiet(adem_log_level level, const char *message, void *user) {
 static int setup(void **state) {
   (void)state;
   adem_log_set_hook(quiet, NULL);
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_stages_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_stages");
 }
 
 static adem_case *load(const char *text, const char *const *sets, int nsets) {
@@ -279,20 +268,6 @@ static void test_staged_restart(void **state) {
   free(text);
 }
 
-static void assert_same_file(const char *dir_a, const char *dir_b, const char *name) {
-  char pa[512], pb[512];
-  snprintf(pa, sizeof pa, "%s/%s/%s", tmpdir, dir_a, name);
-  snprintf(pb, sizeof pb, "%s/%s/%s", tmpdir, dir_b, name);
-  char *a, *b;
-  size_t na, nb;
-  adem_error err;
-  if (adem_fileio_read_all(pa, &a, &na, &err)) fail_msg("%s", err.message);
-  if (adem_fileio_read_all(pb, &b, &nb, &err)) fail_msg("%s", err.message);
-  if (na != nb || memcmp(a, b, na) != 0) fail_msg("%s differs after the restarts", name);
-  free(a);
-  free(b);
-}
-
 /* Claim: through adem_run, the staged, poured run stopped after every chunk and resumed from its
  * checkpoint each time ends like the run never stopped, its CSV and PVD (whose intervals the
  * second stage changes) included. */
@@ -305,28 +280,15 @@ static void test_run_interrupted(void **state) {
   adem_run_options opt = adem_default_run_options();
   if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
 
-  volatile sig_atomic_t stop = 1;
-  opt.stop_flag = &stop;
   adem_case *b = load(text, NULL, 0);
   snprintf(b->output.dir, sizeof b->output.dir, "%s/run_b", tmpdir);
-  char ckpt[512];
-  snprintf(ckpt, sizeof ckpt, "%s/run_b/checkpoint", tmpdir);
   int stops = 0;
-  for (;;) {
-    adem_status st = adem_run(b, &opt, &err);
-    if (st == ADEM_OK) break;
-    if (st != ADEM_INTERRUPTED) fail_msg("%s", err.message);
-    ++stops;
-    adem_case_free(b);
-    b = NULL;
-    if (adem_checkpoint_read(ckpt, &b, &err)) fail_msg("%s", err.message);
-  }
+  b = run_stopped_everywhere(b, opt, &stops);
   printf("# stopped and resumed %d times\n", stops);
   assert_true(stops >= 20);
   assert_same(a->world, b->world, "the run stopped everywhere");
-  assert_same_file("run_a", "run_b", "timeseries.csv");
-  assert_same_file("run_a", "run_b", "particles.pvd");
-  assert_same_file("run_a", "run_b", "frames/particles_000005.vtu");
+  const char *files[] = {"timeseries.csv", "particles.pvd", "frames/particles_000005.vtu", NULL};
+  assert_same_files("run_a", "run_b", files, "the restarts");
   adem_case_free(a);
   adem_case_free(b);
   free(text);
@@ -378,5 +340,5 @@ int main(void) {
       cmocka_unit_test(test_staged_restart),  cmocka_unit_test(test_run_interrupted),
       cmocka_unit_test(test_bad_stages),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -13,21 +13,13 @@
 
 #include "fileio.h"
 #include "helpers.h"
+#include "plate_stl.h"
+#include "tmpdir.h"
 #include "world.h"
-
-static char tmpdir[256];
 
 static int group_setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_meshcase_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int group_teardown(void **state) {
-  (void)state;
-  char cmd[300];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_meshcase");
 }
 
 /* A case from text, with relative files taken from dir. */
@@ -294,27 +286,6 @@ static void test_torque_reference(void **state) {
   }
 }
 
-/* An ASCII STL plate of n x n squares of side h (a power of 2) centred on the origin at z = 0,
- * each square cut along a diagonal. */
-static void write_plate(const char *path, int n, double h) {
-  FILE *f = fopen(path, "w");
-  assert_non_null(f);
-  fprintf(f, "solid plate\n");
-  double o = -0.5 * n * h;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      double x0 = o + i * h, x1 = x0 + h, y0 = o + j * h, y1 = y0 + h;
-      double t[2][9] = {{x0, y0, 0, x1, y0, 0, x1, y1, 0}, {x0, y0, 0, x1, y1, 0, x0, y1, 0}};
-      for (int k = 0; k < 2; ++k)
-        fprintf(f,
-                "facet normal 0 0 1\nouter loop\nvertex %.17g %.17g %.17g\nvertex %.17g %.17g "
-                "%.17g\nvertex %.17g %.17g %.17g\nendloop\nendfacet\n",
-                t[k][0], t[k][1], t[k][2], t[k][3], t[k][4], t[k][5], t[k][6], t[k][7], t[k][8]);
-    }
-  fprintf(f, "endsolid plate\n");
-  fclose(f);
-}
-
 static const char *const belt_case =
     "materials:\n"
     "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
@@ -495,5 +466,5 @@ int main(void) {
       cmocka_unit_test(test_rolling_across_edges),
       cmocka_unit_test(test_transform_and_plane_motion),
   };
-  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+  return cmocka_run_group_tests(tests, group_setup, tmpdir_teardown);
 }

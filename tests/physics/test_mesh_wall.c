@@ -12,42 +12,13 @@
 #include <unistd.h>
 
 #include "helpers.h"
+#include "plate_stl.h"
+#include "tmpdir.h"
 #include "world.h"
-
-static char tmpdir[256];
 
 static int group_setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_meshwall_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
-}
-
-static int group_teardown(void **state) {
-  (void)state;
-  char cmd[300];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
-}
-
-/* An ASCII STL plate of n x n squares of side h centred on the origin at z = 0 (h a power of 2:
- * exact in float32 and in the text). */
-static void write_plate(const char *path, int n, double h) {
-  FILE *f = fopen(path, "w");
-  assert_non_null(f);
-  fprintf(f, "solid plate\n");
-  double o = -0.5 * n * h;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      double x0 = o + i * h, x1 = x0 + h, y0 = o + j * h, y1 = y0 + h;
-      double t[2][9] = {{x0, y0, 0, x1, y0, 0, x1, y1, 0}, {x0, y0, 0, x1, y1, 0, x0, y1, 0}};
-      for (int k = 0; k < 2; ++k)
-        fprintf(f,
-                "facet normal 0 0 1\nouter loop\nvertex %.17g %.17g %.17g\nvertex %.17g %.17g "
-                "%.17g\nvertex %.17g %.17g %.17g\nendloop\nendfacet\n",
-                t[k][0], t[k][1], t[k][2], t[k][3], t[k][4], t[k][5], t[k][6], t[k][7], t[k][8]);
-    }
-  fprintf(f, "endsolid plate\n");
-  fclose(f);
+  return tmpdir_make("adem_meshwall");
 }
 
 static adem_world *bouncing_world(int use_mesh, const char *plate) {
@@ -197,5 +168,5 @@ int main(void) {
       cmocka_unit_test(test_mesh_threads),
       cmocka_unit_test(test_moving_mesh_drags),
   };
-  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+  return cmocka_run_group_tests(tests, group_setup, tmpdir_teardown);
 }

@@ -11,15 +11,9 @@
 
 #include "adem/adem.h"
 #include "insert.h"
+#include "log_capture.h"
 #include "staged_run.h"
 #include "world.h"
-
-static char logged[8192];
-static void capture(adem_log_level level, const char *message, void *user) {
-  (void)user;
-  size_t n = strlen(logged);
-  snprintf(logged + n, sizeof logged - n, "%s%s\n", level == ADEM_LOG_WARN ? "W " : "I ", message);
-}
 
 /* Spheres poured from a cylinder into a bin: 4000/s from 5 ms to 35 ms, a batch every 3 ms. */
 static const char *const pour_case =

@@ -13,27 +13,14 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
+#include "case_text.h"
+#include "tmpdir.h"
 #include "validate.h"
-
-static char tmpdir[256];
 
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_rolling_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
+  return tmpdir_make("adem_rolling");
 }
-
-static int teardown(void **state) {
-  (void)state;
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
-}
-
-#define assert_contains(text, word)                                           \
-  do {                                                                        \
-    if (!strstr((text), (word))) fail_msg("'%s' not in: %s", (word), (text)); \
-  } while (0)
 
 /* A Table 1 sphere rolling on a rigid floor and a second one at rest; line numbers below refer to
  * this text. */
@@ -62,17 +49,6 @@ static const char *const base =
     "gravity: [0, 0, -9.8]\n"                                                          /* 22 */
     "time: {end: 0.2, step: 5.0e-5}\n"                                                 /* 23 */
     "output: {csv_interval: 0.01, frame_interval: 0.1, checkpoint_interval: 0, track: [1, 0]}\n";
-
-/* text with the first `from` replaced by `to`; a fresh string. */
-static char *replaced(const char *text, const char *from, const char *to) {
-  const char *at = strstr(text, from);
-  if (!at) fail_msg("'%s' not in the case text", from);
-  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-  char *s = malloc(n);
-  assert_non_null(s);
-  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
-  return s;
-}
 
 /* Loads text expecting ADEM_ERR_INPUT with every word in the message. */
 static void refused(const char *text, const char *const *words, int nwords) {
@@ -215,5 +191,5 @@ int main(void) {
       cmocka_unit_test(test_track_output),
       cmocka_unit_test(test_fig5_quick),
   };
-  return cmocka_run_group_tests(tests, setup, teardown);
+  return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -13,33 +13,9 @@
 #include <time.h>
 
 #include "adem/adem.h"
+#include "case_text.h"
+#include "log_capture.h"
 #include "world.h"
-
-/* Warnings the library logged since the last reset. */
-static char logged[8192];
-static void capture(adem_log_level level, const char *message, void *user) {
-  (void)user;
-  size_t n = strlen(logged);
-  snprintf(logged + n, sizeof logged - n, "%s%s\n", level == ADEM_LOG_WARN ? "W " : "I ", message);
-}
-
-static int setup(void **state) {
-  (void)state;
-  logged[0] = '\0';
-  adem_log_set_hook(capture, NULL);
-  return 0;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  adem_log_set_hook(NULL, NULL);
-  return 0;
-}
-
-#define assert_contains(text, word)                                        \
-  do {                                                                     \
-    if (!strstr((text), (word))) fail_msg("'%s' not in: %s", (word), (text)); \
-  } while (0)
 
 /* Two glass spheres above a steel floor. Line numbers below refer to this text. */
 static const char *const base =
@@ -65,17 +41,6 @@ static const char *const base =
     "    normal: [0, 0, 2]\n"                                /* 20 */
     "time:\n"                                                /* 21 */
     "  end: 0.5\n";                                          /* 22 */
-
-/* text with the first `from` replaced by `to`; a fresh string. */
-static char *replaced(const char *text, const char *from, const char *to) {
-  const char *at = strstr(text, from);
-  if (!at) fail_msg("'%s' not in the case text", from);
-  size_t n = strlen(text) - strlen(from) + strlen(to) + 1;
-  char *s = malloc(n);
-  assert_non_null(s);
-  snprintf(s, n, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
-  return s;
-}
 
 static adem_case *load_ok(const char *text, const char *const *sets, int nsets) {
   adem_case *c = NULL;
@@ -660,24 +625,24 @@ static void test_reference(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test_setup_teardown(test_good_case, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_full_case, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_step_too_large_warns, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_unknown_key, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_wrong_type, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_missing_required, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_out_of_range, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_bad_names, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_bad_geometry, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_bad_files, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_load_file, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_set_overrides, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_set_errors, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_random_fill, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_random_fill_fast, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_random_fill_gives_up, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_radius_distributions, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_reference, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_good_case, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_full_case, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_step_too_large_warns, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_unknown_key, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_wrong_type, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_missing_required, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_out_of_range, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_bad_names, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_bad_geometry, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_bad_files, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_load_file, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_set_overrides, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_set_errors, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_random_fill, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_random_fill_fast, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_random_fill_gives_up, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_radius_distributions, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_reference, capture_setup, capture_teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

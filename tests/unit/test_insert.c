@@ -16,16 +16,9 @@
 
 #include "adem/adem.h"
 #include "insert.h"
+#include "log_capture.h"
+#include "tmpdir.h"
 #include "world.h"
-
-static char tmpdir[256];
-static char logged[8192];
-
-static void capture(adem_log_level level, const char *message, void *user) {
-  (void)user;
-  size_t n = strlen(logged);
-  snprintf(logged + n, sizeof logged - n, "%s%s\n", level == ADEM_LOG_WARN ? "W " : "I ", message);
-}
 
 /* An L-shaped prism, 2 x 2 x 1 units: the polygon (0,0) (2,0) (2,1) (1,1) (1,2) (0,2) (0,1)
  * extruded over z in [0, 1], closed, outward normals. */
@@ -55,8 +48,7 @@ static void write_l_prism(const char *path) {
 
 static int setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_insert_XXXXXX");
-  if (!mkdtemp(tmpdir)) return -1;
+  if (tmpdir_make("adem_insert")) return -1;
   char path[512];
   snprintf(path, sizeof path, "%s/l.stl", tmpdir);
   write_l_prism(path);
@@ -81,9 +73,7 @@ static int setup(void **state) {
 static int teardown(void **state) {
   (void)state;
   adem_log_set_hook(NULL, NULL);
-  char cmd[512];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_remove();
 }
 
 /* A case with one random set: the given region keys, radius, count line and seed. */

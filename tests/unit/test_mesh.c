@@ -15,49 +15,17 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
+#include "case_text.h"
+#include "log_capture.h"
 #include "mesh.h"
+#include "tmpdir.h"
 
 #define DATA ADEM_SOURCE_DIR "/tests/data/"
 
-static char logged[8192];
-static void capture(adem_log_level level, const char *message, void *user) {
-  (void)user;
-  size_t n = strlen(logged);
-  snprintf(logged + n, sizeof logged - n, "%s%s\n", level == ADEM_LOG_WARN ? "W " : "I ", message);
-}
-
-static char tmpdir[256];
-
-static int setup(void **state) {
-  (void)state;
-  logged[0] = '\0';
-  adem_log_set_hook(capture, NULL);
-  return 0;
-}
-
-static int teardown(void **state) {
-  (void)state;
-  adem_log_set_hook(NULL, NULL);
-  return 0;
-}
-
 static int group_setup(void **state) {
   (void)state;
-  snprintf(tmpdir, sizeof tmpdir, "/tmp/adem_mesh_XXXXXX");
-  return mkdtemp(tmpdir) ? 0 : -1;
+  return tmpdir_make("adem_mesh");
 }
-
-static int group_teardown(void **state) {
-  (void)state;
-  char cmd[300];
-  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
-}
-
-#define assert_contains(text, word)                                           \
-  do {                                                                        \
-    if (!strstr((text), (word))) fail_msg("'%s' not in: %s", (word), (text)); \
-  } while (0)
 
 static void tmp_path(char *out, size_t cap, const char *name) {
   snprintf(out, cap, "%s/%s", tmpdir, name);
@@ -528,16 +496,16 @@ static void test_vtu(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test_setup_teardown(test_ascii_binary_identical, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_transform, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_degenerate, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_malformed_ascii, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_binary_errors, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_groups, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_stored_normals, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_edge_kinds, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_own_vertices, setup, teardown),
-      cmocka_unit_test_setup_teardown(test_vtu, setup, teardown),
+      cmocka_unit_test_setup_teardown(test_ascii_binary_identical, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_transform, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_degenerate, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_malformed_ascii, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_binary_errors, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_groups, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_stored_normals, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_edge_kinds, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_own_vertices, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_vtu, capture_setup, capture_teardown),
   };
-  return cmocka_run_group_tests(tests, group_setup, group_teardown);
+  return cmocka_run_group_tests(tests, group_setup, tmpdir_teardown);
 }
