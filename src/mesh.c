@@ -1,4 +1,5 @@
 #include "mesh.h"
+#include "vtu.h"
 
 #include <errno.h>
 #include <float.h>
@@ -921,13 +922,6 @@ double adem_mesh_area(const adem_mesh *mesh, int group) {
 
 /* ---------------------------------------------------------------- VTU */
 
-static int little_endian(void) {
-  const uint16_t one = 1;
-  unsigned char b;
-  memcpy(&b, &one, 1);
-  return b == 1;
-}
-
 enum { CHUNK = 1024 };
 
 /* Cell or connectivity arrays generated chunk by chunk. */
@@ -964,67 +958,33 @@ static int put_cell_array(FILE *f, const adem_mesh *m, const double *face_force,
   return 1;
 }
 
+typedef struct mesh_vtu {
+  const adem_mesh *mesh;
+  const double *face_force;
+} mesh_vtu;
+
+/* Array k of a mesh frame: cell arrays 0-3, the points (4), then the cell topology. */
+static int put_mesh_array(FILE *f, int k, void *user) {
+  const mesh_vtu *m = user;
+  if (k == 4) return m->mesh->nverts == 0 ||
+                     fwrite(m->mesh->vert, sizeof *m->mesh->vert, m->mesh->nverts, f) ==
+                         m->mesh->nverts;
+  return put_cell_array(f, m->mesh, m->face_force, k < 4 ? k : k - 1);
+}
+
 adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
                                 adem_error *err) {
   size_t nt = mesh->ntris, nv = mesh->nverts;
-  /* Arrays in the order they are appended; `points` is the one per-vertex array. */
-  struct {
-    const char *name, *type;
-    int ncomp;
-    size_t count, elem;
-  } arr[] = {
-      {"group", "Int32", 1, nt, 4},        {"normal", "Float64", 3, nt, 8},
-      {"force", "Float64", 3, nt, 8},      {"pressure", "Float64", 1, nt, 8},
-      {"points", "Float64", 3, nv, 8},     {"connectivity", "Int64", 3, nt, 8},
-      {"offsets", "Int64", 1, nt, 8},      {"types", "UInt8", 1, nt, 1},
+  /* Arrays in the order they are appended; connectivity is 3 Int64 per cell but one component
+   * in VTK's eyes. */
+  const adem_vtu_array arr[] = {
+      {"group", "Int32", 1, 4 * nt},        {"normal", "Float64", 3, 24 * nt},
+      {"force", "Float64", 3, 24 * nt},     {"pressure", "Float64", 1, 8 * nt},
+      {"points", "Float64", 3, 24 * nv},    {"connectivity", "Int64", 1, 24 * nt},
+      {"offsets", "Int64", 1, 8 * nt},      {"types", "UInt8", 1, nt},
   };
-  enum { NARR = sizeof arr / sizeof arr[0] };
-  uint64_t offset[NARR], off = 0;
-  for (int k = 0; k < NARR; ++k) {
-    offset[k] = off;
-    off += 8 + (uint64_t)arr[k].count * (uint64_t)arr[k].ncomp * arr[k].elem;
-  }
-  adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
-  if (st) return st;
-  FILE *f = af.f;
-  fprintf(f,
-          "<?xml version=\"1.0\"?>\n"
-          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
-          "header_type=\"UInt64\">\n"
-          "  <UnstructuredGrid>\n"
-          "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n"
-          "      <CellData Scalars=\"pressure\" Vectors=\"force\">\n",
-          little_endian() ? "LittleEndian" : "BigEndian", nv, nt);
-  for (int k = 0; k < NARR; ++k) {
-    if (k == 4) fprintf(f, "      </CellData>\n      <Points>\n");
-    if (k == 5) fprintf(f, "      </Points>\n      <Cells>\n");
-    /* connectivity is 3 Int64 per cell but one component in VTK's eyes */
-    fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\" ", arr[k].type, arr[k].name);
-    if (arr[k].ncomp > 1 && k != 5) fprintf(f, "NumberOfComponents=\"%d\" ", arr[k].ncomp);
-    fprintf(f, "format=\"appended\" offset=\"%" PRIu64 "\"/>\n", offset[k]);
-  }
-  fprintf(f,
-          "      </Cells>\n"
-          "    </Piece>\n"
-          "  </UnstructuredGrid>\n"
-          "  <AppendedData encoding=\"raw\">\n"
-          "   _");
-  int ok = 1;
-  for (int k = 0; k < NARR && ok; ++k) {
-    uint64_t nbytes = (uint64_t)arr[k].count * (uint64_t)arr[k].ncomp * arr[k].elem;
-    ok = fwrite(&nbytes, 8, 1, f) == 1;
-    if (!ok) break;
-    if (k == 4)
-      ok = nv == 0 || fwrite(mesh->vert, sizeof *mesh->vert, nv, f) == nv;
-    else
-      ok = put_cell_array(f, mesh, face_force, k < 4 ? k : k - 1);
-  }
-  fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
-  if (!ok || ferror(f)) {
-    int e = errno ? errno : EIO;
-    adem_fileio_abort(&af);
-    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
-  }
-  return adem_fileio_commit(&af, err);
+  adem_vtu_layout lay = {nv, nt, NULL, "CellData", "Scalars=\"pressure\" Vectors=\"force\"", 4, 5};
+  mesh_vtu user = {mesh, face_force};
+  return adem_vtu_write(path, &lay, arr, (int)(sizeof arr / sizeof arr[0]), put_mesh_array, &user,
+                        err);
 }

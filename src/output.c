@@ -1,5 +1,6 @@
 #include "output.h"
 #include "plot.h"
+#include "vtu.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -18,16 +19,6 @@
 _Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
 
 /* ---------------------------------------------------------------- VTU */
-
-static int little_endian(void) {
-  const uint16_t one = 1;
-  unsigned char b;
-  memcpy(&b, &one, 1);
-  return b == 1;
-}
-
-/* A block of appended data: UInt64 byte count, then the bytes. */
-static int put_block_header(FILE *f, uint64_t nbytes) { return fwrite(&nbytes, 8, 1, f) == 1; }
 
 static int put_raw(FILE *f, const void *data, size_t nbytes) {
   return nbytes == 0 || fwrite(data, 1, nbytes, f) == nbytes;
@@ -67,87 +58,47 @@ static int put_types(FILE *f, size_t n) {
   return 1;
 }
 
+/* Array k of a particle frame (the order of the table in adem_output_write_vtu). */
+static int put_particle_array(FILE *f, int k, void *user) {
+  const adem_particles *p = user;
+  size_t n = p->n;
+  switch (k) {
+    case 0: return put_raw(f, p->radius, n * sizeof *p->radius);
+    case 1: return put_raw(f, p->id, n * sizeof *p->id); /* ids < 2^63: same bits as Int64 */
+    case 2: return put_material(f, p->material, n);
+    case 3: return put_raw(f, p->vel, n * sizeof *p->vel);
+    case 4: return put_raw(f, p->omega, n * sizeof *p->omega);
+    case 5: return put_raw(f, p->force, n * sizeof *p->force);
+    case 6: return put_raw(f, p->rolling_torque, n * sizeof *p->rolling_torque); /* every model */
+    case 7: return put_raw(f, p->pos, n * sizeof *p->pos);
+    case 8: return put_counting(f, n, 0);
+    case 9: return put_counting(f, n, 1);
+    default: return put_types(f, n);
+  }
+}
+
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err) {
   const adem_particles *p = &w->p;
   const size_t n = p->n;
-  /* Arrays in the order they are appended; offsets follow from the sizes. */
-  struct {
-    const char *name, *type;
-    int ncomp;
-    size_t elem;
-  } arr[] = {
-      {"radius", "Float64", 1, 8},           {"id", "Int64", 1, 8},
-      {"material", "Int32", 1, 4},           {"velocity", "Float64", 3, 8},
-      {"angular_velocity", "Float64", 3, 8}, {"force", "Float64", 3, 8},
-      {"rolling_torque", "Float64", 3, 8},   {"position", "Float64", 3, 8},
-      {"connectivity", "Int64", 1, 8},       {"offsets", "Int64", 1, 8},
-      {"types", "UInt8", 1, 1},
+  /* Arrays in the order they are appended. */
+  const adem_vtu_array arr[] = {
+      {"radius", "Float64", 1, 8 * n},           {"id", "Int64", 1, 8 * n},
+      {"material", "Int32", 1, 4 * n},           {"velocity", "Float64", 3, 24 * n},
+      {"angular_velocity", "Float64", 3, 24 * n}, {"force", "Float64", 3, 24 * n},
+      {"rolling_torque", "Float64", 3, 24 * n},   {"position", "Float64", 3, 24 * n},
+      {"connectivity", "Int64", 1, 8 * n},       {"offsets", "Int64", 1, 8 * n},
+      {"types", "UInt8", 1, n},
   };
-  enum { POINTS = 7, CELLS = 8 }; /* first array of <Points> and of <Cells> */
-  enum { NARR = sizeof arr / sizeof arr[0] };
-  uint64_t offset[NARR], off = 0;
-  for (int k = 0; k < NARR; ++k) {
-    offset[k] = off;
-    off += 8 + (uint64_t)n * (uint64_t)arr[k].ncomp * arr[k].elem;
-  }
-
-  adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
-  if (st) return st;
-  FILE *f = af.f;
-  fprintf(f,
-          "<?xml version=\"1.0\"?>\n"
-          "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
-          "header_type=\"UInt64\">\n"
-          "  <UnstructuredGrid>\n"
-          "    <FieldData>\n"
-          "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
-          "format=\"ascii\">%.17g</DataArray>\n"
-          "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" "
-          "format=\"ascii\">%" PRIu64 "</DataArray>\n"
-          "    </FieldData>\n"
-          "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n"
-          "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n",
-          little_endian() ? "LittleEndian" : "BigEndian", w->time, w->step, n, n);
-  for (int k = 0; k < NARR; ++k) {
-    if (k == POINTS) fprintf(f, "      </PointData>\n      <Points>\n");
-    if (k == CELLS) fprintf(f, "      </Points>\n      <Cells>\n");
-    fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\" ", arr[k].type, arr[k].name);
-    if (arr[k].ncomp > 1) fprintf(f, "NumberOfComponents=\"%d\" ", arr[k].ncomp);
-    fprintf(f, "format=\"appended\" offset=\"%" PRIu64 "\"/>\n", offset[k]);
-  }
-  fprintf(f,
-          "      </Cells>\n"
-          "    </Piece>\n"
-          "  </UnstructuredGrid>\n"
-          "  <AppendedData encoding=\"raw\">\n"
-          "   _");
-  int ok = 1;
-  for (int k = 0; k < NARR && ok; ++k) {
-    size_t nbytes = n * (size_t)arr[k].ncomp * arr[k].elem;
-    ok = put_block_header(f, nbytes);
-    if (!ok) break;
-    switch (k) {
-      case 0: ok = put_raw(f, p->radius, nbytes); break;
-      case 1: ok = put_raw(f, p->id, nbytes); break; /* ids < 2^63: same bits as Int64 */
-      case 2: ok = put_material(f, p->material, n); break;
-      case 3: ok = put_raw(f, p->vel, nbytes); break;
-      case 4: ok = put_raw(f, p->omega, nbytes); break;
-      case 5: ok = put_raw(f, p->force, nbytes); break;
-      case 6: ok = put_raw(f, p->rolling_torque, nbytes); break; /* models A, C, DTK, BROF */
-      case 7: ok = put_raw(f, p->pos, nbytes); break;
-      case 8: ok = put_counting(f, n, 0); break;
-      case 9: ok = put_counting(f, n, 1); break;
-      default: ok = put_types(f, n); break;
-    }
-  }
-  fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
-  if (!ok || ferror(f)) {
-    int e = errno ? errno : EIO;
-    adem_fileio_abort(&af);
-    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
-  }
-  return adem_fileio_commit(&af, err);
+  char field[512];
+  snprintf(field, sizeof field,
+           "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" "
+           "format=\"ascii\">%.17g</DataArray>\n"
+           "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" "
+           "format=\"ascii\">%" PRIu64 "</DataArray>\n",
+           w->time, w->step);
+  adem_vtu_layout lay = {n, n, field, "PointData", "Scalars=\"radius\" Vectors=\"velocity\"", 7, 8};
+  return adem_vtu_write(path, &lay, arr, (int)(sizeof arr / sizeof arr[0]), put_particle_array,
+                        (void *)p, err);
 }
 
 /* ---------------------------------------------------------------- PVD */
@@ -180,7 +131,7 @@ adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_er
           "<?xml version=\"1.0\"?>\n"
           "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"%s\">\n"
           "  <Collection>\n",
-          little_endian() ? "LittleEndian" : "BigEndian");
+          adem_vtu_byte_order());
   for (size_t k = 0; k < pvd->n; ++k)
     fprintf(af.f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n",
             pvd->time[k], pvd->file[k]);
@@ -533,7 +484,7 @@ static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
           "<?xml version=\"1.0\"?>\n"
           "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"%s\">\n"
           "  <Collection>\n",
-          little_endian() ? "LittleEndian" : "BigEndian");
+          adem_vtu_byte_order());
   for (size_t k = 0; k < o->pvd.n; ++k)
     fprintf(af.f,
             "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"frames/mesh_%06zu.vtu\"/>\n",
