@@ -8,6 +8,7 @@
 
 #include "fileio.h"
 #include "log.h"
+#include "plot.h"
 
 size_t adem_validation_count(void) {
   return adem_validations_haervig_count + adem_validations_irazabal_count;
@@ -31,6 +32,26 @@ char *adem_validate_path(const adem_validation_context *ctx, const char *name, c
   char *p = malloc(n);
   if (p) snprintf(p, n, "%s/%s.%s", ctx->out_dir, name, ext);
   return p;
+}
+
+adem_status adem_validate_plot(const adem_validation_context *ctx, const char *name, int width,
+                               int height, const char *body, adem_error *err) {
+  char *csv = adem_validate_path(ctx, name, "csv");
+  char *png = adem_validate_path(ctx, name, "png");
+  size_t qn = csv ? 2 * strlen(csv) + 3 : 0, n = strlen(body) + qn + 16;
+  char *q = malloc(qn ? qn : 1), *script = malloc(n);
+  adem_status st = ADEM_OK;
+  if (!csv || !png || !q || !script) {
+    st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  } else {
+    snprintf(script, n, "f = %s\n%s", adem_plot_quote(csv, q, qn), body);
+    st = adem_plot_png(png, width, height, script, err);
+  }
+  free(csv);
+  free(png);
+  free(q);
+  free(script);
+  return st;
 }
 
 /* ------------------------------------------------------------------ tables */

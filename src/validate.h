@@ -43,6 +43,11 @@ adem_status adem_validate_run(const char *const *names, int n, const adem_valida
 /* DIR/NAME.EXT; a fresh string. */
 char *adem_validate_path(const adem_validation_context *ctx, const char *name, const char *ext);
 
+/* DIR/NAME.png drawn by gnuplot from `body`, in which the gnuplot variable f holds the path of
+ * DIR/NAME.csv. */
+adem_status adem_validate_plot(const adem_validation_context *ctx, const char *name, int width,
+                               int height, const char *body, adem_error *err);
+
 /* A table written to CSV atomically: header names quantity and unit ("v_impact_m_s,e_eff"). */
 typedef struct adem_table {
   size_t ncols, nrows, cap;

@@ -65,43 +65,14 @@ static adem_status batch_status(const adem_collision_result *r, size_t n, adem_e
   return ADEM_OK;
 }
 
-/* Writes the table as DIR/NAME.csv and draws DIR/NAME.png with a gnuplot body in which every
- * "@CSV@" stands for the quoted CSV path. */
+/* Writes the table as DIR/NAME.csv and draws DIR/NAME.png; in `body` the gnuplot variable f is
+ * the CSV's path. */
 static adem_status write_outputs(const adem_validation_context *ctx, const char *name,
-                                 const adem_table *t, const char *body_template, adem_error *err) {
+                                 const adem_table *t, const char *body, adem_error *err) {
   char *csv = adem_validate_path(ctx, name, "csv");
-  char *png = adem_validate_path(ctx, name, "png");
-  adem_status st = ADEM_OK;
-  if (!csv || !png) st = nomem(err);
-  if (!st) st = adem_table_write_csv(t, csv, err);
-  if (!st) {
-    size_t qn = 2 * strlen(csv) + 3;
-    char *q = malloc(qn);
-    size_t uses = 0;
-    for (const char *s = strstr(body_template, "@CSV@"); s; s = strstr(s + 5, "@CSV@")) ++uses;
-    size_t n = strlen(body_template) + uses * qn + 1;
-    char *body = malloc(n);
-    if (!q || !body) {
-      st = nomem(err);
-    } else {
-      adem_plot_quote(csv, q, qn);
-      char *o = body;
-      for (const char *s = body_template; *s;) {
-        if (strncmp(s, "@CSV@", 5) == 0) {
-          o += sprintf(o, "%s", q);
-          s += 5;
-        } else {
-          *o++ = *s++;
-        }
-      }
-      *o = '\0';
-      st = adem_plot_png(png, 1000, 700, body, err);
-    }
-    free(q);
-    free(body);
-  }
+  adem_status st = csv ? adem_table_write_csv(t, csv, err) : nomem(err);
   free(csv);
-  free(png);
+  if (!st) st = adem_validate_plot(ctx, name, 1000, 700, body, err);
   return st;
 }
 
@@ -155,11 +126,11 @@ static adem_status fig3(const adem_validation_context *ctx, const char *name,
                        "E_mod/E = 0.1 (H Fig. 3)'\n"
                        "set xlabel 'overlap delta (nm)'\nset ylabel 'normal force F (uN), "
                        "positive repulsive'\nset grid\nset key top left\nset xzeroaxis lt -1\n"
-                       "plot @CSV@ skip 1 using ($1*1e9):($2*1e6) with lines lw 2 title "
+                       "plot f skip 1 using ($1*1e9):($2*1e6) with lines lw 2 title "
                        "'original (E, gamma)', \\\n"
-                       "  @CSV@ skip 1 using ($1*1e9):($3*1e6) with lines lw 2 dt 3 title "
+                       "  f skip 1 using ($1*1e9):($3*1e6) with lines lw 2 dt 3 title "
                        "'E reduced, gamma kept', \\\n"
-                       "  @CSV@ skip 1 using ($1*1e9):($4*1e6) with lines lw 2 dt 2 title "
+                       "  f skip 1 using ($1*1e9):($4*1e6) with lines lw 2 dt 2 title "
                        "'E and gamma reduced by H24'\n",
                        err);
   adem_table_free(&t);
@@ -267,11 +238,11 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
              "set xlabel 'impact speed v (m/s)'\nset ylabel 'e_eff = v_out/v_in'\nset logscale x\n"
              "set xrange [0.5:20]\nset yrange [0:1]\nset grid\nset key bottom right\n"
              "set arrow from %g, graph 0 to %g, graph 1 nohead dt 3 lc rgb 'gray40'\n"
-             "plot @CSV@ skip 1 using 1:2 with lines lw 3 title 'E_mod/E = 1', \\\n"
-             "  @CSV@ skip 1 using 1:3 with points pt 6 ps 1.2 title 'E_mod/E = 0.1, gamma by H24', \\\n"
-             "  @CSV@ skip 1 using 1:4 with points pt 2 ps 1.2 title 'E_mod/E = 0.01, gamma by H24', \\\n"
-             "  @CSV@ skip 1 using 1:5 with lines dt 2 lc rgb 'gray50' title 'E_mod/E = 0.1, gamma kept', \\\n"
-             "  @CSV@ skip 1 using 1:6 with lines dt 4 lc rgb 'gray30' title 'E_mod/E = 0.01, gamma kept'\n",
+             "plot f skip 1 using 1:2 with lines lw 3 title 'E_mod/E = 1', \\\n"
+             "  f skip 1 using 1:3 with points pt 6 ps 1.2 title 'E_mod/E = 0.1, gamma by H24', \\\n"
+             "  f skip 1 using 1:4 with points pt 2 ps 1.2 title 'E_mod/E = 0.01, gamma by H24', \\\n"
+             "  f skip 1 using 1:5 with lines dt 2 lc rgb 'gray50' title 'E_mod/E = 0.1, gamma kept', \\\n"
+             "  f skip 1 using 1:6 with lines dt 4 lc rgb 'gray30' title 'E_mod/E = 0.01, gamma kept'\n",
              vc[0], vc[0]);
     st = write_outputs(ctx, name, &t, body, err);
     adem_table_free(&t);
@@ -392,7 +363,7 @@ static adem_status fig78_write(const adem_validation_context *ctx, const char *n
                          : "Head-on pairs, e = 0.3 (H Fig. 7); Ad = 3 gamma/(rho v^2 r) (text)");
   for (int a = 0; a < NAD && len < (int)sizeof body; ++a)
     len += snprintf(body + len, sizeof body - (size_t)len,
-                    "@CSV@ skip 1 using 1:%d with linespoints pt 7 ps 0.6 lw 2 title 'Ad = %g%s'%s",
+                    "f skip 1 using 1:%d with linespoints pt 7 ps 0.6 lw 2 title 'Ad = %g%s'%s",
                     a + 2, fig7_ad[a], h24 ? " at 1e6" : "", a + 1 < NAD ? ", \\\n  " : "\n");
   if (!st) st = write_outputs(ctx, name, &t, body, err);
   adem_table_free(&t);
@@ -595,9 +566,9 @@ static adem_status fig13(const adem_validation_context *ctx, const char *name,
                          "(H Fig. 13)'\nset xlabel 'time since first contact (ns)'\n"
                          "set ylabel 'velocity normal to the wall (m/s)'\nset grid\n"
                          "set key bottom right\n"
-                         "plot @CSV@ skip 1 using 1:2 with lines lw 2 title 'E_mod/E = 1', \\\n"
-                         "  @CSV@ skip 1 using 1:3 with lines lw 2 dt 2 title 'E_mod/E = 0.1', \\\n"
-                         "  @CSV@ skip 1 using 1:4 with lines lw 2 dt 3 title 'E_mod/E = 0.01'\n",
+                         "plot f skip 1 using 1:2 with lines lw 2 title 'E_mod/E = 1', \\\n"
+                         "  f skip 1 using 1:3 with lines lw 2 dt 2 title 'E_mod/E = 0.1', \\\n"
+                         "  f skip 1 using 1:4 with lines lw 2 dt 3 title 'E_mod/E = 0.01'\n",
                          err);
     adem_table_free(&t);
   }
@@ -740,13 +711,13 @@ static adem_status fig4(const adem_validation_context *ctx, const char *name,
                        "= 0.5, E_mod/E = 0.1 (H Fig. 4)'\n"
                        "set xlabel 'rolling distance xi (nm)'\nset ylabel 'rolling torque M_r "
                        "(pN m)'\nset grid\nset key bottom right\n"
-                       "plot @CSV@ skip 1 using ($1*1e9):($2*1e12) with lines lw 4 lc rgb "
+                       "plot f skip 1 using ($1*1e9):($2*1e12) with lines lw 4 lc rgb "
                        "'gray60' title 'original', \\\n"
-                       "  @CSV@ skip 1 using ($1*1e9):($3*1e12) with lines lw 2 dt 3 title "
+                       "  f skip 1 using ($1*1e9):($3*1e12) with lines lw 2 dt 3 title "
                        "'E reduced, gamma kept', \\\n"
-                       "  @CSV@ skip 1 using ($1*1e9):($4*1e12) with lines lw 2 dt 2 title "
+                       "  f skip 1 using ($1*1e9):($4*1e12) with lines lw 2 dt 2 title "
                        "'E, gamma by H24, no rolling modification', \\\n"
-                       "  @CSV@ skip 1 using ($1*1e9):($5*1e12) with lines lw 2 lc rgb 'black' "
+                       "  f skip 1 using ($1*1e9):($5*1e12) with lines lw 2 lc rgb 'black' "
                        "title 'E, gamma by H24 with the rolling modification'\n",
                        err);
   adem_table_free(&t);
@@ -861,11 +832,11 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
                  map_f[h]);
         len += snprintf(body + len, sizeof body - (size_t)len,
                         "set title 'e = %g, F_ext/F_yield = %g'\n"
-                        "plot @CSV@ skip 1 using 2:(%s0) ? $1 : 1/0) pt 6 ps 1.2 "
+                        "plot f skip 1 using 2:(%s0) ? $1 : 1/0) pt 6 ps 1.2 "
                         "lc rgb 'royalblue', "
-                        "@CSV@ skip 1 using 2:(%s2) ? $1 : 1/0) pt 1 ps 1.5 lw 2 "
+                        "f skip 1 using 2:(%s2) ? $1 : 1/0) pt 1 ps 1.5 lw 2 "
                         "lc rgb 'forest-green', "
-                        "@CSV@ skip 1 using 2:(%s3) ? $1 : 1/0) pt 2 ps 1.2 lw 2 lc rgb 'red', "
+                        "f skip 1 using 2:(%s3) ? $1 : 1/0) pt 2 ps 1.2 lw 2 lc rgb 'red', "
                         "%.6g*x**2.5 with lines lw 2 lc rgb 'black'\n",
                         map_e[e], map_f[h], sel, sel, sel, c[e]);
       }
@@ -960,7 +931,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
                        "plot ");
     for (int e = 0; e < NE && len < (int)sizeof body; ++e)
       len += snprintf(body + len, sizeof body - (size_t)len,
-                      "@CSV@ skip 1 using 1:%d pt 7 lc %d title 'e = %.1f', "
+                      "f skip 1 using 1:%d pt 7 lc %d title 'e = %.1f', "
                       "%.6g*x**%.6f lw 2 lc %d notitle%s",
                       e + 2, e + 1, 0.1 * (e + 1), c[e], slope[e], e + 1,
                       e + 1 < NE ? ", \\\n  " : "\n");
@@ -1036,8 +1007,8 @@ static adem_status fig12(const adem_validation_context *ctx, const char *name,
                        "set title 'Coefficient c of lambda_crit = c Ad^(5/2), wall impacts (H Fig. "
                        "12)'\nset logscale y\nset format y '1e%L'\nset xlabel 'coefficient of "
                        "restitution e'\nset ylabel 'c'\nset grid\nset xrange [0:1]\n"
-                       "plot @CSV@ skip 1 using 1:2 with linespoints pt 7 lw 2 title 'Ad = 100', "
-                       "@CSV@ skip 1 using 1:3 pt 6 ps 2 lw 2 title 'Ad = 1000'\n",
+                       "plot f skip 1 using 1:2 with linespoints pt 7 lw 2 title 'Ad = 100', "
+                       "f skip 1 using 1:3 pt 6 ps 2 lw 2 title 'Ad = 1000'\n",
                        err);
   if (!st) adem_table_free(&t);
   if (st) return st;
@@ -1137,11 +1108,11 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
                        "set xlabel 'F_ext / F_yield'\nset ylabel 'distance along the wall / r'\n"
                        "set grid\nset key top left\nset xrange [0.3:2.2]\n"
                        "set arrow from 1, graph 0 to 1, graph 1 nohead dt 3 lc rgb 'gray40'\n"
-                       "plot @CSV@ skip 1 using 1:($2==1 ? $5 : 1/0) with linespoints pt 7 ps 1.5 "
+                       "plot f skip 1 using 1:($2==1 ? $5 : 1/0) with linespoints pt 7 ps 1.5 "
                        "lw 2 title 'E_mod/E = 1', \\\n"
-                       "  @CSV@ skip 1 using 1:(abs($2-0.1)<1e-9 ? $5 : 1/0) with linespoints pt 5 "
+                       "  f skip 1 using 1:(abs($2-0.1)<1e-9 ? $5 : 1/0) with linespoints pt 5 "
                        "lw 2 dt 2 title 'E_mod/E = 0.1', \\\n"
-                       "  @CSV@ skip 1 using 1:(abs($2-0.01)<1e-9 ? $5 : 1/0) with linespoints "
+                       "  f skip 1 using 1:(abs($2-0.01)<1e-9 ? $5 : 1/0) with linespoints "
                        "pt 9 lw 2 dt 3 title 'E_mod/E = 0.01'\n",
                        err);
     adem_table_free(&t);

@@ -294,22 +294,7 @@ static adem_status write_columns(const adem_validation_context *ctx, const char 
 /* DIR/NAME.png from `body`, which refers to the CSV as the gnuplot variable f. */
 static adem_status plot(const adem_validation_context *ctx, const char *name, const char *body,
                         adem_error *err) {
-  char *csv = adem_validate_path(ctx, name, "csv");
-  char *png = adem_validate_path(ctx, name, "png");
-  size_t qn = csv ? 2 * strlen(csv) + 3 : 0, n = strlen(body) + qn + 16;
-  char *q = malloc(qn ? qn : 1), *script = malloc(n);
-  adem_status st = ADEM_OK;
-  if (!csv || !png || !q || !script) {
-    st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  } else {
-    snprintf(script, n, "f = %s\n%s", adem_plot_quote(csv, q, qn), body);
-    st = adem_plot_png(png, 1100, 700, script, err);
-  }
-  free(csv);
-  free(png);
-  free(q);
-  free(script);
-  return st;
+  return adem_validate_plot(ctx, name, 1100, 700, body, err);
 }
 
 static bool within(double measured, double expected, double rel) {
