@@ -4,7 +4,7 @@
 #define ADEM_CONTACT_HERTZ_H
 
 #include <math.h>
-#include "vec3.h"
+#include "adem/vec3.h"
 
 /* Hertz contact radius a = sqrt(R delta); the laws below take it so it is computed once. */
 static inline double adem_hertz_radius(double R, double delta) { return sqrt(R * delta); }

@@ -11,7 +11,7 @@
 #define ADEM_CONTACT_JKR_H
 
 #include <math.h>
-#include "vec3.h"
+#include "adem/vec3.h"
 
 /* Critical force F_C = 3 pi gamma R (notes section 1). */
 static inline double adem_jkr_critical_force(double gamma, double R) {

@@ -6,8 +6,8 @@
 
 #include <math.h>
 #include <stdbool.h>
-#include "contact/tangential.h"
-#include "vec3.h"
+#include "tangential.h"
+#include "adem/vec3.h"
 
 /* Model A, constant directional torque (I7-I8): -e_c |F_n| omega_rel/|omega_rel|, e_c = eta_r R_r.
  * It flips sign with omega_rel, so a sphere at rest sees it oscillate: that is the known flaw. */

@@ -3,7 +3,7 @@
 #define ADEM_CONTACT_TANGENTIAL_H
 
 #include <stdbool.h>
-#include "vec3.h"
+#include "adem/vec3.h"
 
 /* Keeps the history xi in the tangent plane of the unit normal n, with its length unchanged, so a
  * rotating contact does not lose or gain stored spring energy. */

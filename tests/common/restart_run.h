@@ -45,8 +45,8 @@ static inline void assert_same_files(const char *dir_a, const char *dir_b, const
     char *a, *b;
     size_t na, nb;
     adem_error err;
-    if (adem_fileio_read_all(pa, &a, &na, &err)) fail_msg("%s", err.message);
-    if (adem_fileio_read_all(pb, &b, &nb, &err)) fail_msg("%s", err.message);
+    if (adem_file_read_all(pa, &a, &na, &err)) fail_msg("%s", err.message);
+    if (adem_file_read_all(pb, &b, &nb, &err)) fail_msg("%s", err.message);
     if (na != nb || memcmp(a, b, na) != 0) fail_msg("%s differs after %s", *names, after);
     free(a);
     free(b);

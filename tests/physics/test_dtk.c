@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "collide.h"
-#include "contact/jkr.h"
+#include "jkr.h"
 #include "world.h"
 
 #define RADIUS 1e-6

@@ -10,8 +10,8 @@
 #include <string.h>
 
 #include "collide.h"
-#include "contact/hertz.h"
-#include "contact/jkr.h"
+#include "hertz.h"
+#include "jkr.h"
 
 /* PSL sphere on quartz (H Fig. 5): effective E = 271 MPa, gamma = 0.11 J/m^2. */
 static adem_collision_spec psl(adem_collision_kind kind, double f, bool keep_gamma, double v) {

@@ -129,7 +129,7 @@ static void read_last_row(const char *path, csv_last *out) {
   char *text;
   size_t len;
   adem_error err;
-  if (adem_fileio_read_all(path, &text, &len, &err)) fail_msg("%s", err.message);
+  if (adem_file_read_all(path, &text, &len, &err)) fail_msg("%s", err.message);
   char *nl = strchr(text, '\n');
   assert_non_null(nl);
   snprintf(out->header, sizeof out->header, "%.*s", (int)(nl - text), text);

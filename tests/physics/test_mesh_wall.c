@@ -15,6 +15,7 @@
 #include "plate_stl.h"
 #include "tmpdir.h"
 #include "world.h"
+#include "stl.h"
 
 static int group_setup(void **state) {
   (void)state;
@@ -35,7 +36,7 @@ static adem_world *bouncing_world(int use_mesh, const char *plate) {
   if (use_mesh) {
     adem_mesh_transform tf = adem_default_mesh_transform();
     tf.material = st;
-    assert_int_equal(adem_world_add_mesh(w, plate, &tf, "floor", v3_zero(), &err), ADEM_OK);
+    assert_int_equal(adem_world_add_stl(w, plate, &tf, "floor", v3_zero(), &err), ADEM_OK);
   } else {
     adem_plane_def pl = adem_default_plane_def();
     snprintf(pl.name, sizeof pl.name, "floor");
@@ -114,7 +115,7 @@ static void test_mesh_threads(void **state) {
     tf.scale = 0.05;
     tf.material = glass;
     adem_error err;
-    assert_int_equal(adem_world_add_mesh(w, ADEM_SOURCE_DIR "/tests/data/cube_ascii.stl", &tf, "box",
+    assert_int_equal(adem_world_add_stl(w, ADEM_SOURCE_DIR "/tests/data/cube_ascii.stl", &tf, "box",
                                          v3_zero(), &err),
                      ADEM_OK);
     for (int k = 0; k < 400; ++k) {
@@ -148,7 +149,7 @@ static void test_moving_mesh_drags(void **state) {
   tf.own_vertices = 1;
   adem_error err;
   const double V = 0.2;
-  assert_int_equal(adem_world_add_mesh(w, plate, &tf, "belt", v3(V, 0, 0), &err), ADEM_OK);
+  assert_int_equal(adem_world_add_stl(w, plate, &tf, "belt", v3(V, 0, 0), &err), ADEM_OK);
   double r = 0.005;
   /* just touching: a particle may not start inside a mesh face; it sinks by the resting overlap
    * (about 2 um) with a bounce far too small to matter */

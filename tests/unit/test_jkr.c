@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "contact/jkr.h"
+#include "jkr.h"
 
 static const double R = 0.635e-6, E = 271e6, GAMMA = 0.11; /* PSL on quartz (notes section 8) */
 

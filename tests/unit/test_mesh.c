@@ -18,6 +18,8 @@
 #include "case_text.h"
 #include "log_capture.h"
 #include "mesh.h"
+#include "output.h"
+#include "stl.h"
 #include "tmpdir.h"
 
 #define DATA ADEM_SOURCE_DIR "/tests/data/"

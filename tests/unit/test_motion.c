@@ -7,7 +7,7 @@
 
 #include "helpers.h"
 #include "motion.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 #include "world.h"
 
 static const double T[3] = {0.0, 1.0, 3.0};

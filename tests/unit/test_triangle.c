@@ -14,8 +14,9 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "contact/triangle.h"
+#include "mesh_contact.h"
 #include "mesh.h"
+#include "stl.h"
 #include "rng.h"
 
 #define DATA ADEM_SOURCE_DIR "/tests/data/"

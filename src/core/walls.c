@@ -94,10 +94,9 @@ static void path_stem(const char *path, char *buf, size_t n) {
   buf[len] = '\0';
 }
 
-adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
-                                const char *name, adem_vec3 velocity, adem_error *err) {
-  adem_mesh_transform def = adem_default_mesh_transform();
-  if (!tf) tf = &def;
+adem_status adem_world_check_mesh(const adem_world *w, const char *path,
+                                  const adem_mesh_transform *tf, adem_vec3 velocity,
+                                  adem_error *err) {
   if (tf->material < 0 || tf->material >= w->nmaterials)
     return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is not a material", path,
                           tf->material);
@@ -105,9 +104,20 @@ adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh
   if (!v3_isfinite(velocity) || (moving && !tf->own_vertices))
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "%s: a moving mesh needs a finite velocity and its own vertices", path);
+  return ADEM_OK;
+}
+
+adem_status adem_world_add_mesh_soup(adem_world *w, const adem_mesh_soup *s,
+                                     const adem_mesh_transform *tf, const char *path, int ascii,
+                                     const char *name, adem_vec3 velocity, adem_error *err) {
+  adem_mesh_transform def = adem_default_mesh_transform();
+  if (!tf) tf = &def;
+  adem_status st = adem_world_check_mesh(w, path, tf, velocity, err);
+  if (st) return st;
+  bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
   int before = w->mesh.ngroups;
   size_t nv_before = w->mesh.nverts, nt_before = w->mesh.ntris;
-  adem_status st = adem_mesh_load_stl(path, tf, name, &w->mesh, err);
+  st = adem_mesh_append_soup(&w->mesh, s, tf, path, ascii, err);
   if (st) return st;
   size_t ng = (size_t)w->mesh.ngroups, nv = w->mesh.nverts, nt = w->mesh.ntris;
   adem_motion *mo = realloc(w->mesh_motion, ng * sizeof *mo);

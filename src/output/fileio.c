@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "files.h"
 #include "log.h"
 
 static char *str_dup(const char *s) {
@@ -17,35 +18,12 @@ static char *str_dup(const char *s) {
   return d;
 }
 
-char *adem_fileio_dirname(const char *path) {
-  const char *slash = strrchr(path, '/');
-  if (!slash) return str_dup(".");
-  if (slash == path) return str_dup("/");
-  size_t n = (size_t)(slash - path);
-  char *d = malloc(n + 1);
-  if (!d) return NULL;
-  memcpy(d, path, n);
-  d[n] = '\0';
-  return d;
-}
-
-char *adem_fileio_join(const char *dir, const char *name) {
-  size_t nd = strlen(dir), nn = strlen(name);
-  int slash = nd > 0 && dir[nd - 1] != '/';
-  char *s = malloc(nd + (size_t)slash + nn + 1);
-  if (!s) return NULL;
-  memcpy(s, dir, nd);
-  if (slash) s[nd] = '/';
-  memcpy(s + nd + (size_t)slash, name, nn + 1);
-  return s;
-}
-
 /* Creates and opens a new file named ".BASE.tmp.PID.N" next to path. Returns the fd or -1 with
  * errno set. The name is unique within the process (counter) and between processes (pid); a
  * leftover from a crashed process with a recycled pid is skipped by O_EXCL. */
 static int open_temp(const char *path, char **tmp_out) {
   static atomic_uint counter;
-  char *dir = adem_fileio_dirname(path);
+  char *dir = adem_file_dirname(path);
   if (!dir) {
     errno = ENOMEM;
     return -1;
@@ -79,7 +57,7 @@ static int open_temp(const char *path, char **tmp_out) {
 
 /* Makes a rename durable. Some file systems refuse fsync on a directory: that is not an error. */
 static int sync_dir_of(const char *path) {
-  char *dir = adem_fileio_dirname(path);
+  char *dir = adem_file_dirname(path);
   if (!dir) return ENOMEM;
   int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   free(dir);
@@ -153,40 +131,6 @@ adem_status adem_fileio_write_all(const char *path, const void *data, size_t n, 
   return adem_fileio_commit(&af, err);
 }
 
-adem_status adem_fileio_read_all(const char *path, char **data, size_t *n, adem_error *err) {
-  *data = NULL;
-  *n = 0;
-  FILE *f = fopen(path, "rb");
-  if (!f) return adem_error_set(err, ADEM_ERR_INPUT, "cannot read %s: %s", path, strerror(errno));
-  size_t cap = 1 << 16, len = 0;
-  char *buf = malloc(cap + 1);
-  while (buf) {
-    size_t got = fread(buf + len, 1, cap - len, f);
-    len += got;
-    if (len < cap) break;
-    char *nb = realloc(buf, 2 * cap + 1);
-    if (!nb) {
-      free(buf);
-      buf = NULL;
-      break;
-    }
-    buf = nb;
-    cap *= 2;
-  }
-  int failed = !buf || ferror(f);
-  int e = errno;
-  fclose(f);
-  if (!buf) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory reading %s", path);
-  if (failed) {
-    free(buf);
-    return adem_error_set(err, ADEM_ERR_INPUT, "cannot read %s: %s", path, strerror(e ? e : EIO));
-  }
-  buf[len] = '\0';
-  *data = buf;
-  *n = len;
-  return ADEM_OK;
-}
-
 adem_status adem_fileio_temp_next_to(const char *path, char **tmp_path, adem_error *err) {
   int fd = open_temp(path, tmp_path);
   if (fd < 0) return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
@@ -238,7 +182,7 @@ adem_status adem_fileio_mkdir_p(const char *path, adem_error *err) {
 }
 
 adem_status adem_fileio_check_writable(const char *dir, adem_error *err) {
-  char *probe = adem_fileio_join(dir, "write_probe");
+  char *probe = adem_file_join(dir, "write_probe");
   if (!probe) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   char *tmp = NULL;
   int fd = open_temp(probe, &tmp);

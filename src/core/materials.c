@@ -3,7 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact/hertz.h"
+#include "hertz.h"
+#include "jkr.h"
 #include "log.h"
 #include "world.h"
 
@@ -184,4 +185,37 @@ int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, a
   d[w->ninteraction_defs] = *def;
   w->prepared = false;
   return w->ninteraction_defs++;
+}
+
+double adem_hertz_collision_time(double mstar, double R, double E, double v) {
+  return 2.86827 * pow(mstar * mstar / (R * E * E * v), 0.2);
+}
+
+adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
+                                              double gamma_mod, double R, double mstar,
+                                              double v_ref) {
+  adem_jkr_pair_summary s;
+  s.R = R;
+  s.mstar = mstar;
+  s.E = E;
+  s.E_mod = E_mod;
+  s.gamma = gamma;
+  s.gamma_mod = gamma_mod;
+  s.a0 = adem_jkr_a0(gamma, R, E); /* H7 */
+  s.a0_mod = adem_jkr_a0(gamma_mod, R, E_mod);
+  s.delta_eq = s.a0 * s.a0 / (3.0 * R);
+  s.delta_eq_mod = s.a0_mod * s.a0_mod / (3.0 * R);
+  s.f_c = adem_jkr_critical_force(gamma, R);
+  s.f_c_mod = adem_jkr_critical_force(gamma_mod, R);
+  s.pull_off = 8.0 / 9.0 * s.f_c;
+  s.pull_off_mod = 8.0 / 9.0 * s.f_c_mod;
+  const double D = ADEM_TABOR_DMIN;
+  s.tabor = cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D)); /* H1 */
+  s.t_c = adem_hertz_collision_time(mstar, R, E, v_ref);
+  s.t_c_mod = adem_hertz_collision_time(mstar, R, E_mod, v_ref);
+  s.dt = s.t_c / 50.0; /* about 50 steps a collision (Silbert et al. 2001, used by H) */
+  s.dt_mod = s.t_c_mod / 50.0;
+  s.speedup = pow(E / E_mod, 0.4);
+  s.f_ext_max = ADEM_PULLOFF_SAFETY * s.pull_off_mod;
+  return s;
 }

@@ -12,14 +12,14 @@
 #include <unistd.h>
 #include <yaml.h>
 
-#include "collide.h"
-#include "fileio.h"
+#include "files.h"
+#include "stl.h"
 #include "log.h"
 #include "rng.h"
 #include "insert.h"
 #include "schema.h"
 #include "stages.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 #include "world.h"
 
 #define KEY_PATH_MAX 256
@@ -1352,7 +1352,7 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
     st = nomem(ctx);
     goto done;
   }
-  st = adem_world_add_mesh(w, resolved, &tf, name, v3_zero(), &werr);
+  st = adem_world_add_stl(w, resolved, &tf, name, v3_zero(), &werr);
   join(path, sizeof path, m->path, "file");
   if (st) {
     st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
@@ -2403,7 +2403,7 @@ adem_status adem_case_load_string_flags(const char *text, const char *name_for_m
   ctx.err = err;
   ctx.c = c;
   adem_status st = ADEM_OK;
-  char *dir = base_dir ? copy_text(base_dir) : adem_fileio_dirname(name_for_messages ? c->path : ".");
+  char *dir = base_dir ? copy_text(base_dir) : adem_file_dirname(name_for_messages ? c->path : ".");
   if (!dir) st = nomem(&ctx);
   else if (!set_base_dir(c, dir))
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s: cannot tell the case's folder (%s): %s", c->path,

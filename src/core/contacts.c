@@ -6,10 +6,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "contact/hertz.h"
-#include "contact/jkr.h"
-#include "contact/rolling.h"
-#include "contact/tangential.h"
+#include "hertz.h"
+#include "jkr.h"
+#include "rolling.h"
+#include "tangential.h"
 #include "parallel.h"
 #include "world.h"
 

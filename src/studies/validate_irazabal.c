@@ -14,7 +14,7 @@
 #include "log.h"
 #include "plot.h"
 #include "validate.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 #include "world.h"
 
 /* I Table 1 (test cases 1 and 2). */

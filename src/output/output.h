@@ -6,6 +6,13 @@
 
 #include <stdbool.h>
 #include "adem/adem.h"
+#include "mesh.h"
+
+/* The mesh as a VTU UnstructuredGrid of triangles with cell data group, normal, force (the force
+ * the particles exert on each face, 3 doubles per face; NULL writes zeros) and pressure
+ * (|force| / area). Atomic (fileio), raw appended binary like the particle frames. */
+adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
+                                adem_error *err);
 
 /* One VTU file: UnstructuredGrid of vertex cells, raw appended binary data with UInt64 block
  * headers; point data radius, id, material, velocity, angular_velocity, force, rolling_torque

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "files.h"
 #include "fileio.h"
 #include "log.h"
 #include "world.h"
@@ -166,7 +167,7 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
   size_t len = 0;
   adem_error ignored;
   size_t missing = frames_done;
-  if (adem_fileio_read_all(path, &text, &len, &ignored) == ADEM_OK) {
+  if (adem_file_read_all(path, &text, &len, &ignored) == ADEM_OK) {
     for (char *line = text; line && *line;) {
       char *next = strchr(line, '\n');
       if (next) *next++ = '\0';
@@ -369,7 +370,7 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
   char *text = NULL;
   size_t len = 0;
   adem_error rd;
-  if (adem_fileio_read_all(path, &text, &len, &rd) != ADEM_OK) {
+  if (adem_file_read_all(path, &text, &len, &rd) != ADEM_OK) {
     adem_log(ADEM_LOG_WARN, "%s is missing; the time series restarts at t = %.9g s", path, t_resume);
     return adem_fileio_write_all(path, header, strlen(header), err);
   }
@@ -474,7 +475,7 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
  * particles.pvd: ParaView would merge the parts into one multiblock, and a Glyph filter on the
  * particles would then draw spheres at the mesh's vertices too. */
 static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
-  char *path = adem_fileio_join(o->dir, "mesh.pvd");
+  char *path = adem_file_join(o->dir, "mesh.pvd");
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_afile af;
   adem_status st = adem_fileio_open(&af, path, err);
@@ -497,7 +498,7 @@ static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_er
   if (w->mesh.ntris == 0) return ADEM_OK;
   char name[64];
   snprintf(name, sizeof name, "frames/mesh_%06zu.vtu", o->next_frame);
-  char *path = adem_fileio_join(o->dir, name);
+  char *path = adem_file_join(o->dir, name);
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_status st = adem_mesh_write_vtu(&w->mesh, w->face_force, path, err);
   free(path);
@@ -515,11 +516,11 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   adem_status st = adem_fileio_mkdir_p(dir, err);
   if (!st) st = adem_fileio_check_writable(dir, err);
   if (st) return st;
-  o->dir = adem_fileio_join(dir, "");
-  o->pvd_path = adem_fileio_join(dir, "particles.pvd");
-  o->csv_path = adem_fileio_join(dir, "timeseries.csv");
-  o->png_path = adem_fileio_join(dir, "energy.png");
-  char *frames_dir = adem_fileio_join(dir, "frames");
+  o->dir = adem_file_join(dir, "");
+  o->pvd_path = adem_file_join(dir, "particles.pvd");
+  o->csv_path = adem_file_join(dir, "timeseries.csv");
+  o->png_path = adem_file_join(dir, "energy.png");
+  char *frames_dir = adem_file_join(dir, "frames");
   if (!o->dir || !o->pvd_path || !o->csv_path || !o->png_path || !frames_dir) {
     free(frames_dir);
     adem_output_close(o);
@@ -557,7 +558,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   if (!o->frames) return ADEM_OK;
   char name[64];
   frame_name(name, sizeof name, o->next_frame);
-  char *path = adem_fileio_join(o->dir, name);
+  char *path = adem_file_join(o->dir, name);
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_status st = adem_output_write_vtu(w, path, err);
   free(path);

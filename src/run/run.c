@@ -12,6 +12,7 @@
 #include <time.h>
 
 #include "adem/adem.h"
+#include "files.h"
 #include "fileio.h"
 #include "log.h"
 #include "output.h"
@@ -90,8 +91,8 @@ static adem_status plot_loads(const adem_case *c, const char *dir, bool have_csv
     adem_log(ADEM_LOG_WARN, "output.plot_loads needs the CSV time series, which is off: no plot");
     return ADEM_OK;
   }
-  char *csv = adem_fileio_join(dir, "timeseries.csv");
-  char *png = adem_fileio_join(dir, "loads.png");
+  char *csv = adem_file_join(dir, "timeseries.csv");
+  char *png = adem_file_join(dir, "loads.png");
   adem_status st;
   if (csv && png) {
     char title[ADEM_NAME_MAX + 32];
@@ -144,7 +145,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
                         resume, frames_done,
                         (double)k_frame * dt, w->time, &track, err);
   if (st) return st;
-  char *ckpt_path = adem_fileio_join(dir, "checkpoint");
+  char *ckpt_path = adem_file_join(dir, "checkpoint");
   if (!ckpt_path) {
     adem_output_close(&out);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -223,8 +224,8 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     if (k_csv == 0) {
       adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
     } else {
-      char *csv = adem_fileio_join(dir, "timeseries.csv");
-      char *png = adem_fileio_join(dir, "energy.png");
+      char *csv = adem_file_join(dir, "timeseries.csv");
+      char *png = adem_file_join(dir, "energy.png");
       if (csv && png) {
         char title[ADEM_NAME_MAX + 32];
         snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact/hertz.h"
+#include "hertz.h"
 #include "log.h"
 #include "parallel.h"
 #include "world.h"
@@ -150,11 +150,6 @@ double adem_world_time(const adem_world *w) { return w->time; }
 uint64_t adem_world_step_count(const adem_world *w) { return w->step; }
 size_t adem_world_particle_count(const adem_world *w) { return w->p.n; }
 
-/* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5). */
-static double collision_time(double mstar, double R, double E, double v) {
-  return 2.86827 * pow(mstar * mstar / (R * E * E * v), 0.2);
-}
-
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY};
   adem_world *mw = (adem_world *)w; /* derive the pair table if the caller has not prepared */
@@ -182,17 +177,17 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
       if (isfinite(rmin[b])) {
         double rb = rmin[b];
         double mb = w->materials[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
-        double tc = collision_time(m * mb / (m + mb), r * rb / (r + rb), it->E, v_ref);
+        double tc = adem_hertz_collision_time(m * mb / (m + mb), r * rb / (r + rb), it->E, v_ref);
         est.t_collision = fmin(est.t_collision, tc);
       }
     }
     for (int k = 0; k < w->nplanes; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->planes[k].def.material);
-      est.t_collision = fmin(est.t_collision, collision_time(m, r, it->E, v_ref));
+      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
     }
     for (int k = 0; k < w->mesh.ngroups; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->mesh.groups[k].material);
-      est.t_collision = fmin(est.t_collision, collision_time(m, r, it->E, v_ref));
+      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
     }
   }
   free(rmin);

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "contact/jkr.h"
+#include "jkr.h"
 #include "log.h"
 #include "world.h"
 
@@ -90,9 +90,6 @@ double adem_collide_force(const adem_collision_spec *s) {
   return s->force_ext + s->force_hat * adem_collide_yield_force(s);
 }
 
-double adem_collide_hertz_time(double mstar, double R, double E, double v) {
-  return 2.86827 * pow(mstar * mstar / (R * E * E * v), 0.2);
-}
 
 static double sphere_mass(double rho, double r) { return rho * (4.0 / 3.0) * ADEM_PI * r * r * r; }
 
@@ -121,7 +118,7 @@ adem_collision_params adem_collide_params(const adem_collision_spec *s) {
     /* Stiffness at equilibrium dF/ddelta = 6 E a0 / 5 (from H8-H10 at a = a0). */
     p.t_osc = 2.0 * ADEM_PI * sqrt(p.mstar / (1.2 * p.E_mod * a0));
   }
-  p.t_c = adem_collide_hertz_time(p.mstar, p.R, p.E_mod, v_in);
+  p.t_c = adem_hertz_collision_time(p.mstar, p.R, p.E_mod, v_in);
   return p;
 }
 
@@ -657,31 +654,3 @@ size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double
   return m;
 }
 
-adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
-                                              double gamma_mod, double R, double mstar,
-                                              double v_ref) {
-  adem_jkr_pair_summary s;
-  s.R = R;
-  s.mstar = mstar;
-  s.E = E;
-  s.E_mod = E_mod;
-  s.gamma = gamma;
-  s.gamma_mod = gamma_mod;
-  s.a0 = adem_jkr_a0(gamma, R, E); /* H7 */
-  s.a0_mod = adem_jkr_a0(gamma_mod, R, E_mod);
-  s.delta_eq = s.a0 * s.a0 / (3.0 * R);
-  s.delta_eq_mod = s.a0_mod * s.a0_mod / (3.0 * R);
-  s.f_c = adem_jkr_critical_force(gamma, R);
-  s.f_c_mod = adem_jkr_critical_force(gamma_mod, R);
-  s.pull_off = 8.0 / 9.0 * s.f_c;
-  s.pull_off_mod = 8.0 / 9.0 * s.f_c_mod;
-  const double D = ADEM_TABOR_DMIN;
-  s.tabor = cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D)); /* H1 */
-  s.t_c = adem_collide_hertz_time(mstar, R, E, v_ref);
-  s.t_c_mod = adem_collide_hertz_time(mstar, R, E_mod, v_ref);
-  s.dt = s.t_c / 50.0; /* about 50 steps a collision (Silbert et al. 2001, used by H) */
-  s.dt_mod = s.t_c_mod / 50.0;
-  s.speedup = pow(E / E_mod, 0.4);
-  s.f_ext_max = ADEM_PULLOFF_SAFETY * s.pull_off_mod;
-  return s;
-}

@@ -2,14 +2,14 @@
  * and the one-contact-per-region rule that turns a sphere's candidate triangles into distinct
  * contacts. Pure inline functions: mesh and sphere in, contacts out. Contacts are two-sided: the
  * normal points from the sphere centre to the closest point, whichever side the centre is on. */
-#ifndef ADEM_CONTACT_TRIANGLE_H
-#define ADEM_CONTACT_TRIANGLE_H
+#ifndef ADEM_MESH_CONTACT_H
+#define ADEM_MESH_CONTACT_H
 
 #include <math.h>
 #include <stdint.h>
 
 #include "mesh.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 
 /* Where on a triangle a closest point lies. Edge k joins vertices k and (k + 1) % 3. */
 typedef enum adem_triangle_feature {

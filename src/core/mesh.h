@@ -1,6 +1,7 @@
-/* Triangle-mesh walls: STL reading (ASCII and binary) with a transform applied at load, shared
- * vertices, edge adjacency with flat/convex/concave edges and flat regions, and a VTU writer.
- * Sphere-triangle geometry and the one-contact-per-region rule are in contact/triangle.h. */
+/* Triangle-mesh walls: triangles appended with a transform, shared vertices, edge adjacency with
+ * flat/convex/concave edges and flat regions. Reading STL files is input/stl.h; writing mesh
+ * frames is output. Sphere-triangle geometry and the one-contact-per-region rule are in
+ * mesh_contact.h. */
 #ifndef ADEM_MESH_H
 #define ADEM_MESH_H
 
@@ -87,15 +88,39 @@ typedef struct adem_mesh {
   double flat_angle; /* radians; 0 means ADEM_MESH_FLAT_ANGLE. Set before loading. */
 } adem_mesh;
 
-/* Reads an ASCII or binary STL file, transforms it, and appends it to mesh as one group per file
- * (or per `solid` block of an ASCII file with several). The group is named group_name if given,
- * else the solid's name, else the file's stem; with several solid blocks each group is named
- * PREFIX.SOLID (PREFIX = group_name or the stem, SOLID = the block's name or its 1-based number).
- * A name already used in mesh is an error. Degenerate triangles are dropped with one warning.
- * Errors (ADEM_ERR_INPUT) name the file and the line (ASCII) or triangle and byte offset
- * (binary); on any error mesh is left exactly as it was. */
-adem_status adem_mesh_load_stl(const char *path, const adem_mesh_transform *tf,
-                               const char *group_name, adem_mesh *mesh, adem_error *err);
+/* Triangles as read from a file or made in code: 3 corners, the stored normal and where each
+ * came from (a file's line of its `facet`, or a triangle index), in named blocks that become
+ * groups. */
+typedef struct adem_mesh_soup_block {
+  char name[ADEM_NAME_MAX];
+  size_t line; /* ASCII: line of `solid`; 0 otherwise */
+  size_t first, count;
+} adem_mesh_soup_block;
+
+typedef struct adem_mesh_soup {
+  size_t n, cap;
+  adem_vec3 *corner; /* 3 per triangle */
+  adem_vec3 *normal;
+  size_t *where;
+  size_t nblocks, block_cap;
+  adem_mesh_soup_block *blocks;
+} adem_mesh_soup;
+
+void adem_mesh_soup_free(adem_mesh_soup *s);
+/* Appends one triangle to the last block; 0 when out of memory. */
+int adem_mesh_soup_push(adem_mesh_soup *s, const adem_vec3 c[3], adem_vec3 normal, size_t where);
+/* Starts a block; NULL when out of memory. */
+adem_mesh_soup_block *adem_mesh_soup_block_open(adem_mesh_soup *s, const char *name, size_t line);
+
+/* Checks a transform (scale > 0, R a proper rotation, material >= 0); path names it in messages. */
+adem_status adem_mesh_check_transform(const adem_mesh_transform *tf, const char *path,
+                                      adem_error *err);
+/* Appends the soup's blocks as groups (names already chosen and unique), transformed. Builds a
+ * new mesh beside the old one and swaps it in, so that a failure leaves mesh untouched. Messages
+ * name path and the facet's line (ascii != 0) or the triangle and its byte offset. */
+adem_status adem_mesh_append_soup(adem_mesh *mesh, const adem_mesh_soup *s,
+                                  const adem_mesh_transform *tf, const char *path, int ascii,
+                                  adem_error *err);
 
 /* Appends ntri triangles given as 3 corners each (already in world coordinates) as one group:
  * the same deduplication (own_vertices as in the transform), degenerate-triangle dropping and topology as a loaded file. For meshes
@@ -120,11 +145,5 @@ void adem_mesh_bounds(const adem_mesh *mesh, adem_vec3 *lo, adem_vec3 *hi);
 
 /* Total area of a group's triangles (group < 0: of every triangle), m^2. */
 double adem_mesh_area(const adem_mesh *mesh, int group);
-
-/* Writes the mesh as a VTU UnstructuredGrid of triangles with cell data group, normal, force (the
- * force the particles exert on each face, 3 doubles per face; NULL writes zeros) and pressure
- * (|force| / area). Atomic (fileio), raw appended binary like the particle frames. */
-adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
-                                adem_error *err);
 
 #endif

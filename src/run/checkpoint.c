@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "files.h"
 #include "fileio.h"
 #include "insert.h"
 #include "log.h"
@@ -546,7 +547,7 @@ adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *
   *out = NULL;
   char *data = NULL;
   size_t len = 0;
-  adem_status st = adem_fileio_read_all(path, &data, &len, err);
+  adem_status st = adem_file_read_all(path, &data, &len, err);
   if (st) return st;
   const unsigned char *b = (const unsigned char *)data;
   if (len < 8 || memcmp(b, CKPT_MAGIC, 8) != 0) {

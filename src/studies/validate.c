@@ -6,6 +6,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "files.h"
 #include "fileio.h"
 #include "log.h"
 #include "plot.h"
@@ -135,8 +136,8 @@ typedef struct result_entry {
 
 static adem_status write_summaries(const adem_validation_context *ctx, const result_entry *r,
                                    size_t n, adem_error *err) {
-  char *json_path = adem_fileio_join(ctx->out_dir, "summary.json");
-  char *md_path = adem_fileio_join(ctx->out_dir, "summary.md");
+  char *json_path = adem_file_join(ctx->out_dir, "summary.json");
+  char *md_path = adem_file_join(ctx->out_dir, "summary.md");
   if (!json_path || !md_path) {
     free(json_path);
     free(md_path);

@@ -6,9 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact/triangle.h"
+#include "mesh_contact.h"
 #include "log.h"
-#include "vec3.h"
+#include "adem/vec3.h"
+#include "stl.h"
 #include "world.h"
 
 /* ---------------------------------------------------------------- size distributions */

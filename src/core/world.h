@@ -5,10 +5,10 @@
 
 #include <stdbool.h>
 #include "adem/adem.h"
-#include "contact/triangle.h"
+#include "mesh_contact.h"
 #include "mesh.h"
 #include "motion.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 
 /* Particle storage. Indices change when particles are reordered by grid cell; id never does. */
 typedef struct adem_particles {
@@ -213,10 +213,16 @@ void adem_pair_list_free(adem_pair_list *l);
 adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
 void adem_mesh_pairs_free(adem_mesh_pairs *pm);
 
-/* Adds the triangles of an STL file as one mesh wall group (more groups for an ASCII file with
- * several solids), moving with velocity (non-zero needs tf->own_vertices). */
-adem_status adem_world_add_mesh(adem_world *w, const char *path, const adem_mesh_transform *tf,
-                                const char *name, adem_vec3 velocity, adem_error *err);
+/* Checks what adding a mesh wall needs before its file is read: the transform's material exists,
+ * and a moving mesh (velocity != 0) has its own vertices. */
+adem_status adem_world_check_mesh(const adem_world *w, const char *path,
+                                  const adem_mesh_transform *tf, adem_vec3 velocity,
+                                  adem_error *err);
+/* Adds the blocks of a triangle soup (read from the file `path`, see input/stl.h) as one mesh
+ * wall: one group per block, moving with velocity (non-zero needs tf->own_vertices). */
+adem_status adem_world_add_mesh_soup(adem_world *w, const adem_mesh_soup *s,
+                                     const adem_mesh_transform *tf, const char *path, int ascii,
+                                     const char *name, adem_vec3 velocity, adem_error *err);
 /* Point (at time 0) the torques of mesh wall `wall` (adem_world_add_mesh's order) and of each of
  * its groups are taken about; by default each group's area centroid and the file's. */
 adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,

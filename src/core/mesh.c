@@ -1,5 +1,4 @@
 #include "mesh.h"
-#include "vtu.h"
 
 #include <errno.h>
 #include <float.h>
@@ -9,9 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fileio.h"
 #include "log.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 
 _Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
 
@@ -71,7 +69,7 @@ adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, 
   return ADEM_OK;
 }
 
-static adem_status check_transform(const adem_mesh_transform *tf, const char *path,
+adem_status adem_mesh_check_transform(const adem_mesh_transform *tf, const char *path,
                                    adem_error *err) {
   if (!(tf->scale > 0.0) || !isfinite(tf->scale))
     return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh scale must be finite and > 0, not %g",
@@ -107,26 +105,10 @@ static adem_vec3 rotate(const double R[3][3], adem_vec3 x) {
             R[2][0] * x.x + R[2][1] * x.y + R[2][2] * x.z);
 }
 
-/* ---------------------------------------------------------------- triangle soup */
+/* ---------------------------------------------------------------- triangle adem_mesh_soup */
 
-/* Triangles as read: 3 corners, the stored normal and where each came from (ASCII: line of its
- * `facet`; binary: triangle index), in blocks that become groups. */
-typedef struct soup_block {
-  char name[ADEM_NAME_MAX];
-  size_t line; /* ASCII: line of `solid`; 0 for binary */
-  size_t first, count;
-} soup_block;
 
-typedef struct soup {
-  size_t n, cap;
-  adem_vec3 *corner; /* 3 per triangle */
-  adem_vec3 *normal;
-  size_t *where;
-  size_t nblocks, block_cap;
-  soup_block *blocks;
-} soup;
-
-static void soup_free(soup *s) {
+void adem_mesh_soup_free(adem_mesh_soup *s) {
   free(s->corner);
   free(s->normal);
   free(s->where);
@@ -134,7 +116,7 @@ static void soup_free(soup *s) {
   memset(s, 0, sizeof *s);
 }
 
-static int soup_push(soup *s, const adem_vec3 c[3], adem_vec3 normal, size_t where) {
+int adem_mesh_soup_push(adem_mesh_soup *s, const adem_vec3 c[3], adem_vec3 normal, size_t where) {
   if (s->n == s->cap) {
     size_t cap = s->cap ? 2 * s->cap : 256;
     adem_vec3 *c2 = realloc(s->corner, 3 * cap * sizeof *c2);
@@ -153,15 +135,15 @@ static int soup_push(soup *s, const adem_vec3 c[3], adem_vec3 normal, size_t whe
   return 1;
 }
 
-static soup_block *soup_block_open(soup *s, const char *name, size_t line) {
+adem_mesh_soup_block *adem_mesh_soup_block_open(adem_mesh_soup *s, const char *name, size_t line) {
   if (s->nblocks == s->block_cap) {
     size_t cap = s->block_cap ? 2 * s->block_cap : 4;
-    soup_block *b = realloc(s->blocks, cap * sizeof *b);
+    adem_mesh_soup_block *b = realloc(s->blocks, cap * sizeof *b);
     if (!b) return NULL;
     s->blocks = b;
     s->block_cap = cap;
   }
-  soup_block *b = &s->blocks[s->nblocks++];
+  adem_mesh_soup_block *b = &s->blocks[s->nblocks++];
   memset(b, 0, sizeof *b);
   snprintf(b->name, sizeof b->name, "%s", name);
   b->line = line;
@@ -169,253 +151,12 @@ static soup_block *soup_block_open(soup *s, const char *name, size_t line) {
   return b;
 }
 
-/* ---------------------------------------------------------------- ASCII STL */
-
-typedef struct lexer {
-  const char *p, *end;
-  size_t line;
-  size_t last_line; /* of the last token: where "the end of the file" is reported */
-  const char *path;
-} lexer;
-
-typedef struct token {
-  const char *s;
-  size_t len, line;
-} token;
-
-static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
-
-/* Next whitespace-separated token; 0 at the end of the text. */
-static int lex_next(lexer *lx, token *t) {
-  while (lx->p < lx->end && is_space(*lx->p)) {
-    if (*lx->p == '\n') lx->line++;
-    lx->p++;
-  }
-  t->line = lx->line;
-  t->s = lx->p;
-  while (lx->p < lx->end && !is_space(*lx->p)) lx->p++;
-  t->len = (size_t)(lx->p - t->s);
-  if (t->len == 0) t->line = lx->last_line;
-  lx->last_line = t->line;
-  return t->len > 0;
-}
-
-/* The rest of the current line, trimmed (the solid's name). */
-static void lex_rest_of_line(lexer *lx, char *out, size_t cap) {
-  while (lx->p < lx->end && (*lx->p == ' ' || *lx->p == '\t')) lx->p++;
-  const char *s = lx->p;
-  while (lx->p < lx->end && *lx->p != '\n') lx->p++;
-  const char *e = lx->p;
-  while (e > s && is_space(e[-1])) --e;
-  size_t n = (size_t)(e - s);
-  if (n >= cap) n = cap - 1; /* long CAD names are cut: the name is only a label */
-  memcpy(out, s, n);
-  out[n] = '\0';
-}
-
-static int tok_is(const token *t, const char *word) {
-  size_t n = strlen(word);
-  if (t->len != n) return 0;
-  for (size_t i = 0; i < n; ++i) {
-    char c = t->s[i];
-    if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
-    if (c != word[i]) return 0;
-  }
-  return 1;
-}
-
-/* Quotes a token for a message: at most 40 characters. */
-static int tok_shown(const token *t) { return t->len > 40 ? 40 : (int)t->len; }
-
-static adem_status expect_word(lexer *lx, const char *word, adem_error *err) {
-  token t;
-  if (!lex_next(lx, &t))
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected '%s', found the end of the file",
-                          lx->path, t.line, word);
-  if (!tok_is(&t, word))
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected '%s', found '%.*s'", lx->path,
-                          t.line, word, tok_shown(&t), t.s);
-  return ADEM_OK;
-}
-
-/* A number token; coordinates must be finite, a stored normal that is not becomes zero. */
-static adem_status lex_number(lexer *lx, double *x, int coordinate, adem_error *err) {
-  token t;
-  if (!lex_next(lx, &t))
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected a number, found the end of the file",
-                          lx->path, t.line);
-  char buf[128];
-  char *end = buf;
-  if (t.len < sizeof buf) {
-    memcpy(buf, t.s, t.len);
-    buf[t.len] = '\0';
-    *x = strtod(buf, &end);
-  }
-  if (t.len >= sizeof buf || end != buf + t.len)
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: bad number '%.*s'", lx->path, t.line,
-                          tok_shown(&t), t.s);
-  if (!isfinite(*x)) {
-    if (coordinate)
-      return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: non-finite coordinate '%.*s'", lx->path,
-                            t.line, tok_shown(&t), t.s);
-    *x = 0.0;
-  }
-  return ADEM_OK;
-}
-
-static adem_status lex_vec3(lexer *lx, adem_vec3 *v, int coordinate, adem_error *err) {
-  adem_status st = lex_number(lx, &v->x, coordinate, err);
-  if (!st) st = lex_number(lx, &v->y, coordinate, err);
-  if (!st) st = lex_number(lx, &v->z, coordinate, err);
-  return st;
-}
-
 static adem_status oom(adem_error *err, const char *path) {
   return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory reading %s", path);
 }
 
-/* solid NAME (facet normal n n n / outer loop / vertex x y z (3x) / endloop / endfacet)* endsolid,
- * one or more times. Keywords in any case. */
-static adem_status parse_ascii(const char *path, const char *text, size_t n, soup *s,
-                               adem_error *err) {
-  lexer lx = {text, text + n, 1, 1, path};
-  token t;
-  if (!lex_next(&lx, &t) || !tok_is(&t, "solid"))
-    return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'solid'", path, t.line);
-  for (;;) {
-    /* inside a solid, just after the keyword */
-    char name[ADEM_NAME_MAX];
-    size_t solid_line = t.line;
-    lex_rest_of_line(&lx, name, sizeof name);
-    soup_block *b = soup_block_open(s, name, solid_line);
-    if (!b) return oom(err, path);
-    for (;;) {
-      if (!lex_next(&lx, &t))
-        return adem_error_set(err, ADEM_ERR_INPUT,
-                              "%s:%zu: the file ends inside solid '%s' (line %zu): 'endsolid' is missing",
-                              path, t.line, name, solid_line);
-      if (tok_is(&t, "endsolid")) {
-        char ignored[ADEM_NAME_MAX];
-        lex_rest_of_line(&lx, ignored, sizeof ignored);
-        break;
-      }
-      if (!tok_is(&t, "facet"))
-        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'facet' or 'endsolid', found '%.*s'",
-                              path, t.line, tok_shown(&t), t.s);
-      size_t facet_line = t.line;
-      adem_vec3 normal, c[3];
-      adem_status st = expect_word(&lx, "normal", err);
-      if (!st) st = lex_vec3(&lx, &normal, 0, err);
-      if (!st) st = expect_word(&lx, "outer", err);
-      if (!st) st = expect_word(&lx, "loop", err);
-      if (st) return st;
-      int nv = 0;
-      for (;;) {
-        if (!lex_next(&lx, &t))
-          return adem_error_set(err, ADEM_ERR_INPUT,
-                                "%s:%zu: expected 'vertex' or 'endloop', found the end of the file",
-                                path, t.line);
-        if (!tok_is(&t, "vertex")) break;
-        if (nv == 3)
-          return adem_error_set(err, ADEM_ERR_INPUT,
-                                "%s:%zu: facet (line %zu) has more than 3 vertices", path, t.line,
-                                facet_line);
-        st = lex_vec3(&lx, &c[nv++], 1, err);
-        if (st) return st;
-      }
-      if (!tok_is(&t, "endloop"))
-        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'vertex' or 'endloop', found '%.*s'",
-                              path, t.line, tok_shown(&t), t.s);
-      if (nv != 3)
-        return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: facet (line %zu) has %d vertices, expected 3",
-                              path, t.line, facet_line, nv);
-      st = expect_word(&lx, "endfacet", err);
-      if (st) return st;
-      if (!soup_push(s, c, normal, facet_line)) return oom(err, path);
-      s->blocks[s->nblocks - 1].count++;
-    }
-    if (!lex_next(&lx, &t)) return ADEM_OK;
-    if (!tok_is(&t, "solid"))
-      return adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu: expected 'solid' or the end of the file, found '%.*s'",
-                            path, t.line, tok_shown(&t), t.s);
-  }
-}
-
-/* ---------------------------------------------------------------- binary STL */
-
-static uint32_t get_u32le(const unsigned char *b) {
-  return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
-static float get_f32le(const unsigned char *b) {
-  uint32_t u = get_u32le(b);
-  float f;
-  memcpy(&f, &u, sizeof f);
-  return f;
-}
-
-/* 80-byte header, UInt32 count, then per triangle 12 float32 (normal, 3 vertices) and a UInt16. */
-static adem_status parse_binary(const char *path, const unsigned char *data, size_t size, soup *s,
-                                adem_error *err) {
-  uint32_t n = get_u32le(data + 80);
-  uint64_t expected = 84 + 50 * (uint64_t)n;
-  if ((uint64_t)size < expected) {
-    uint64_t k = (size - 84) / 50;
-    return adem_error_set(err, ADEM_ERR_INPUT,
-                          "%s: binary STL truncated: the header announces %" PRIu32
-                          " triangles (%" PRIu64 " bytes) but the file has %zu bytes; triangle %" PRIu64
-                          " (byte offset %" PRIu64 ") is incomplete",
-                          path, n, expected, size, k, 84 + 50 * k);
-  }
-  if ((uint64_t)size > expected)
-    return adem_error_set(err, ADEM_ERR_INPUT,
-                          "%s: binary STL size mismatch: the header announces %" PRIu32
-                          " triangles (%" PRIu64 " bytes) but the file has %zu bytes (extra data at byte offset %" PRIu64 ")",
-                          path, n, expected, size, expected);
-  if (!soup_block_open(s, "", 0)) return oom(err, path);
-  for (uint32_t i = 0; i < n; ++i) {
-    const unsigned char *t = data + 84 + 50 * (size_t)i;
-    double v[12];
-    for (int k = 0; k < 12; ++k) {
-      v[k] = (double)get_f32le(t + 4 * k);
-      if (k >= 3 && !isfinite(v[k]))
-        return adem_error_set(err, ADEM_ERR_INPUT,
-                              "%s: triangle %" PRIu32 " (byte offset %zu): non-finite coordinate %g",
-                              path, i, (size_t)(t - data) + 4 * (size_t)k, v[k]);
-    }
-    adem_vec3 normal = v3(v[0], v[1], v[2]);
-    if (!v3_isfinite(normal)) normal = v3_zero();
-    adem_vec3 c[3] = {v3(v[3], v[4], v[5]), v3(v[6], v[7], v[8]), v3(v[9], v[10], v[11])};
-    if (!soup_push(s, c, normal, i)) return oom(err, path);
-    s->blocks[0].count++;
-  }
-  return ADEM_OK;
-}
-
-/* ASCII if it starts with `solid`, has no NUL byte and has the keywords early on. A binary header
- * may also start with "solid" (some exporters write it), but its count and floats bring NULs. */
-static int looks_ascii(const char *data, size_t size) {
-  size_t i = 0;
-  while (i < size && is_space(data[i])) ++i;
-  if (size - i < 5 || strncmp(data + i, "solid", 5) != 0) return 0;
-  size_t probe = size < 4096 ? size : 4096;
-  if (memchr(data, '\0', probe)) return 0;
-  /* the NUL that read_all appends makes strstr safe on the whole text */
-  return strstr(data, "facet") != NULL || strstr(data, "endsolid") != NULL;
-}
-
 /* ---------------------------------------------------------------- building the mesh */
 
-/* The file name without folders and its last extension. */
-static void file_stem(const char *path, char *out, size_t cap) {
-  const char *slash = strrchr(path, '/');
-  const char *base = slash ? slash + 1 : path;
-  const char *dot = strrchr(base, '.');
-  size_t n = dot && dot != base ? (size_t)(dot - base) : strlen(base);
-  if (n >= cap) n = cap - 1;
-  memcpy(out, base, n);
-  out[n] = '\0';
-}
 
 typedef struct corner_key {
   double x, y, z;
@@ -611,7 +352,7 @@ int adem_mesh_find_group(const adem_mesh *mesh, const char *name) {
 
 /* Appends the soup's blocks as groups. Builds a new mesh beside the old one and swaps it in, so
  * that a failure leaves mesh untouched. Messages name the facet's line (ascii) or the triangle. */
-static adem_status append_soup(adem_mesh *mesh, const soup *s, const adem_mesh_transform *tf,
+adem_status adem_mesh_append_soup(adem_mesh *mesh, const adem_mesh_soup *s, const adem_mesh_transform *tf,
                                const char *path, int ascii, adem_error *err) {
   size_t nold_v = mesh->nverts, nold_t = mesh->ntris, n = s->n;
   if (nold_t + n >= INT32_MAX || nold_v + 3 * n >= UINT32_MAX)
@@ -710,7 +451,7 @@ static adem_status append_soup(adem_mesh *mesh, const soup *s, const adem_mesh_t
   for (size_t c = 0; c < 3 * n; ++c) id[nold_v + c] = UINT32_MAX;
   size_t at = nold_t;
   for (size_t bi = 0; bi < s->nblocks; ++bi) {
-    const soup_block *b = &s->blocks[bi];
+    const adem_mesh_soup_block *b = &s->blocks[bi];
     adem_mesh_group *g = &nm.groups[nm.ngroups];
     memcpy(g->name, b->name, sizeof g->name);
     g->material = tf->material;
@@ -780,77 +521,7 @@ done:
   return st;
 }
 
-/* Group names: the given one, else the solid's, else the stem; PREFIX.SOLID for several blocks.
- * A name already in the mesh or in this file is an error. */
-static adem_status name_blocks(const adem_mesh *mesh, soup *s, const char *path,
-                               const char *group_name, int ascii, adem_error *err) {
-  char stem[ADEM_NAME_MAX];
-  file_stem(path, stem, sizeof stem);
-  const char *prefix = group_name && *group_name ? group_name : stem;
-  for (size_t b = 0; b < s->nblocks; ++b) {
-    soup_block *bl = &s->blocks[b];
-    char solid[ADEM_NAME_MAX];
-    memcpy(solid, bl->name, sizeof solid);
-    /* Composed at full length, then cut: a long name only labels output. */
-    char full[2 * ADEM_NAME_MAX + 24];
-    if (s->nblocks == 1)
-      snprintf(full, sizeof full, "%s", group_name && *group_name ? group_name : *solid ? solid : stem);
-    else if (*solid)
-      snprintf(full, sizeof full, "%s.%s", prefix, solid);
-    else
-      snprintf(full, sizeof full, "%s.%zu", prefix, b + 1);
-    size_t len = strlen(full);
-    if (len >= sizeof bl->name) len = sizeof bl->name - 1;
-    memcpy(bl->name, full, len);
-    bl->name[len] = '\0';
-    int dup = adem_mesh_find_group(mesh, bl->name) >= 0;
-    for (size_t c = 0; c < b && !dup; ++c) dup = strcmp(s->blocks[c].name, bl->name) == 0;
-    if (dup) {
-      if (ascii)
-        return adem_error_set(err, ADEM_ERR_INPUT,
-                              "%s:%zu: mesh group name '%s' is already used; give each file or solid a distinct name",
-                              path, bl->line, bl->name);
-      return adem_error_set(err, ADEM_ERR_INPUT,
-                            "%s: mesh group name '%s' is already used; give each file a distinct name",
-                            path, bl->name);
-    }
-  }
-  return ADEM_OK;
-}
 
-adem_status adem_mesh_load_stl(const char *path, const adem_mesh_transform *tf,
-                               const char *group_name, adem_mesh *mesh, adem_error *err) {
-  adem_mesh_transform def = adem_default_mesh_transform();
-  if (!tf) tf = &def;
-  adem_status st = check_transform(tf, path, err);
-  if (st) return st;
-  char *data = NULL;
-  size_t size = 0;
-  st = adem_fileio_read_all(path, &data, &size, err);
-  if (st) return st;
-  soup s;
-  memset(&s, 0, sizeof s);
-  int ascii = 0;
-  /* An ASCII file cannot pass the size test by accident: text bytes at 80..83 announce at least
-   * 0x09090909 triangles, a file of 7.5 GB. */
-  if (size >= 84 && (uint64_t)size == 84 + 50 * (uint64_t)get_u32le((const unsigned char *)data + 80))
-    st = parse_binary(path, (const unsigned char *)data, size, &s, err);
-  else if (looks_ascii(data, size)) {
-    ascii = 1;
-    st = parse_ascii(path, data, size, &s, err);
-  } else if (size >= 84)
-    st = parse_binary(path, (const unsigned char *)data, size, &s, err);
-  else
-    st = adem_error_set(err, ADEM_ERR_INPUT,
-                        "%s: not an STL file: %zu bytes is too short for a binary STL (84-byte "
-                        "header) and the text is not 'solid ... facet ... endsolid'",
-                        path, size);
-  free(data);
-  if (!st) st = name_blocks(mesh, &s, path, group_name, ascii, err);
-  if (!st) st = append_soup(mesh, &s, tf, path, ascii, err);
-  soup_free(&s);
-  return st;
-}
 
 adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,
                                     const adem_vec3 *stored_normals, size_t ntri,
@@ -862,11 +533,11 @@ adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,
   adem_mesh_transform tf = adem_default_mesh_transform();
   tf.material = material;
   tf.own_vertices = own_vertices;
-  adem_status st = check_transform(&tf, name, err);
+  adem_status st = adem_mesh_check_transform(&tf, name, err);
   if (st) return st;
-  soup s;
+  adem_mesh_soup s;
   memset(&s, 0, sizeof s);
-  soup_block *b = soup_block_open(&s, name, 0);
+  adem_mesh_soup_block *b = adem_mesh_soup_block_open(&s, name, 0);
   if (!b) return oom(err, name);
   for (size_t t = 0; t < ntri && !st; ++t) {
     for (int k = 0; k < 3; ++k)
@@ -874,11 +545,11 @@ adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,
         st = adem_error_set(err, ADEM_ERR_INPUT, "mesh group '%s': triangle %zu has a non-finite vertex",
                             name, t);
     adem_vec3 sn = stored_normals && v3_isfinite(stored_normals[t]) ? stored_normals[t] : v3_zero();
-    if (!st && !soup_push(&s, &corners[3 * t], sn, t)) st = oom(err, name);
+    if (!st && !adem_mesh_soup_push(&s, &corners[3 * t], sn, t)) st = oom(err, name);
     if (!st) s.blocks[0].count++;
   }
-  if (!st) st = append_soup(mesh, &s, &tf, name, 0, err);
-  soup_free(&s);
+  if (!st) st = adem_mesh_append_soup(mesh, &s, &tf, name, 0, err);
+  adem_mesh_soup_free(&s);
   return st;
 }
 
@@ -918,73 +589,4 @@ double adem_mesh_area(const adem_mesh *mesh, int group) {
   for (size_t t = 0; t < mesh->ntris; ++t)
     if (group < 0 || mesh->group[t] == (uint32_t)group) a += mesh->area[t];
   return a;
-}
-
-/* ---------------------------------------------------------------- VTU */
-
-enum { CHUNK = 1024 };
-
-/* Cell or connectivity arrays generated chunk by chunk. */
-static int put_cell_array(FILE *f, const adem_mesh *m, const double *face_force, int which) {
-  size_t nt = m->ntris;
-  for (size_t i = 0; i < nt; i += CHUNK) {
-    size_t k = nt - i < CHUNK ? nt - i : CHUNK;
-    union {
-      int32_t i32[CHUNK];
-      int64_t i64[3 * CHUNK];
-      double f64[3 * CHUNK];
-      uint8_t u8[CHUNK];
-    } buf;
-    size_t bytes = 0;
-    for (size_t j = 0; j < k; ++j) {
-      size_t t = i + j;
-      adem_vec3 fc = face_force ? v3(face_force[3 * t], face_force[3 * t + 1], face_force[3 * t + 2])
-                                : v3_zero();
-      switch (which) {
-        case 0: buf.i32[j] = (int32_t)m->group[t]; bytes = 4 * k; break;
-        case 1: memcpy(&buf.f64[3 * j], &m->normal[t], 24); bytes = 24 * k; break;
-        case 2: memcpy(&buf.f64[3 * j], &fc, 24); bytes = 24 * k; break;
-        case 3: buf.f64[j] = v3_norm(fc) / m->area[t]; bytes = 8 * k; break; /* pressure */
-        case 4:
-          for (int c = 0; c < 3; ++c) buf.i64[3 * j + (size_t)c] = (int64_t)m->tri[t][c];
-          bytes = 24 * k;
-          break;
-        case 5: buf.i64[j] = 3 * (int64_t)(t + 1); bytes = 8 * k; break; /* offsets */
-        default: buf.u8[j] = 5; bytes = k; break;                         /* VTK_TRIANGLE */
-      }
-    }
-    if (fwrite(&buf, 1, bytes, f) != bytes) return 0;
-  }
-  return 1;
-}
-
-typedef struct mesh_vtu {
-  const adem_mesh *mesh;
-  const double *face_force;
-} mesh_vtu;
-
-/* Array k of a mesh frame: cell arrays 0-3, the points (4), then the cell topology. */
-static int put_mesh_array(FILE *f, int k, void *user) {
-  const mesh_vtu *m = user;
-  if (k == 4) return m->mesh->nverts == 0 ||
-                     fwrite(m->mesh->vert, sizeof *m->mesh->vert, m->mesh->nverts, f) ==
-                         m->mesh->nverts;
-  return put_cell_array(f, m->mesh, m->face_force, k < 4 ? k : k - 1);
-}
-
-adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force, const char *path,
-                                adem_error *err) {
-  size_t nt = mesh->ntris, nv = mesh->nverts;
-  /* Arrays in the order they are appended; connectivity is 3 Int64 per cell but one component
-   * in VTK's eyes. */
-  const adem_vtu_array arr[] = {
-      {"group", "Int32", 1, 4 * nt},        {"normal", "Float64", 3, 24 * nt},
-      {"force", "Float64", 3, 24 * nt},     {"pressure", "Float64", 1, 8 * nt},
-      {"points", "Float64", 3, 24 * nv},    {"connectivity", "Int64", 1, 24 * nt},
-      {"offsets", "Int64", 1, 8 * nt},      {"types", "UInt8", 1, nt},
-  };
-  adem_vtu_layout lay = {nv, nt, NULL, "CellData", "Scalars=\"pressure\" Vectors=\"force\"", 4, 5};
-  mesh_vtu user = {mesh, face_force};
-  return adem_vtu_write(path, &lay, arr, (int)(sizeof arr / sizeof arr[0]), put_mesh_array, &user,
-                        err);
 }

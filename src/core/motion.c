@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "log.h"
-#include "vec3.h"
+#include "adem/vec3.h"
 
 adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err) {
   memset(m, 0, sizeof *m);

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "collide.h"
-#include "contact/jkr.h"
+#include "jkr.h"
 #include "log.h"
 #include "plot.h"
 #include "validate.h"

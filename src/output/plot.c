@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "files.h"
 #include "fileio.h"
 #include "log.h"
 
@@ -98,7 +99,7 @@ adem_status adem_plot_png(const char *png_path, int width, int height, const cha
     char *msg = NULL;
     size_t len = 0;
     adem_error ignored;
-    if (adem_fileio_read_all(err_path, &msg, &len, &ignored) == ADEM_OK)
+    if (adem_file_read_all(err_path, &msg, &len, &ignored) == ADEM_OK)
       for (char *c = msg; *c; ++c)
         if (*c == '\n') *c = ' ';
     adem_log(ADEM_LOG_WARN, "gnuplot failed (status %d): %s is not drawn%s%.300s", rc, png_path,

@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 #include "adem/adem.h"
+#include "files.h"
 
 /* A file being written atomically. Write through f (stdio), then commit or abort. */
 typedef struct adem_afile {
@@ -23,8 +24,6 @@ void adem_fileio_abort(adem_afile *af);
 
 /* Writes a whole buffer atomically. */
 adem_status adem_fileio_write_all(const char *path, const void *data, size_t n, adem_error *err);
-/* Reads a whole file into a fresh buffer (NUL-terminated, n excludes the NUL). */
-adem_status adem_fileio_read_all(const char *path, char **data, size_t *n, adem_error *err);
 
 /* Makes a unique temporary path next to path (the file is created empty, mode 0666 & ~umask).
  * Used for files written by other programs (gnuplot) that are then renamed into place. */
@@ -38,9 +37,5 @@ adem_status adem_fileio_mkdir_p(const char *path, adem_error *err);
  * "output folder X cannot be written: <reason>" when not. */
 adem_status adem_fileio_check_writable(const char *dir, adem_error *err);
 
-/* The directory part of path ("." when there is none); a fresh string. */
-char *adem_fileio_dirname(const char *path);
-/* dir + "/" + name; a fresh string. */
-char *adem_fileio_join(const char *dir, const char *name);
 
 #endif
