@@ -36,6 +36,9 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt, adem_error *err)
 adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err);
 /* Rebuilds the case from a checkpoint so that adem_run continues bit for bit. */
 adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err);
+/* The same from the bytes of a checkpoint file in memory; path only names it in messages. */
+adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char *path,
+                                       adem_case **out, adem_error *err);
 
 #ifdef __cplusplus
 }

@@ -127,16 +127,6 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   return r;
 }
 
-/* A candidate pair out of contact: no force, and its history is forgotten. */
-static inline void clear_pair(adem_pair_list *l, size_t k) {
-  l->touching[k] = false;
-  memset(&l->hist[k], 0, sizeof l->hist[k]);
-  l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-  l->rolling_capacity[k] = 0.0;
-  l->elastic[k] = 0.0;
-  l->overlap_ratio[k] = 0.0;
-}
-
 /* Stores a contact's results. The tangential force acts at r_a n from a's centre and at -r_b n
  * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b; the rolling couple is
  * equal and opposite. A wall (r_b = 0) takes no torque. */
@@ -164,7 +154,7 @@ static inline void particle_pair(adem_world *w, size_t k) {
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);
     if (dist2 >= rsum * rsum) {
-      clear_pair(l, k);
+      adem_pairs_clear(l, k);
       return;
     }
     double dist = sqrt(dist2);
@@ -200,7 +190,7 @@ static inline void wall_pair(adem_world *w, size_t k) {
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     if (dist >= ri) {
-      clear_pair(l, k);
+      adem_pairs_clear(l, k);
       return;
     }
     contact_geometry g;
@@ -252,14 +242,7 @@ static void mesh_pairs(adem_world *w) {
     size_t q = s; /* the previous contacts fill the first slots, sorted by key */
     for (size_t k = s; k < e; ++k) {
       if (k >= s + nc) {
-        l->touching[k] = false;
-        pm->key[k] = 0;
-        pm->owner[k] = 0;
-        memset(&l->hist[k], 0, sizeof l->hist[k]);
-        l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-        l->rolling_capacity[k] = 0.0;
-        l->elastic[k] = 0.0;
-        l->overlap_ratio[k] = 0.0;
+        adem_mesh_pairs_clear(pm, k);
         continue;
       }
       const adem_mesh_contact *c = &pm->found[k];
@@ -375,10 +358,7 @@ static inline void sum_particle(adem_world *w, size_t i) {
       t = v3_add(t, t_brof);
       roll = v3_add(roll, t_brof);
     }
-    p->held[i] = held;
-    p->force[i] = f;
-    p->torque[i] = t;
-    p->rolling_torque[i] = roll;
+    adem_particles_set_loads(p, i, f, t, roll, held);
   }
 }
 

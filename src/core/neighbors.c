@@ -62,17 +62,11 @@ static void restore_history(const adem_world *w, adem_pair_list *l, bool walls,
   for (size_t k = 0; k < l->n; ++k) {
     uint64_t kb = walls ? l->b[k] : id[l->b[k]];
     const saved_history *h = find_saved(s, ns, id[l->a[k]], kb);
+    adem_pairs_clear(l, k);
     if (h) {
       l->hist[k] = h->h;
       l->touching[k] = true;
-    } else {
-      memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->touching[k] = false;
     }
-    l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-    l->rolling_capacity[k] = 0.0;
-    l->elastic[k] = 0.0;
-    l->overlap_ratio[k] = 0.0;
   }
 }
 
@@ -368,16 +362,12 @@ static void restore_mesh_history(adem_world *w, const saved_history *s, size_t n
       else hi = mid;
     }
     for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k) {
-      bool has = lo < ns && s[lo].ka == id;
-      l->touching[k] = has;
-      pm->key[k] = has ? s[lo].kb : 0;
-      pm->owner[k] = 0; /* found again by the next force pass */
-      if (has) l->hist[k] = s[lo++].h;
-      else memset(&l->hist[k], 0, sizeof l->hist[k]);
-      l->force_a[k] = l->torque_a[k] = l->torque_b[k] = l->rolling_a[k] = v3_zero();
-      l->rolling_capacity[k] = 0.0;
-      l->elastic[k] = 0.0;
-      l->overlap_ratio[k] = 0.0;
+      adem_mesh_pairs_clear(pm, k); /* the owner is found again by the next force pass */
+      if (lo < ns && s[lo].ka == id) {
+        l->touching[k] = true;
+        pm->key[k] = s[lo].kb;
+        l->hist[k] = s[lo++].h;
+      }
     }
   }
 }
@@ -394,7 +384,7 @@ static adem_status build_list(adem_world *w, adem_pair_list *l, pairs_of_fn *pai
   for (size_t i = 0; i < n; ++i) offsets[i + 1] = pairs_of(w, i, NULL, 0);
   offsets[0] = 0;
   for (size_t i = 0; i < n; ++i) offsets[i + 1] += offsets[i];
-  if (adem_pair_list_reserve(l, offsets[n])) return ADEM_ERR_NOMEM;
+  if (adem_pairs_reserve(l, offsets[n])) return ADEM_ERR_NOMEM;
   l->n = offsets[n];
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) pairs_of(w, i, l, offsets[i]);
@@ -476,7 +466,7 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
   nb->time_at_build = w->wall_time;
   st = adem_neighbors_gather(w);
   if (st) goto done;
-  memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos);
+  adem_particles_mark_build(p);
   nb->rebuilds++;
 done:
   free(saved_pp);

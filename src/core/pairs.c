@@ -1,77 +1,126 @@
-/* Flat arrays of candidate contacts and their history. */
+/* Flat arrays of candidate contacts and their history (the tables in pairs.h). */
+#include "pairs.h"
+
 #include <stdlib.h>
-#include <string.h>
 
-#include "world.h"
+#include "log.h"
 
-#define GROW(field)                                                    \
-  do {                                                                 \
-    void *q = realloc(l->field, cap * sizeof *l->field);               \
-    if (!q) return ADEM_ERR_NOMEM;                                     \
-    l->field = q;                                                      \
-  } while (0)
+static const adem_soa_field pair_fields[] = {
+#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type)},
+    ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+};
+static const adem_soa_layout pair_layout = {pair_fields, sizeof pair_fields / sizeof pair_fields[0]};
 
-adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap) {
+static const adem_soa_field slot_fields[] = {
+#define ADEM_X(type, name, saved, doc) {#name, offsetof(adem_mesh_pairs, name), sizeof(type)},
+    ADEM_MESH_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+};
+static const adem_soa_layout slot_layout = {slot_fields, sizeof slot_fields / sizeof slot_fields[0]};
+
+static const adem_soa_field saved_slot_fields[] = {
+#define ADEM_X(type, name, saved, doc) \
+  {saved ? #name : NULL, offsetof(adem_mesh_pairs, name), sizeof(type)},
+    ADEM_MESH_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+};
+
+size_t adem_pairs_item_bytes(void) { return adem_soa_item_bytes(pair_layout); }
+
+adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap) {
   if (cap <= l->cap) return ADEM_OK;
   cap = cap + cap / 4 + 16; /* headroom: the list is rebuilt often with similar sizes */
-  GROW(a);
-  GROW(b);
-  GROW(hist);
-  GROW(touching);
-  GROW(force_a);
-  GROW(torque_a);
-  GROW(torque_b);
-  GROW(rolling_a);
-  GROW(rolling_capacity);
-  GROW(elastic);
-  GROW(overlap_ratio);
-  l->cap = cap;
-  return ADEM_OK;
+  adem_status st = adem_soa_grow(l, pair_layout, cap);
+  if (!st) l->cap = cap;
+  return st;
 }
 
-void adem_pair_list_free(adem_pair_list *l) {
-  free(l->a);
-  free(l->b);
-  free(l->hist);
-  free(l->touching);
-  free(l->force_a);
-  free(l->torque_a);
-  free(l->torque_b);
-  free(l->rolling_a);
-  free(l->rolling_capacity);
-  free(l->elastic);
-  free(l->overlap_ratio);
+void adem_pairs_free(adem_pair_list *l) {
+  adem_soa_free(l, pair_layout);
   memset(l, 0, sizeof *l);
 }
 
-#define GROW_PM(field)                                                 \
-  do {                                                                 \
-    void *q = realloc(pm->field, cap * sizeof *pm->field);             \
-    if (!q) return ADEM_ERR_NOMEM;                                     \
-    pm->field = q;                                                     \
-  } while (0)
+void adem_pairs_save(adem_writer *wr, const adem_pair_list *l) {
+  adem_put_u64(wr, l->n);
+  adem_soa_save(wr, l, pair_layout, l->n);
+}
+
+adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err) {
+  uint64_t n = adem_get_count(rd, adem_pairs_item_bytes());
+  if (rd->failed) return ADEM_OK;
+  if (n > l->cap && adem_pairs_reserve(l, (size_t)n) != ADEM_OK)
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
+  l->n = (size_t)n;
+  adem_soa_load(rd, l, pair_layout, l->n);
+  /* a bool must hold 0 or 1 */
+  for (size_t k = 0; k < l->n && !rd->failed; ++k) {
+    unsigned char b;
+    memcpy(&b, &l->touching[k], 1);
+    if (b > 1) rd->failed = 1;
+  }
+  return ADEM_OK;
+}
 
 adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm) {
   size_t cap = pm->l.cap;
   if (cap <= pm->cap) return ADEM_OK;
-  GROW_PM(key);
-  GROW_PM(key_prev);
-  GROW_PM(owner);
-  GROW_PM(hist_prev);
-  GROW_PM(touching_prev);
-  GROW_PM(found);
-  pm->cap = cap;
-  return ADEM_OK;
+  adem_status st = adem_soa_grow(pm, slot_layout, cap);
+  if (!st) pm->cap = cap;
+  return st;
 }
 
 void adem_mesh_pairs_free(adem_mesh_pairs *pm) {
-  adem_pair_list_free(&pm->l);
+  adem_pairs_free(&pm->l);
   free(pm->start);
-  free(pm->key);
-  free(pm->key_prev);
-  free(pm->owner);
-  free(pm->hist_prev);
-  free(pm->touching_prev);
-  free(pm->found);
+  adem_soa_free(pm, slot_layout);
   memset(pm, 0, sizeof *pm);
+}
+
+void adem_mesh_pairs_save(adem_writer *wr, const adem_mesh_pairs *pm, size_t nparticles) {
+  adem_pairs_save(wr, &pm->l);
+  for (size_t k = 0; k < slot_layout.count; ++k)
+    if (saved_slot_fields[k].name)
+      adem_put_array(wr, *(void *const *)((const char *)pm + slot_fields[k].offset), pm->l.n,
+                     slot_fields[k].elem);
+  size_t ns = pm->start ? nparticles + 1 : 0;
+  adem_put_u64(wr, ns);
+  for (size_t i = 0; i < ns; ++i) adem_put_u64(wr, pm->start[i]);
+}
+
+adem_status adem_mesh_pairs_load(adem_reader *rd, adem_mesh_pairs *pm, size_t nparticles,
+                                 adem_error *err) {
+  adem_status st = adem_pairs_load(rd, &pm->l, err);
+  if (st || rd->failed) return st;
+  if (adem_mesh_pairs_reserve(pm))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the mesh contacts");
+  for (size_t k = 0; k < slot_layout.count; ++k)
+    if (saved_slot_fields[k].name)
+      adem_get_array(rd, *(void **)((char *)pm + slot_fields[k].offset), pm->l.n,
+                     slot_fields[k].elem);
+  uint64_t ns = adem_get_u64(rd);
+  if (rd->failed || (ns != 0 && ns != (uint64_t)nparticles + 1)) {
+    rd->failed = 1;
+    return ADEM_OK;
+  }
+  if (ns > pm->start_cap) {
+    size_t *q = realloc(pm->start, (size_t)ns * sizeof *q);
+    if (!q) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the mesh contacts");
+    pm->start = q;
+    pm->start_cap = (size_t)ns;
+  }
+  for (size_t i = 0; i < ns; ++i) pm->start[i] = (size_t)adem_get_u64(rd);
+  return ADEM_OK;
+}
+
+bool adem_mesh_pairs_consistent(const adem_mesh_pairs *pm, size_t n, size_t ntris) {
+  if (pm->l.n == 0) return true;
+  if (!pm->start || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    if (pm->start[i + 1] < pm->start[i]) return false;
+    for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k)
+      if (pm->l.a[k] != i || pm->l.b[k] >= ntris || (pm->l.touching[k] && pm->owner[k] >= ntris))
+        return false;
+  }
+  return true;
 }

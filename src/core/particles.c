@@ -1,81 +1,110 @@
-/* Per-particle arrays: growth and reordering. */
+/* Per-particle arrays (the table in particles.h) and the velocity-Verlet integrator. */
+#include "particles.h"
+
 #include <stdlib.h>
 #include <string.h>
 
-#include "world.h"
+#include "adem/vec3.h"
+#include "log.h"
+#include "parallel.h"
 
-#define GROW(field)                                                    \
-  do {                                                                 \
-    void *q = realloc(p->field, cap * sizeof *p->field);               \
-    if (!q) return ADEM_ERR_NOMEM;                                     \
-    p->field = q;                                                      \
-  } while (0)
+static const adem_soa_field particle_fields[] = {
+#define ADEM_X(type, name, doc) {#name, offsetof(adem_particles, name), sizeof(type)},
+    ADEM_PARTICLE_FIELDS(ADEM_X)
+#undef ADEM_X
+};
+
+adem_soa_layout adem_particles_layout(void) {
+  adem_soa_layout L = {particle_fields, sizeof particle_fields / sizeof particle_fields[0]};
+  return L;
+}
 
 adem_status adem_particles_reserve(adem_particles *p, size_t cap) {
   if (cap <= p->cap) return ADEM_OK;
-  GROW(pos);
-  GROW(vel);
-  GROW(omega);
-  GROW(force);
-  GROW(torque);
-  GROW(radius);
-  GROW(inv_mass);
-  GROW(inv_inertia);
-  GROW(id);
-  GROW(material);
-  GROW(group);
-  GROW(pos_at_build);
-  GROW(rolling_torque);
-  GROW(held);
-  GROW(path_length);
-  p->cap = cap;
-  return ADEM_OK;
+  adem_status st = adem_soa_grow(p, adem_particles_layout(), cap);
+  if (!st) p->cap = cap;
+  return st;
 }
 
 void adem_particles_free(adem_particles *p) {
-  free(p->pos);
-  free(p->vel);
-  free(p->omega);
-  free(p->force);
-  free(p->torque);
-  free(p->radius);
-  free(p->inv_mass);
-  free(p->inv_inertia);
-  free(p->id);
-  free(p->material);
-  free(p->group);
-  free(p->pos_at_build);
-  free(p->rolling_torque);
-  free(p->held);
-  free(p->path_length);
+  adem_soa_free(p, adem_particles_layout());
   memset(p, 0, sizeof *p);
 }
 
-/* Gathers one array through perm using scratch of at least n elements of the same size. */
-static void permute_array(void *array, size_t elem, size_t n, const size_t *perm, void *scratch) {
-  char *src = array, *dst = scratch;
-  for (size_t k = 0; k < n; ++k) memcpy(dst + k * elem, src + perm[k] * elem, elem);
-  memcpy(array, scratch, n * elem);
+adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
+  return adem_soa_permute(p, adem_particles_layout(), p->n, perm);
 }
 
-adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
-  size_t n = p->n;
-  void *scratch = malloc(n * sizeof(adem_vec3) + 1);
-  if (!scratch) return ADEM_ERR_NOMEM;
-  permute_array(p->pos, sizeof *p->pos, n, perm, scratch);
-  permute_array(p->vel, sizeof *p->vel, n, perm, scratch);
-  permute_array(p->omega, sizeof *p->omega, n, perm, scratch);
-  permute_array(p->force, sizeof *p->force, n, perm, scratch);
-  permute_array(p->torque, sizeof *p->torque, n, perm, scratch);
-  permute_array(p->radius, sizeof *p->radius, n, perm, scratch);
-  permute_array(p->inv_mass, sizeof *p->inv_mass, n, perm, scratch);
-  permute_array(p->inv_inertia, sizeof *p->inv_inertia, n, perm, scratch);
-  permute_array(p->id, sizeof *p->id, n, perm, scratch);
-  permute_array(p->material, sizeof *p->material, n, perm, scratch);
-  permute_array(p->group, sizeof *p->group, n, perm, scratch);
-  permute_array(p->pos_at_build, sizeof *p->pos_at_build, n, perm, scratch);
-  permute_array(p->rolling_torque, sizeof *p->rolling_torque, n, perm, scratch);
-  permute_array(p->path_length, sizeof *p->path_length, n, perm, scratch);
-  free(scratch);
+size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem_vec3 vel,
+                             adem_vec3 omega, double radius, double density, int material,
+                             int group) {
+  if (p->n == p->cap && adem_particles_reserve(p, p->cap ? 2 * p->cap : 64)) return SIZE_MAX;
+  size_t i = p->n++;
+  adem_soa_layout L = adem_particles_layout();
+  for (size_t k = 0; k < L.count; ++k) /* every field starts at zero */
+    memset(*(char **)((char *)p + L.fields[k].offset) + i * L.fields[k].elem, 0, L.fields[k].elem);
+  double mass = density * (4.0 / 3.0) * ADEM_PI * radius * radius * radius;
+  p->pos[i] = pos;
+  p->vel[i] = vel;
+  p->omega[i] = omega;
+  p->radius[i] = radius;
+  p->inv_mass[i] = 1.0 / mass;
+  p->inv_inertia[i] = 1.0 / (0.4 * mass * radius * radius); /* solid sphere */
+  p->id[i] = id;
+  p->material[i] = (uint16_t)material;
+  p->group[i] = (uint16_t)group;
+  p->pos_at_build[i] = pos;
+  return i;
+}
+
+typedef struct kick_args {
+  adem_particles *p;
+  double h;
+  bool closing;
+} kick_args;
+
+static inline void kick_one(const kick_args *a, size_t i) {
+  adem_particles *p = a->p;
+  p->vel[i] = v3_axpy(p->vel[i], a->h * p->inv_mass[i], p->force[i]); /* H3 */
+  if (a->closing && p->held[i])
+    p->omega[i] = v3_zero();
+  else
+    p->omega[i] = v3_axpy(p->omega[i], a->h * p->inv_inertia[i], p->torque[i]); /* H4 */
+}
+
+void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads) {
+  kick_args a = {p, h, closing};
+  ADEM_FOR(nthreads, p->n, kick_one, &a);
+}
+
+static inline void drift_one(const kick_args *a, size_t i) {
+  adem_particles *p = a->p;
+  p->pos[i] = v3_axpy(p->pos[i], a->h, p->vel[i]);
+  p->path_length[i] += a->h * v3_norm(p->vel[i]); /* the drift is a straight segment */
+}
+
+void adem_particles_drift(adem_particles *p, double dt, int nthreads) {
+  kick_args a = {p, dt, false};
+  ADEM_FOR(nthreads, p->n, drift_one, &a);
+}
+
+void adem_particles_mark_build(adem_particles *p) {
+  memcpy(p->pos_at_build, p->pos, p->n * sizeof *p->pos);
+}
+
+void adem_particles_save(adem_writer *wr, const adem_particles *p) {
+  adem_put_u64(wr, p->n);
+  adem_soa_save(wr, p, adem_particles_layout(), p->n);
+}
+
+adem_status adem_particles_load(adem_reader *rd, adem_particles *p, adem_error *err) {
+  adem_soa_layout L = adem_particles_layout();
+  uint64_t n = adem_get_count(rd, adem_soa_item_bytes(L));
+  if (rd->failed) return ADEM_OK;
+  if (n > p->cap && adem_particles_reserve(p, (size_t)n) != ADEM_OK)
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu particles",
+                          (unsigned long long)n);
+  p->n = (size_t)n;
+  adem_soa_load(rd, p, L, p->n);
   return ADEM_OK;
 }

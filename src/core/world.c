@@ -25,8 +25,8 @@ adem_world *adem_world_create(void) {
 void adem_world_free(adem_world *w) {
   if (!w) return;
   adem_particles_free(&w->p);
-  adem_pair_list_free(&w->pp);
-  adem_pair_list_free(&w->pw);
+  adem_pairs_free(&w->pp);
+  adem_pairs_free(&w->pw);
   adem_mesh_pairs_free(&w->pm);
   adem_walls_free(w); /* the mesh's group count says how many motions to free */
   adem_mesh_free(&w->mesh);
@@ -102,26 +102,14 @@ int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, ade
     return -1;
   }
   adem_particles *p = &w->p;
-  if (p->n == p->cap && adem_particles_reserve(p, p->cap ? 2 * p->cap : 64)) {
+  size_t i = adem_particles_append(p, w->next_id, def->position, def->velocity,
+                                   def->angular_velocity, def->radius, m->density, def->material,
+                                   def->group);
+  if (i == SIZE_MAX) {
     adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding particles");
     return -1;
   }
-  size_t i = p->n++;
-  double r = def->radius;
-  double mass = m->density * (4.0 / 3.0) * ADEM_PI * r * r * r;
-  p->pos[i] = def->position;
-  p->vel[i] = def->velocity;
-  p->omega[i] = def->angular_velocity;
-  p->force[i] = p->torque[i] = v3_zero();
-  p->radius[i] = r;
-  p->inv_mass[i] = 1.0 / mass;
-  p->inv_inertia[i] = 1.0 / (0.4 * mass * r * r); /* solid sphere */
-  p->id[i] = w->next_id++;
-  p->material[i] = (uint16_t)def->material;
-  p->group[i] = (uint16_t)def->group;
-  p->pos_at_build[i] = def->position;
-  p->rolling_torque[i] = v3_zero();
-  p->path_length[i] = 0.0;
+  w->next_id++;
   w->prepared = false;
   return (int64_t)p->id[i];
 }
@@ -315,41 +303,6 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   return ADEM_OK;
 }
 
-/* Half kick of velocities and spins with the current forces (velocity Verlet). The closing kick
- * sets the spin of a particle that BROF holds to exactly zero. */
-typedef struct kick_args {
-  adem_particles *p;
-  double h;
-  bool closing;
-} kick_args;
-
-static inline void kick_one(const kick_args *a, size_t i) {
-  adem_particles *p = a->p;
-  p->vel[i] = v3_axpy(p->vel[i], a->h * p->inv_mass[i], p->force[i]); /* H3 */
-  if (a->closing && p->held[i])
-    p->omega[i] = v3_zero();
-  else
-    p->omega[i] = v3_axpy(p->omega[i], a->h * p->inv_inertia[i], p->torque[i]); /* H4 */
-}
-
-static void kick(adem_world *w, double h, bool closing) {
-  int nthreads = adem_world_threads(w);
-  kick_args a = {&w->p, h, closing};
-  ADEM_FOR(nthreads, w->p.n, kick_one, &a);
-}
-
-static inline void drift_one(const kick_args *a, size_t i) {
-  adem_particles *p = a->p;
-  p->pos[i] = v3_axpy(p->pos[i], a->h, p->vel[i]);
-  p->path_length[i] += a->h * v3_norm(p->vel[i]); /* the drift is a straight segment */
-}
-
-static void drift(adem_world *w, double dt) {
-  int nthreads = adem_world_threads(w);
-  kick_args a = {&w->p, dt, false};
-  ADEM_FOR(nthreads, w->p.n, drift_one, &a);
-}
-
 static inline bool particle_ok(const adem_world *w, size_t i) {
   const adem_particles *p = &w->p;
   bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
@@ -430,15 +383,16 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   }
   double dt = w->dt;
   for (uint64_t s = 0; s < nsteps; ++s) {
-    kick(w, 0.5 * dt, false);
-    drift(w, dt);
+    int nthreads = adem_world_threads(w);
+    adem_particles_kick(&w->p, 0.5 * dt, false, nthreads);
+    adem_particles_drift(&w->p, dt, nthreads);
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(w)) {
       adem_status st = adem_neighbors_build(w, err);
       if (st) return st;
     }
     adem_contacts_compute(w);
-    kick(w, 0.5 * dt, true);
+    adem_particles_kick(&w->p, 0.5 * dt, true, nthreads);
     w->step++;
     w->time = (double)w->step * dt;
     adem_status st = check_state(w, err);
@@ -455,7 +409,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   size_t n = p->n;
   size_t m = n > w->pp.n ? n : w->pp.n;
   if (w->pw.n > m) m = w->pw.n;
-  double *buf = malloc((m + 1) * sizeof *buf);
+  double *buf = calloc(m + 1, sizeof *buf);
   if (!buf) return d;
   for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
   d.kinetic = adem_sum(buf, n);
@@ -487,4 +441,112 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   free(buf);
   d.dissipated = w->prepared ? w->energy_initial - total_energy(&d) : 0.0;
   return d;
+}
+
+/* ---------------------------------------------------------------- checkpoints */
+
+void adem_world_save(adem_writer *wr, const adem_world *w) {
+  adem_put_u8(wr, w->prepared ? 1 : 0);
+  adem_put_f64(wr, w->time);
+  adem_put_u64(wr, w->step);
+  adem_put_f64(wr, w->dt);
+  adem_put_u64(wr, w->next_id);
+  adem_put_f64(wr, w->energy_initial);
+  adem_put_vec(wr, w->gravity);
+  adem_put_f64(wr, w->max_overlap_ratio);
+  adem_put_u8(wr, w->has_domain ? 1 : 0);
+  adem_put_vec(wr, w->domain_lo);
+  adem_put_vec(wr, w->domain_hi);
+  adem_put_f64(wr, w->nb.skin);
+  adem_put_f64(wr, w->nb.skin_fraction);
+  adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
+  adem_put_u64(wr, w->nb.rebuilds);
+  adem_put_f64(wr, w->nb.time_at_build);
+  adem_put_u32(wr, (uint32_t)w->nmaterials);
+  adem_put_u32(wr, (uint32_t)w->ngroups);
+  for (int k = 0; k < w->ngroups; ++k) adem_put_vec(wr, w->groups[k].external_force);
+  adem_put_u32(wr, (uint32_t)w->nplanes);
+  for (int k = 0; k < w->nplanes; ++k) {
+    const adem_plane_def *d = &w->planes[k].def;
+    adem_put_str(wr, d->name);
+    adem_put_vec(wr, d->point);
+    adem_put_vec(wr, d->normal);
+    adem_put_vec(wr, d->velocity);
+    adem_put_i32(wr, d->material);
+  }
+  adem_particles_save(wr, &w->p);
+  adem_pairs_save(wr, &w->pp);
+  adem_pairs_save(wr, &w->pw);
+  adem_mesh_pairs_save(wr, &w->pm, w->p.n);
+  size_t nf = 3 * w->mesh.ntris;
+  adem_put_array(wr, w->face_force, nf, sizeof *w->face_force);
+  adem_put_array(wr, w->face_torque, nf, sizeof *w->face_torque);
+}
+
+static adem_status damaged(adem_error *err, const char *why) {
+  return adem_error_set(err, ADEM_ERR_INPUT, "%s", why);
+}
+
+adem_status adem_world_load_prepared(adem_reader *rd, bool *prepared,
+                                     adem_error *err) {
+  *prepared = adem_get_u8(rd) != 0;
+  if (rd->failed) return damaged(err, "its contents are cut short or damaged");
+  return ADEM_OK;
+}
+
+adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
+  const char *cut = "its contents are cut short or damaged";
+  w->time = adem_get_f64(rd);
+  w->step = adem_get_u64(rd);
+  w->dt = adem_get_f64(rd);
+  w->next_id = adem_get_u64(rd);
+  w->energy_initial = adem_get_f64(rd);
+  w->gravity = adem_get_vec(rd);
+  w->max_overlap_ratio = adem_get_f64(rd);
+  w->has_domain = adem_get_u8(rd) != 0;
+  w->domain_lo = adem_get_vec(rd);
+  w->domain_hi = adem_get_vec(rd);
+  w->nb.skin = adem_get_f64(rd);
+  w->nb.skin_fraction = adem_get_f64(rd);
+  w->nb.brute_force = adem_get_u8(rd) != 0;
+  w->nb.rebuilds = adem_get_u64(rd);
+  w->nb.time_at_build = adem_get_f64(rd);
+  uint32_t nmat = adem_get_u32(rd);
+  uint32_t ngroups = adem_get_u32(rd);
+  if (rd->failed) return damaged(err, cut);
+  if (nmat != (uint32_t)w->nmaterials || ngroups != (uint32_t)w->ngroups)
+    return damaged(err, "its materials or groups do not match its own case text");
+  for (int k = 0; k < w->ngroups; ++k) w->groups[k].external_force = adem_get_vec(rd);
+  uint32_t nplanes = adem_get_u32(rd);
+  if (rd->failed) return damaged(err, cut);
+  if (nplanes != (uint32_t)w->nplanes) return damaged(err, "its walls do not match its own case text");
+  for (int k = 0; k < w->nplanes; ++k) {
+    adem_plane_def *d = &w->planes[k].def;
+    adem_get_str_into(rd, d->name, sizeof d->name);
+    d->point = adem_get_vec(rd);
+    d->normal = adem_get_vec(rd);
+    d->velocity = adem_get_vec(rd);
+    d->material = adem_get_i32(rd);
+  }
+  adem_status st = adem_particles_load(rd, &w->p, err);
+  if (!st) st = adem_pairs_load(rd, &w->pp, err);
+  if (!st) st = adem_pairs_load(rd, &w->pw, err);
+  if (!st) st = adem_mesh_pairs_load(rd, &w->pm, w->p.n, err);
+  if (st) return st;
+  size_t nf = 3 * w->mesh.ntris;
+  adem_get_array(rd, w->face_force, nf, sizeof *w->face_force);
+  adem_get_array(rd, w->face_torque, nf, sizeof *w->face_torque);
+  if (rd->failed) return damaged(err, cut);
+  /* Indices must be in range before the gather lists and the stepper use them. */
+  const char *bad = "its particle or pair indices are out of range";
+  const adem_particles *p = &w->p;
+  for (size_t k = 0; k < w->pp.n; ++k)
+    if (w->pp.a[k] >= p->n || w->pp.b[k] >= p->n) return damaged(err, bad);
+  for (size_t k = 0; k < w->pw.n; ++k)
+    if (w->pw.a[k] >= p->n || w->pw.b[k] >= (uint32_t)w->nplanes) return damaged(err, bad);
+  if (!adem_mesh_pairs_consistent(&w->pm, p->n, w->mesh.ntris)) return damaged(err, bad);
+  for (size_t i = 0; i < p->n; ++i)
+    if (p->material[i] >= w->nmaterials || (w->ngroups > 0 && p->group[i] >= w->ngroups))
+      return damaged(err, bad);
+  return ADEM_OK;
 }

@@ -8,23 +8,10 @@
 #include "mesh_contact.h"
 #include "mesh.h"
 #include "motion.h"
+#include "pairs.h"
+#include "stream.h"
+#include "particles.h"
 #include "adem/vec3.h"
-
-/* Particle storage. Indices change when particles are reordered by grid cell; id never does. */
-typedef struct adem_particles {
-  size_t n, cap;
-  /* hot */
-  adem_vec3 *pos, *vel, *omega;
-  adem_vec3 *force, *torque; /* total force and torque at the current positions */
-  double *radius, *inv_mass, *inv_inertia;
-  /* cold */
-  uint64_t *id;
-  uint16_t *material, *group;
-  adem_vec3 *pos_at_build; /* positions when the neighbour list was built (skin check) */
-  adem_vec3 *rolling_torque; /* rolling resistance torque of the last force pass (output) */
-  uint8_t *held;             /* BROF holds the spin at zero this step (set by the force pass) */
-  double *path_length;       /* distance the centre has travelled, sum of |v| dt (output.track) */
-} adem_particles;
 
 /* A material after derivation: the real values plus those the contact laws use. */
 typedef struct adem_material {
@@ -64,44 +51,6 @@ typedef struct adem_plane {
   adem_motion motion;      /* prescribed motion (def.velocity makes a constant one) */
   bool inactive;           /* switched off (walls[].active: false, or a stage): no contacts */
 } adem_plane;
-
-/* Contact history carried from step to step, keyed by the pair's stable ids. */
-typedef struct adem_contact_history {
-  adem_vec3 tangential; /* accumulated tangential displacement of i relative to j (H14) */
-  adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
-} adem_contact_history;
-
-/* A list of candidate pairs within cut-off + skin: particle-particle (b is a particle index) or
- * particle-wall (b is a wall index). Per-pair results are written by the force pass and summed
- * per particle afterwards in a fixed order, so any thread count gives the same sums. */
-typedef struct adem_pair_list {
-  size_t n, cap;
-  uint32_t *a, *b;              /* for particle pairs, id[a] < id[b] */
-  adem_contact_history *hist;
-  bool *touching;               /* in contact after the last force pass */
-  adem_vec3 *force_a;           /* force on a (on b it is the opposite) */
-  adem_vec3 *torque_a, *torque_b;  /* all contact torques, rolling included */
-  adem_vec3 *rolling_a;            /* the rolling couple on a (on b: the opposite) */
-  double *rolling_capacity;        /* BROF: e_c |F_n| this contact offers each side (I9) */
-  double *elastic;              /* elastic energy stored in the contact, J */
-  double *overlap_ratio;        /* overlap / smaller radius */
-} adem_pair_list;
-
-/* Particle-mesh contacts. The pair list holds each particle's candidate triangles (b = triangle
- * index) in one range, start[i] .. start[i+1]. After a force pass the first k slots of a range
- * hold the particle's k distinct contacts (contact/triangle.h): region key, owning triangle,
- * history and results; touching marks them. History follows a contact by its key from step to
- * step (the last step's arrays are kept in the _prev arrays) and across rebuilds (by id and key). */
-typedef struct adem_mesh_pairs {
-  adem_pair_list l;
-  size_t *start;       /* particles + 1 */
-  size_t start_cap, cap;
-  uint64_t *key, *key_prev;
-  uint32_t *owner;     /* triangle owning the contact in the slot */
-  adem_contact_history *hist_prev;
-  bool *touching_prev;
-  adem_mesh_contact *found; /* scratch for adem_triangle_sphere_contacts, one per slot */
-} adem_mesh_pairs;
 
 typedef struct adem_neighbors {
   double skin;           /* absolute skin distance, m */
@@ -200,19 +149,6 @@ static inline const adem_interaction *adem_world_interaction(const adem_world *w
   return &w->interactions[(size_t)a * (size_t)w->nmaterials + (size_t)b];
 }
 
-/* Particle arrays (particles.c). */
-adem_status adem_particles_reserve(adem_particles *p, size_t cap);
-void adem_particles_free(adem_particles *p);
-/* Reorders every per-particle array by perm: new index k holds old particle perm[k]. */
-adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
-
-/* Pair lists (pairs.c). */
-adem_status adem_pair_list_reserve(adem_pair_list *l, size_t cap);
-void adem_pair_list_free(adem_pair_list *l);
-/* Grows the mesh pairs' own arrays to the capacity of their pair list. */
-adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
-void adem_mesh_pairs_free(adem_mesh_pairs *pm);
-
 /* Checks what adding a mesh wall needs before its file is read: the transform's material exists,
  * and a moving mesh (velocity != 0) has its own vertices. */
 adem_status adem_world_check_mesh(const adem_world *w, const char *path,
@@ -260,6 +196,17 @@ void adem_neighbors_free(adem_neighbors *nb);
 
 /* Forces (contacts.c): fills the pair lists' per-pair results and sums p.force / p.torque. */
 void adem_contacts_compute(adem_world *w);
+
+/* Checkpoints: the world's dynamic state, each module saving and loading its own part. The
+ * static set-up (materials, walls, meshes) comes from the case and must match. A damaged or
+ * mismatching state gives ADEM_ERR_INPUT with the reason as the message ("its walls do not
+ * match its own case text"). */
+void adem_world_save(adem_writer *wr, const adem_world *w);
+/* The first byte: whether the world had been prepared (else nothing follows). */
+adem_status adem_world_load_prepared(adem_reader *rd, bool *prepared,
+                                     adem_error *err);
+/* The rest, into a world prepared from the same case. */
+adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err);
 
 /* Deterministic sum: fixed blocks, independent of the thread count. */
 double adem_sum(const double *x, size_t n);

@@ -1,0 +1,118 @@
+/* Candidate contacts in flat arrays: particle-particle, particle-plane and particle-mesh pairs,
+ * their history and the results of the last force pass. The per-pair arrays are listed once in
+ * ADEM_PAIR_FIELDS (with the role of each: key, state carried from step to step, or result of a
+ * force pass), and the extra per-slot arrays of mesh pairs in ADEM_MESH_SLOT_FIELDS; growing,
+ * clearing, saving and loading walk those lists. */
+#ifndef ADEM_PAIRS_H
+#define ADEM_PAIRS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "adem/adem.h"
+#include "mesh_contact.h"
+#include "soa.h"
+#include "stream.h"
+
+/* Contact history carried from step to step, keyed by the pair's stable ids. */
+typedef struct adem_contact_history {
+  adem_vec3 tangential; /* accumulated tangential displacement of i relative to j (H14) */
+  adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
+} adem_contact_history;
+
+/* Roles of the per-pair arrays. */
+enum {
+  ADEM_PAIR_KEY = 0,    /* who the pair is: set by the neighbour build */
+  ADEM_PAIR_STATE = 1,  /* carried from step to step and across rebuilds */
+  ADEM_PAIR_RESULT = 2  /* written by every force pass; zero when the pair does not touch */
+};
+
+/* X(type, name, role, what it holds) */
+#define ADEM_PAIR_FIELDS(X)                                                                    \
+  X(uint32_t, a, ADEM_PAIR_KEY, "particle index; for particle pairs id[a] < id[b]")             \
+  X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
+  X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
+  X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
+  X(adem_vec3, force_a, ADEM_PAIR_RESULT, "force on a (on b it is the opposite), N")            \
+  X(adem_vec3, torque_a, ADEM_PAIR_RESULT, "every contact torque on a, rolling included, N m")  \
+  X(adem_vec3, torque_b, ADEM_PAIR_RESULT, "every contact torque on b, N m (0 for a wall)")     \
+  X(adem_vec3, rolling_a, ADEM_PAIR_RESULT, "rolling couple on a (on b: the opposite), N m")    \
+  X(double, rolling_capacity, ADEM_PAIR_RESULT, "BROF: e_c |F_n| this contact offers (I9)")    \
+  X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J")              \
+  X(double, overlap_ratio, ADEM_PAIR_RESULT, "overlap / smaller radius")
+
+/* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
+ * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
+typedef struct adem_pair_list {
+  size_t n, cap;
+#define ADEM_X(type, name, role, doc) type *name;
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+} adem_pair_list;
+
+/* Forgets the pair's state and results: a candidate out of contact. */
+static inline void adem_pairs_clear(adem_pair_list *l, size_t k) {
+#define ADEM_X(type, name, role, doc) \
+  if (role != ADEM_PAIR_KEY) memset(&l->name[k], 0, sizeof l->name[k]);
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+}
+
+/* Zeroes the pair's results, keeping its state. */
+static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
+#define ADEM_X(type, name, role, doc) \
+  if (role == ADEM_PAIR_RESULT) memset(&l->name[k], 0, sizeof l->name[k]);
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+}
+
+/* Grows to at least cap pairs (with headroom: lists are rebuilt often with similar sizes). */
+adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap);
+void adem_pairs_free(adem_pair_list *l);
+void adem_pairs_save(adem_writer *wr, const adem_pair_list *l);
+adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err);
+/* Bytes per pair over every array. */
+size_t adem_pairs_item_bytes(void);
+
+/* Particle-mesh contacts. The pair list holds each particle's candidate triangles (b = triangle
+ * index) in one range, start[i] .. start[i+1]. After a force pass the first k slots of a range
+ * hold the particle's k distinct contacts (mesh_contact.h): region key, owning triangle, history
+ * and results; touching marks them. History follows a contact by its key from step to step (the
+ * last step's arrays are kept in the _prev arrays) and across rebuilds (by id and key).
+ * X(type, name, saved, what it holds): saved = 1 for what a checkpoint must keep. */
+#define ADEM_MESH_SLOT_FIELDS(X)                                                       \
+  X(uint64_t, key, 1, "region key of the contact in the slot")                          \
+  X(uint32_t, owner, 1, "triangle owning the contact in the slot")                      \
+  X(uint64_t, key_prev, 0, "key at the last step (swapped with key each step)")         \
+  X(adem_contact_history, hist_prev, 0, "history at the last step (swapped likewise)")  \
+  X(bool, touching_prev, 0, "touching at the last step (swapped likewise)")             \
+  X(adem_mesh_contact, found, 0, "scratch: the contacts found this step")
+
+typedef struct adem_mesh_pairs {
+  adem_pair_list l;
+  size_t *start; /* particles + 1 */
+  size_t start_cap, cap;
+#define ADEM_X(type, name, saved, doc) type *name;
+  ADEM_MESH_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+} adem_mesh_pairs;
+
+/* Grows the per-slot arrays to the capacity of the pair list. */
+adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
+void adem_mesh_pairs_free(adem_mesh_pairs *pm);
+/* Forgets slot k (state, results, key and owner). */
+static inline void adem_mesh_pairs_clear(adem_mesh_pairs *pm, size_t k) {
+  adem_pairs_clear(&pm->l, k);
+  pm->key[k] = 0;
+  pm->owner[k] = 0;
+}
+/* The pair list, the saved slot arrays and the slot ranges of nparticles particles. */
+void adem_mesh_pairs_save(adem_writer *wr, const adem_mesh_pairs *pm, size_t nparticles);
+adem_status adem_mesh_pairs_load(adem_reader *rd, adem_mesh_pairs *pm, size_t nparticles,
+                                 adem_error *err);
+/* Slot ranges that tile the list in particle order, with particles and triangles that exist. */
+bool adem_mesh_pairs_consistent(const adem_mesh_pairs *pm, size_t nparticles, size_t ntris);
+
+#endif

@@ -1,0 +1,76 @@
+/* Particles: per-particle arrays in structure-of-arrays form, listed once in
+ * ADEM_PARTICLE_FIELDS, and the integrator that moves them (velocity Verlet, H3-H4). Indices
+ * change when particles are reordered by grid cell; the id never does. Every write to these
+ * arrays goes through this module: particles.c (adding, integrating, reordering, loading) and the
+ * inline setters below (the force pass's sums, the neighbour build's snapshot). */
+#ifndef ADEM_PARTICLES_H
+#define ADEM_PARTICLES_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "adem/adem.h"
+#include "soa.h"
+#include "stream.h"
+
+/* X(type, name, what it holds): hot fields first. */
+#define ADEM_PARTICLE_FIELDS(X)                                                       \
+  X(adem_vec3, pos, "centre, m")                                                      \
+  X(adem_vec3, vel, "velocity, m/s")                                                  \
+  X(adem_vec3, omega, "angular velocity, rad/s")                                      \
+  X(adem_vec3, force, "total force at the current positions, N (force pass)")         \
+  X(adem_vec3, torque, "total torque at the current positions, N m (force pass)")     \
+  X(double, radius, "radius, m")                                                      \
+  X(double, inv_mass, "1 / mass, 1/kg")                                               \
+  X(double, inv_inertia, "1 / moment of inertia, 1/(kg m^2)")                         \
+  X(uint64_t, id, "stable id: the order of creation")                                 \
+  X(uint16_t, material, "material index")                                             \
+  X(uint16_t, group, "external-force group index")                                    \
+  X(adem_vec3, pos_at_build, "centre when the neighbour list was built (skin check)") \
+  X(adem_vec3, rolling_torque, "rolling resistance torque of the last force pass")    \
+  X(uint8_t, held, "1: BROF holds the spin at exactly zero this step (force pass)")   \
+  X(double, path_length, "distance the centre has travelled, sum of |v| dt")
+
+typedef struct adem_particles {
+  size_t n, cap;
+#define ADEM_X(type, name, doc) type *name;
+  ADEM_PARTICLE_FIELDS(ADEM_X)
+#undef ADEM_X
+} adem_particles;
+
+/* The table of ADEM_PARTICLE_FIELDS. */
+adem_soa_layout adem_particles_layout(void);
+
+adem_status adem_particles_reserve(adem_particles *p, size_t cap);
+void adem_particles_free(adem_particles *p);
+/* Reorders every per-particle array: new index k holds old particle perm[k]. */
+adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
+/* Appends a particle with every field zero but these; returns its index (or SIZE_MAX when out of
+ * memory). mass and inertia of a solid sphere of the given density. */
+size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem_vec3 vel,
+                             adem_vec3 omega, double radius, double density, int material,
+                             int group);
+
+/* Velocity Verlet (H3-H4): a half kick of velocities and spins with the current forces; the
+ * closing kick sets the spin of a particle that BROF holds to exactly zero. */
+void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads);
+/* Positions move by dt v; each centre's path length grows by dt |v|. */
+void adem_particles_drift(adem_particles *p, double dt, int nthreads);
+/* Records the positions at a neighbour build. */
+void adem_particles_mark_build(adem_particles *p);
+
+/* The force pass's result for particle i. */
+static inline void adem_particles_set_loads(adem_particles *p, size_t i, adem_vec3 force,
+                                            adem_vec3 torque, adem_vec3 rolling, uint8_t held) {
+  p->held[i] = held;
+  p->force[i] = force;
+  p->torque[i] = torque;
+  p->rolling_torque[i] = rolling;
+}
+
+void adem_particles_save(adem_writer *wr, const adem_particles *p);
+/* Replaces the particles with those saved. */
+adem_status adem_particles_load(adem_reader *rd, adem_particles *p, adem_error *err);
+
+#endif

@@ -1,0 +1,67 @@
+/* Serialization for checkpoints: a writer that hashes everything it passes to a sink, and a reader
+ * over bytes in memory that never reads past their end. Every module saves and loads its own
+ * state through these; the output layer decides where the bytes go. Values are written in the
+ * machine's byte order (the checkpoint header records it). */
+#ifndef ADEM_STREAM_H
+#define ADEM_STREAM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "adem/adem.h"
+
+#define ADEM_FNV_START 0xcbf29ce484222325ULL
+/* FNV-1a of n bytes, continuing from h (start with ADEM_FNV_START). */
+uint64_t adem_fnv1a(uint64_t h, const void *data, size_t n);
+
+/* Returns 0 when the bytes could not be taken (the writer then fails and stops writing). */
+typedef int adem_sink_fn(void *ctx, const void *data, size_t n);
+
+typedef struct adem_writer {
+  adem_sink_fn *sink;
+  void *ctx;
+  uint64_t bytes, hash; /* what was written, and its FNV-1a */
+  int failed;
+} adem_writer;
+
+adem_writer adem_writer_make(adem_sink_fn *sink, void *ctx);
+void adem_put(adem_writer *wr, const void *data, size_t n);
+void adem_put_u8(adem_writer *wr, uint8_t v);
+void adem_put_u32(adem_writer *wr, uint32_t v);
+void adem_put_i32(adem_writer *wr, int32_t v);
+void adem_put_u64(adem_writer *wr, uint64_t v);
+void adem_put_f64(adem_writer *wr, double v);
+void adem_put_vec(adem_writer *wr, adem_vec3 v);
+/* u64 length, then the bytes (NULL writes an empty string). */
+void adem_put_str(adem_writer *wr, const char *s);
+/* u64 count, then count * elem raw bytes. */
+void adem_put_array(adem_writer *wr, const void *data, size_t count, size_t elem);
+
+/* A reader over [at, end). Any read past the end, or a count that does not match, sets failed and
+ * yields zeros from then on: callers check failed once after a section. */
+typedef struct adem_reader {
+  const unsigned char *at, *end;
+  int failed;
+} adem_reader;
+
+int adem_get(adem_reader *rd, void *out, size_t n);
+uint8_t adem_get_u8(adem_reader *rd);
+uint32_t adem_get_u32(adem_reader *rd);
+int32_t adem_get_i32(adem_reader *rd);
+uint64_t adem_get_u64(adem_reader *rd);
+double adem_get_f64(adem_reader *rd);
+adem_vec3 adem_get_vec(adem_reader *rd);
+/* A fresh NUL-terminated string, or NULL (failed set, or out of memory: *nomem set). */
+char *adem_get_str(adem_reader *rd, int *nomem);
+/* Into a buffer of cap bytes; a longer string fails the reader. */
+void adem_get_str_into(adem_reader *rd, char *dst, size_t cap);
+/* An array of exactly count elements (the stored count must match). */
+void adem_get_array(adem_reader *rd, void *dst, size_t count, size_t elem);
+/* A stored count, refused (failed) when the rest of the data could not hold count elements of at
+ * least min_elem bytes: a damaged count must not make the caller allocate gigabytes. */
+uint64_t adem_get_count(adem_reader *rd, size_t min_elem);
+/* Bytes left. */
+size_t adem_reader_left(const adem_reader *rd);
+
+#endif
