@@ -463,10 +463,10 @@ static void print_jkr(const adem_world *w, int a, int b, bool wall, const double
     printf("  %-26s jkr without surface energy: the contact is Hertz\n", pad);
     return;
   }
-  double ra = rmin[a], ma = w->materials[a].def.density * (4.0 / 3.0) * ADEM_PI * ra * ra * ra;
+  double ra = rmin[a], ma = w->mat.m[a].def.density * (4.0 / 3.0) * ADEM_PI * ra * ra * ra;
   double R = ra, mstar = ma;
   if (!wall) {
-    double rb = rmin[b], mb = w->materials[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
+    double rb = rmin[b], mb = w->mat.m[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
     R = ra * rb / (ra + rb);
     mstar = ma * mb / (ma + mb);
   }
@@ -503,7 +503,7 @@ static void print_jkr(const adem_world *w, int a, int b, bool wall, const double
     fprintf(stderr,
             "adem: warning: %s-%s%s: Tabor parameter %.3g is below 3: the JKR model is outside "
             "its range (H1); the contact is closer to DMT/Maugis\n",
-            w->materials[a].def.name, w->materials[b].def.name, wall ? " (wall)" : "", s.tabor);
+            w->mat.m[a].def.name, w->mat.m[b].def.name, wall ? " (wall)" : "", s.tabor);
   }
 }
 
@@ -519,7 +519,7 @@ static void print_pair(const adem_world *w, int a, int b, bool wall, const doubl
     Rhi = rmax[a] * rmax[b] / (rmax[a] + rmax[b]);
   }
   char name[2 * ADEM_NAME_MAX + 16];
-  snprintf(name, sizeof name, "%s-%s%s", w->materials[a].def.name, w->materials[b].def.name,
+  snprintf(name, sizeof name, "%s-%s%s", w->mat.m[a].def.name, w->mat.m[b].def.name,
            wall ? " (wall)" : "");
   char R[64];
   if (Rlo == Rhi) snprintf(R, sizeof R, "%.4g", Rlo);
@@ -559,7 +559,7 @@ static int cmd_check(int argc, char **argv) {
   }
   const adem_world *w = c->world;
   const adem_particles *p = &w->p;
-  int nm = w->nmaterials;
+  int nm = w->mat.n;
   double *rmin = malloc((size_t)(nm > 0 ? nm : 1) * sizeof *rmin);
   double *rmax = malloc((size_t)(nm > 0 ? nm : 1) * sizeof *rmax);
   bool *wallmat = calloc((size_t)(nm > 0 ? nm : 1), sizeof *wallmat);
@@ -588,24 +588,24 @@ static int cmd_check(int argc, char **argv) {
     rmin[q->def.material] = fmin(rmin[q->def.material], adem_insert_dist_smallest(&q->def.dist));
     rmax[q->def.material] = fmax(rmax[q->def.material], adem_insert_dist_largest(&q->def.dist));
   }
-  for (int k = 0; k < w->nplanes; ++k) wallmat[w->planes[k].def.material] = true;
-  for (int k = 0; k < w->mesh.ngroups; ++k) wallmat[w->mesh.groups[k].material] = true;
+  for (int k = 0; k < w->walls.nplanes; ++k) wallmat[w->walls.planes[k].def.material] = true;
+  for (int k = 0; k < w->walls.mesh.ngroups; ++k) wallmat[w->walls.mesh.groups[k].material] = true;
 
   printf("case        %s (%s)\n", c->name, c->path);
   if (p->n)
     printf("particles   %zu, radius %.4g..%.4g m, total mass %.4g kg\n", p->n, rlo, rhi, mass);
   else
     printf("particles   none at the start\n");
-  printf("walls       %d plane%s", w->nplanes, w->nplanes == 1 ? "" : "s");
-  for (int k = 0; k < w->nplanes && k < 12; ++k)
-    printf("%s%s", k ? ", " : ": ", w->planes[k].def.name);
-  printf("%s\n", w->nplanes > 12 ? ", ..." : "");
-  if (w->mesh.ngroups > 0) {
-    printf("meshes      %zu triangles in %d group%s", w->mesh.ntris, w->mesh.ngroups,
-           w->mesh.ngroups == 1 ? "" : "s");
-    for (int k = 0; k < w->mesh.ngroups && k < 12; ++k)
-      printf("%s%s", k ? ", " : ": ", w->mesh.groups[k].name);
-    printf("%s\n", w->mesh.ngroups > 12 ? ", ..." : "");
+  printf("walls       %d plane%s", w->walls.nplanes, w->walls.nplanes == 1 ? "" : "s");
+  for (int k = 0; k < w->walls.nplanes && k < 12; ++k)
+    printf("%s%s", k ? ", " : ": ", w->walls.planes[k].def.name);
+  printf("%s\n", w->walls.nplanes > 12 ? ", ..." : "");
+  if (w->walls.mesh.ngroups > 0) {
+    printf("meshes      %zu triangles in %d group%s", w->walls.mesh.ntris, w->walls.mesh.ngroups,
+           w->walls.mesh.ngroups == 1 ? "" : "s");
+    for (int k = 0; k < w->walls.mesh.ngroups && k < 12; ++k)
+      printf("%s%s", k ? ", " : ": ", w->walls.mesh.groups[k].name);
+    printf("%s\n", w->walls.mesh.ngroups > 12 ? ", ..." : "");
   }
   for (int k = 0; c->pours && k < c->pours->n; ++k) {
     const adem_pour *q = &c->pours->p[k];
@@ -678,7 +678,7 @@ static int cmd_check(int argc, char **argv) {
   double memory = (double)p->n * per_particle + (double)w->pp.n * (per_pair + 8.0) +
                   (double)w->pw.n * (per_pair + 4.0) + (double)w->nb.ncells * sizeof(size_t);
   double frame = 1500.0 + (double)p->n * (8 + 8 + 4 + 4 * 24 + 8 + 8 + 1);
-  double row = (9.0 + 3.0 * w->nplanes) * 24.0;
+  double row = (9.0 + 3.0 * w->walls.nplanes) * 24.0;
   double ckpt = (double)strlen(c->source) + (double)p->n * (6 * 24 + 3 * 8 + 8 + 4) +
                 (double)(w->pp.n + w->pw.n) * per_pair;
   printf("\nestimates\n");

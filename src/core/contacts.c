@@ -10,8 +10,9 @@
 #include "jkr.h"
 #include "rolling.h"
 #include "tangential.h"
+#include "adem/vec3.h"
 #include "parallel.h"
-#include "world.h"
+#include "contacts.h"
 
 /* What a contact law needs about the two bodies at one contact. */
 typedef struct contact_geometry {
@@ -143,9 +144,9 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
 }
 
-static inline void particle_pair(adem_world *w, size_t k) {
-  adem_particles *p = &w->p;
-  adem_pair_list *l = &w->pp;
+static inline void particle_pair(const adem_force_scope *w, size_t k) {
+  adem_particles *p = w->p;
+  adem_pair_list *l = w->pp;
   double dt = w->dt;
   {
     size_t i = l->a[k], j = l->b[k];
@@ -174,19 +175,19 @@ static inline void particle_pair(adem_world *w, size_t k) {
     double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
     double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
     g.inertia_r = Ici * Icj / (Ici + Icj);
-    const adem_interaction *it = adem_world_interaction(w, p->material[i], p->material[j]);
+    const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
     store_pair(l, k, &g, &r);
   }
 }
 
-static inline void wall_pair(adem_world *w, size_t k) {
-  adem_particles *p = &w->p;
-  adem_pair_list *l = &w->pw;
+static inline void wall_pair(const adem_force_scope *w, size_t k) {
+  adem_particles *p = w->p;
+  adem_pair_list *l = w->pw;
   double dt = w->dt;
   {
     size_t i = l->a[k];
-    const adem_plane_def *pl = &w->planes[l->b[k]].def;
+    const adem_plane_def *pl = &w->walls->planes[l->b[k]].def;
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     if (dist >= ri) {
@@ -198,14 +199,14 @@ static inline void wall_pair(adem_world *w, size_t k) {
     g.delta = ri - dist;
     g.R = ri;
     g.mstar = 1.0 / p->inv_mass[i];
-    adem_vec3 v_wall = adem_motion_point_velocity(&w->planes[l->b[k]].motion, w->wall_time,
+    adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->planes[l->b[k]].motion, w->walls->time,
                                                   v3_axpy(p->pos[i], ri, g.n));
     g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
     g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
     g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
-    const adem_interaction *it = adem_world_interaction(w, p->material[i], pl->material);
+    const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
     store_pair(l, k, &g, &r);
   }
@@ -214,11 +215,11 @@ static inline void wall_pair(adem_world *w, size_t k) {
 /* Mesh contacts, per particle: the distinct contacts of its candidate triangles (one per flat
  * region, convex edge or vertex: contact/triangle.h), each with the history its key had at the
  * last step, then the force as for a plane moving with the triangle's group. */
-static void mesh_pairs(adem_world *w) {
-  adem_particles *p = &w->p;
-  adem_mesh_pairs *pm = &w->pm;
+static void mesh_pairs(const adem_force_scope *w) {
+  adem_particles *p = w->p;
+  adem_mesh_pairs *pm = w->pm;
   adem_pair_list *l = &pm->l;
-  const adem_mesh *m = &w->mesh;
+  const adem_mesh *m = &w->walls->mesh;
   if (m->ntris == 0 || !pm->start) return;
   /* the last step's contacts become the previous ones */
   adem_contact_history *hs = l->hist;
@@ -230,7 +231,7 @@ static void mesh_pairs(adem_world *w) {
   uint64_t *ks = pm->key;
   pm->key = pm->key_prev;
   pm->key_prev = ks;
-  int nthreads = adem_world_threads(w);
+  int nthreads = w->nthreads;
   double dt = w->dt;
   size_t n = p->n;
   ADEM_PARALLEL_FOR
@@ -256,13 +257,13 @@ static void mesh_pairs(adem_world *w) {
       g.delta = c->overlap;
       g.R = ri;
       g.mstar = 1.0 / p->inv_mass[i];
-      adem_vec3 v_wall = adem_motion_point_velocity(&w->mesh_motion[grp], w->wall_time, c->point);
+      adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->mesh_motion[grp], w->walls->time, c->point);
       g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
       g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;
       g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
-      const adem_interaction *it = adem_world_interaction(w, p->material[i], m->groups[grp].material);
+      const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
       contact_result r = contact_force(it, &g, &h, dt);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
       l->hist[k] = h;
@@ -281,31 +282,23 @@ static void mesh_pairs(adem_world *w) {
   /* Force on each face, and its moment about the face's group's reference point: the force acts
    * at the contact point, and the wall takes the opposite of the rolling couple. In slot order
    * (fixed for any thread count). */
-  memset(w->face_force, 0, 3 * m->ntris * sizeof *w->face_force);
-  memset(w->face_torque, 0, 3 * m->ntris * sizeof *w->face_torque);
+  adem_walls_clear_face_loads(w->walls);
   for (size_t k = 0; k < l->n; ++k) {
     if (!l->touching[k]) continue;
     size_t t = pm->owner[k];
     adem_vec3 fw = v3_neg(l->force_a[k]);
-    adem_vec3 arm = v3_sub(pm->found[k].point, w->mesh_ref[m->group[t]]);
-    adem_vec3 tw = v3_sub(v3_cross(arm, fw), l->rolling_a[k]);
-    double *f = &w->face_force[3 * t], *q = &w->face_torque[3 * t];
-    f[0] += fw.x;
-    f[1] += fw.y;
-    f[2] += fw.z;
-    q[0] += tw.x;
-    q[1] += tw.y;
-    q[2] += tw.z;
+    adem_vec3 arm = v3_sub(pm->found[k].point, w->walls->mesh_ref[m->group[t]]);
+    adem_walls_add_face_load(w->walls, t, fw, v3_sub(v3_cross(arm, fw), l->rolling_a[k]));
   }
 }
 
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
  * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
-static inline void sum_particle(adem_world *w, size_t i) {
-  adem_particles *p = &w->p;
-  const adem_neighbors *nb = &w->nb;
-  const adem_pair_list *pp = &w->pp, *pw = &w->pw, *pm = &w->pm.l;
-  const size_t *pm_start = w->mesh.ntris > 0 ? w->pm.start : NULL;
+static inline void sum_particle(const adem_force_scope *w, size_t i) {
+  adem_particles *p = w->p;
+  const adem_neighbors *nb = w->nb;
+  const adem_pair_list *pp = w->pp, *pw = w->pw, *pm = &w->pm->l;
+  const size_t *pm_start = w->walls->mesh.ntris > 0 ? w->pm->start : NULL;
   adem_vec3 g = w->gravity;
   double dt = w->dt;
   {
@@ -362,10 +355,10 @@ static inline void sum_particle(adem_world *w, size_t i) {
   }
 }
 
-void adem_contacts_compute(adem_world *w) {
-  int nthreads = adem_world_threads(w);
-  ADEM_FOR(nthreads, w->pp.n, particle_pair, w);
-  ADEM_FOR(nthreads, w->pw.n, wall_pair, w);
+void adem_contacts_compute(const adem_force_scope *w) {
+  int nthreads = w->nthreads;
+  ADEM_FOR(nthreads, w->pp->n, particle_pair, w);
+  ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);
-  ADEM_FOR(nthreads, w->p.n, sum_particle, w);
+  ADEM_FOR(nthreads, w->p->n, sum_particle, w);
 }

@@ -6,7 +6,7 @@
 #include "hertz.h"
 #include "jkr.h"
 #include "log.h"
-#include "world.h"
+#include "materials.h"
 
 adem_material_def adem_default_material_def(void) {
   adem_material_def d;
@@ -74,24 +74,24 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   return it;
 }
 
-adem_status adem_materials_derive(adem_world *w, adem_error *err) {
-  int nm = w->nmaterials;
+adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
+  int nm = mt->n;
   for (int k = 0; k < nm; ++k) {
-    adem_material *m = &w->materials[k];
+    adem_material *m = &mt->m[k];
     double f = m->def.stiffness_factor;
     m->young_mod = f * m->def.young; /* H24: E_mod = f E */
     m->shear_mod = m->young_mod / (2.0 * (1.0 + m->def.poisson));
   }
-  free(w->interactions);
-  w->interactions = calloc((size_t)nm * (size_t)nm, sizeof *w->interactions);
-  if (!w->interactions && nm > 0) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  free(mt->pairs);
+  mt->pairs = calloc((size_t)nm * (size_t)nm, sizeof *mt->pairs);
+  if (!mt->pairs && nm > 0) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b)
-      w->interactions[(size_t)a * nm + b] = derive_pair(&w->materials[a], &w->materials[b]);
-  for (int k = 0; k < w->ninteraction_defs; ++k) {
-    const adem_interaction_def *d = &w->interaction_defs[k];
-    adem_interaction *p[2] = {&w->interactions[(size_t)d->material_a * nm + d->material_b],
-                              &w->interactions[(size_t)d->material_b * nm + d->material_a]};
+      mt->pairs[(size_t)a * nm + b] = derive_pair(&mt->m[a], &mt->m[b]);
+  for (int k = 0; k < mt->ndefs; ++k) {
+    const adem_interaction_def *d = &mt->defs[k];
+    adem_interaction *p[2] = {&mt->pairs[(size_t)d->material_a * nm + d->material_b],
+                              &mt->pairs[(size_t)d->material_b * nm + d->material_a]};
     for (int s = 0; s < 2; ++s) {
       if (d->restitution > 0.0) {
         p[s]->restitution = d->restitution;
@@ -107,12 +107,12 @@ adem_status adem_materials_derive(adem_world *w, adem_error *err) {
     }
   }
   for (size_t k = 0; k < (size_t)nm * nm; ++k)
-    w->interactions[k].beta = adem_damping_beta(w->interactions[k].restitution);
+    mt->pairs[k].beta = adem_damping_beta(mt->pairs[k].restitution);
   return ADEM_OK;
 }
 
-int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err) {
-  if (adem_world_find_material(w, def->name) >= 0) {
+int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_error *err) {
+  if (adem_materials_find(mt, def->name) >= 0) {
     adem_error_set(err, ADEM_ERR_INPUT, "material '%s' is defined twice", def->name);
     return -1;
   }
@@ -142,31 +142,31 @@ int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_er
                    "must be >= 0", def->name);
     return -1;
   }
-  if (w->nmaterials >= 65535) {
+  if (mt->n >= 65535) {
     adem_error_set(err, ADEM_ERR_INPUT, "too many materials");
     return -1;
   }
-  adem_material *m = realloc(w->materials, (size_t)(w->nmaterials + 1) * sizeof *m);
+  adem_material *m = realloc(mt->m, (size_t)(mt->n + 1) * sizeof *m);
   if (!m) {
     adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     return -1;
   }
-  w->materials = m;
-  memset(&m[w->nmaterials], 0, sizeof *m);
-  m[w->nmaterials].def = *def;
-  w->prepared = false;
-  return w->nmaterials++;
+  mt->m = m;
+  memset(&m[mt->n], 0, sizeof *m);
+  m[mt->n].def = *def;
+  return mt->n++;
 }
 
-int adem_world_find_material(const adem_world *w, const char *name) {
-  for (int k = 0; k < w->nmaterials; ++k)
-    if (strcmp(w->materials[k].def.name, name) == 0) return k;
+int adem_materials_find(const adem_materials *mt, const char *name) {
+  for (int k = 0; k < mt->n; ++k)
+    if (strcmp(mt->m[k].def.name, name) == 0) return k;
   return -1;
 }
 
-int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err) {
-  if (def->material_a < 0 || def->material_a >= w->nmaterials || def->material_b < 0 ||
-      def->material_b >= w->nmaterials) {
+int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_def *def,
+                                   adem_error *err) {
+  if (def->material_a < 0 || def->material_a >= mt->n || def->material_b < 0 ||
+      def->material_b >= mt->n) {
     adem_error_set(err, ADEM_ERR_INPUT, "interaction names a material that does not exist");
     return -1;
   }
@@ -176,15 +176,14 @@ int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, a
     return -1;
   }
   adem_interaction_def *d =
-      realloc(w->interaction_defs, (size_t)(w->ninteraction_defs + 1) * sizeof *d);
+      realloc(mt->defs, (size_t)(mt->ndefs + 1) * sizeof *d);
   if (!d) {
     adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     return -1;
   }
-  w->interaction_defs = d;
-  d[w->ninteraction_defs] = *def;
-  w->prepared = false;
-  return w->ninteraction_defs++;
+  mt->defs = d;
+  d[mt->ndefs] = *def;
+  return mt->ndefs++;
 }
 
 double adem_hertz_collision_time(double mstar, double R, double E, double v) {
@@ -218,4 +217,11 @@ adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gam
   s.speedup = pow(E / E_mod, 0.4);
   s.f_ext_max = ADEM_PULLOFF_SAFETY * s.pull_off_mod;
   return s;
+}
+
+void adem_materials_free(adem_materials *mt) {
+  free(mt->m);
+  free(mt->pairs);
+  free(mt->defs);
+  memset(mt, 0, sizeof *mt);
 }

@@ -5,8 +5,19 @@
 #include <string.h>
 
 #include "log.h"
+#include "adem/vec3.h"
 #include "parallel.h"
-#include "world.h"
+#include "neighbors.h"
+
+/* What one build works on (adem_neighbor_scope with the neighbour structure itself). */
+typedef struct build_ctx {
+  adem_neighbors *nb;
+  adem_particles *p;
+  adem_pair_list *pp, *pw;
+  adem_mesh_pairs *pm;
+  const adem_walls *walls;
+  int nthreads;
+} build_ctx;
 
 /* History of a touching pair, keyed by ids (or id and wall index). */
 typedef struct saved_history {
@@ -35,7 +46,7 @@ static const saved_history *find_saved(const saved_history *s, size_t n, uint64_
 }
 
 /* Copies out the history of every touching pair, sorted by key. */
-static saved_history *save_history(const adem_world *w, const adem_pair_list *l, bool walls,
+static saved_history *save_history(const build_ctx *w, const adem_pair_list *l, bool walls,
                                    size_t *count) {
   size_t m = 0;
   for (size_t k = 0; k < l->n; ++k) m += l->touching[k];
@@ -44,8 +55,8 @@ static saved_history *save_history(const adem_world *w, const adem_pair_list *l,
   size_t j = 0;
   for (size_t k = 0; k < l->n; ++k) {
     if (!l->touching[k]) continue;
-    s[j].ka = w->p.id[l->a[k]];
-    s[j].kb = walls ? l->b[k] : w->p.id[l->b[k]];
+    s[j].ka = w->p->id[l->a[k]];
+    s[j].kb = walls ? l->b[k] : w->p->id[l->b[k]];
     s[j].h = l->hist[k];
     ++j;
   }
@@ -54,10 +65,10 @@ static saved_history *save_history(const adem_world *w, const adem_pair_list *l,
   return s;
 }
 
-static void restore_history(const adem_world *w, adem_pair_list *l, bool walls,
+static void restore_history(const build_ctx *w, adem_pair_list *l, bool walls,
                             const saved_history *s, size_t ns) {
-  int nthreads = adem_world_threads(w);
-  const uint64_t *id = w->p.id;
+  int nthreads = w->nthreads;
+  const uint64_t *id = w->p->id;
   ADEM_PARALLEL_FOR
   for (size_t k = 0; k < l->n; ++k) {
     uint64_t kb = walls ? l->b[k] : id[l->b[k]];
@@ -103,9 +114,9 @@ static inline void cell_coords(const adem_neighbors *nb, adem_vec3 x, int c[3]) 
 }
 
 /* Lays the grid over the particles' bounding box and sorts particles by cell. */
-static adem_status sort_by_cell(adem_world *w, double cell) {
-  adem_particles *p = &w->p;
-  adem_neighbors *nb = &w->nb;
+static adem_status sort_by_cell(build_ctx *w, double cell) {
+  adem_particles *p = w->p;
+  adem_neighbors *nb = w->nb;
   size_t n = p->n;
   adem_vec3 lo = p->pos[0], hi = p->pos[0];
   for (size_t i = 1; i < n; ++i) {
@@ -149,7 +160,7 @@ static adem_status sort_by_cell(adem_world *w, double cell) {
     free(perm);
     return ADEM_ERR_NOMEM;
   }
-  int nthreads = adem_world_threads(w);
+  int nthreads = w->nthreads;
   size_t nx = (size_t)nb->dims[0], ny = (size_t)nb->dims[1];
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
@@ -179,9 +190,9 @@ static inline bool pair_close(const adem_particles *p, size_t i, size_t j, doubl
 }
 
 /* Counts (pass 0) or writes (pass 1) the particle pairs of particle i. */
-static size_t particle_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
-  const adem_particles *p = &w->p;
-  const adem_neighbors *nb = &w->nb;
+static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, size_t at) {
+  const adem_particles *p = w->p;
+  const adem_neighbors *nb = w->nb;
   size_t count = 0;
   double skin = nb->skin;
   if (nb->brute_force) {
@@ -223,13 +234,13 @@ static size_t particle_pairs_of(const adem_world *w, size_t i, adem_pair_list *o
   return count;
 }
 
-static size_t wall_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
+static size_t wall_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, size_t at) {
   size_t count = 0;
-  adem_vec3 x = w->p.pos[i];
-  double reach = w->p.radius[i] + w->nb.skin;
-  for (int k = 0; k < w->nplanes; ++k) {
-    const adem_plane_def *pl = &w->planes[k].def;
-    if (w->planes[k].inactive) continue;
+  adem_vec3 x = w->p->pos[i];
+  double reach = w->p->radius[i] + w->nb->skin;
+  for (int k = 0; k < w->walls->nplanes; ++k) {
+    const adem_plane_def *pl = &w->walls->planes[k].def;
+    if (w->walls->planes[k].inactive) continue;
     double d = v3_dot(v3_sub(x, pl->point), pl->normal);
     if (d < reach) {
       if (out) {
@@ -258,9 +269,9 @@ static int box_cells(const adem_neighbors *nb, adem_vec3 lo, adem_vec3 hi, int c
 /* Bins each triangle into every cell that its box grown by reach overlaps and that lies within
  * reach of its plane: a particle's candidates are then in its own cell. Counting sort by cell,
  * triangles ascending within a cell. */
-static adem_status bin_triangles(adem_world *w, double reach) {
-  adem_neighbors *nb = &w->nb;
-  const adem_mesh *m = &w->mesh;
+static adem_status bin_triangles(build_ctx *w, double reach) {
+  adem_neighbors *nb = w->nb;
+  const adem_mesh *m = &w->walls->mesh;
   if (grow_size_t(&nb->tri_cell_start, &nb->tri_cell_start_cap, nb->ncells + 1)) return ADEM_ERR_NOMEM;
   size_t *start = nb->tri_cell_start;
   memset(start, 0, (nb->ncells + 1) * sizeof *start);
@@ -298,12 +309,12 @@ static adem_status bin_triangles(adem_world *w, double reach) {
 }
 
 /* Candidate triangles of particle i: closer than radius + skin. */
-static size_t mesh_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, size_t at) {
-  const adem_mesh *m = &w->mesh;
-  const adem_neighbors *nb = &w->nb;
+static size_t mesh_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, size_t at) {
+  const adem_mesh *m = &w->walls->mesh;
+  const adem_neighbors *nb = w->nb;
   if (m->ntris == 0) return 0;
-  adem_vec3 x = w->p.pos[i];
-  double reach = w->p.radius[i] + nb->skin;
+  adem_vec3 x = w->p->pos[i];
+  double reach = w->p->radius[i] + nb->skin;
   size_t count = 0, tb = 0, te = m->ntris;
   const uint32_t *list = NULL;
   if (!nb->brute_force && nb->ncells > 0) {
@@ -316,7 +327,7 @@ static size_t mesh_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, 
   }
   for (size_t e = tb; e < te; ++e) {
     uint32_t t = list ? list[e] : (uint32_t)e;
-    if (!adem_world_mesh_active(w, m->group[t])) continue;
+    if (!adem_walls_mesh_active(w->walls, m->group[t])) continue;
     adem_vec3 q;
     adem_triangle_feature f;
     if (adem_triangle_distance2(m, t, x, &q, &f) >= reach * reach) continue;
@@ -330,8 +341,8 @@ static size_t mesh_pairs_of(const adem_world *w, size_t i, adem_pair_list *out, 
 }
 
 /* Mesh history: (id, key) of every touching slot, sorted. */
-static saved_history *save_mesh_history(const adem_world *w, size_t *count) {
-  const adem_mesh_pairs *pm = &w->pm;
+static saved_history *save_mesh_history(const build_ctx *w, size_t *count) {
+  const adem_mesh_pairs *pm = w->pm;
   size_t m = 0;
   for (size_t k = 0; k < pm->l.n; ++k) m += pm->l.touching[k];
   saved_history *s = malloc((m + 1) * sizeof *s);
@@ -339,7 +350,7 @@ static saved_history *save_mesh_history(const adem_world *w, size_t *count) {
   size_t j = 0;
   for (size_t k = 0; k < pm->l.n; ++k) {
     if (!pm->l.touching[k]) continue;
-    s[j++] = (saved_history){w->p.id[pm->l.a[k]], pm->key[k], pm->l.hist[k]};
+    s[j++] = (saved_history){w->p->id[pm->l.a[k]], pm->key[k], pm->l.hist[k]};
   }
   qsort(s, m, sizeof *s, compare_saved);
   *count = m;
@@ -347,14 +358,14 @@ static saved_history *save_mesh_history(const adem_world *w, size_t *count) {
 }
 
 /* Puts each particle's saved contacts, sorted by key, in the first slots of its range. */
-static void restore_mesh_history(adem_world *w, const saved_history *s, size_t ns) {
-  adem_mesh_pairs *pm = &w->pm;
+static void restore_mesh_history(build_ctx *w, const saved_history *s, size_t ns) {
+  adem_mesh_pairs *pm = w->pm;
   adem_pair_list *l = &pm->l;
-  int nthreads = adem_world_threads(w);
-  size_t n = w->p.n;
+  int nthreads = w->nthreads;
+  size_t n = w->p->n;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
-    uint64_t id = w->p.id[i];
+    uint64_t id = w->p->id[i];
     size_t lo = 0, hi = ns;
     while (lo < hi) {
       size_t mid = lo + (hi - lo) / 2;
@@ -372,14 +383,14 @@ static void restore_mesh_history(adem_world *w, const saved_history *s, size_t n
   }
 }
 
-typedef size_t pairs_of_fn(const adem_world *w, size_t i, adem_pair_list *out, size_t at);
+typedef size_t pairs_of_fn(const build_ctx *w, size_t i, adem_pair_list *out, size_t at);
 
 /* Two passes over particles (count, then fill at prefix offsets): the list order is fixed by
  * particle index alone, whatever the number of threads. */
-static adem_status build_list(adem_world *w, adem_pair_list *l, pairs_of_fn *pairs_of,
+static adem_status build_list(build_ctx *w, adem_pair_list *l, pairs_of_fn *pairs_of,
                               size_t *offsets) {
-  size_t n = w->p.n;
-  int nthreads = adem_world_threads(w);
+  size_t n = w->p->n;
+  int nthreads = w->nthreads;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) offsets[i + 1] = pairs_of(w, i, NULL, 0);
   offsets[0] = 0;
@@ -391,48 +402,53 @@ static adem_status build_list(adem_world *w, adem_pair_list *l, pairs_of_fn *pai
   return ADEM_OK;
 }
 
-adem_status adem_neighbors_gather(adem_world *w) {
-  adem_neighbors *nb = &w->nb;
-  size_t n = w->p.n;
+adem_status adem_neighbors_gather(adem_neighbors *nb, size_t n, const adem_pair_list *pp,
+                                  const adem_pair_list *pw) {
+  const struct {
+    const adem_pair_list *pp, *pw;
+  } ctx = {pp, pw}, *w = &ctx;
   if (grow_size_t(&nb->pp_start, &nb->pp_start_cap, n + 1)) return ADEM_ERR_NOMEM;
   if (grow_size_t(&nb->pw_start, &nb->pw_start_cap, n + 1)) return ADEM_ERR_NOMEM;
-  if (grow_u32(&nb->pp_entries, &nb->pp_entries_cap, 2 * w->pp.n)) return ADEM_ERR_NOMEM;
-  if (grow_u32(&nb->pw_entries, &nb->pw_entries_cap, w->pw.n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pp_entries, &nb->pp_entries_cap, 2 * w->pp->n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pw_entries, &nb->pw_entries_cap, w->pw->n)) return ADEM_ERR_NOMEM;
 
   size_t *s = nb->pp_start;
   memset(s, 0, (n + 1) * sizeof *s);
-  for (size_t k = 0; k < w->pp.n; ++k) {
-    s[w->pp.a[k] + 1]++;
-    s[w->pp.b[k] + 1]++;
+  for (size_t k = 0; k < w->pp->n; ++k) {
+    s[w->pp->a[k] + 1]++;
+    s[w->pp->b[k] + 1]++;
   }
   for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
-  for (size_t k = 0; k < w->pp.n; ++k) {
-    nb->pp_entries[s[w->pp.a[k]]++] = (uint32_t)(k << 1);
-    nb->pp_entries[s[w->pp.b[k]]++] = (uint32_t)(k << 1 | 1u);
+  for (size_t k = 0; k < w->pp->n; ++k) {
+    nb->pp_entries[s[w->pp->a[k]]++] = (uint32_t)(k << 1);
+    nb->pp_entries[s[w->pp->b[k]]++] = (uint32_t)(k << 1 | 1u);
   }
   for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
   s[0] = 0;
 
   s = nb->pw_start;
   memset(s, 0, (n + 1) * sizeof *s);
-  for (size_t k = 0; k < w->pw.n; ++k) s[w->pw.a[k] + 1]++;
+  for (size_t k = 0; k < w->pw->n; ++k) s[w->pw->a[k] + 1]++;
   for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
-  for (size_t k = 0; k < w->pw.n; ++k) nb->pw_entries[s[w->pw.a[k]]++] = (uint32_t)k;
+  for (size_t k = 0; k < w->pw->n; ++k) nb->pw_entries[s[w->pw->a[k]]++] = (uint32_t)k;
   for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
   s[0] = 0;
   return ADEM_OK;
 }
 
-adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
-  adem_particles *p = &w->p;
-  adem_neighbors *nb = &w->nb;
+adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *scope,
+                                 adem_error *err) {
+  build_ctx ctx = {nb,        scope->p,     scope->pp,      scope->pw,
+                   scope->pm, scope->walls, scope->nthreads};
+  build_ctx *w = &ctx;
+  adem_particles *p = w->p;
   size_t n = p->n;
-  if (2 * w->pp.n + 2 >= UINT32_MAX || n >= UINT32_MAX)
+  if (2 * w->pp->n + 2 >= UINT32_MAX || n >= UINT32_MAX)
     return adem_error_set(err, ADEM_ERR_NOMEM, "too many particles or pairs for 32-bit indices");
 
   size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0;
-  saved_history *saved_pp = save_history(w, &w->pp, false, &nsaved_pp);
-  saved_history *saved_pw = save_history(w, &w->pw, true, &nsaved_pw);
+  saved_history *saved_pp = save_history(w, w->pp, false, &nsaved_pp);
+  saved_history *saved_pw = save_history(w, w->pw, true, &nsaved_pw);
   saved_history *saved_pm = save_mesh_history(w, &nsaved_pm);
   size_t *offsets = malloc((n + 1) * sizeof *offsets);
   adem_status st = ADEM_OK;
@@ -449,22 +465,22 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
     st = sort_by_cell(w, 2.0 * rmax + nb->skin);
     if (st) goto done;
   }
-  if (n > 0 && !nb->brute_force && w->mesh.ntris > 0) {
+  if (n > 0 && !nb->brute_force && w->walls->mesh.ntris > 0) {
     st = bin_triangles(w, rmax + nb->skin);
     if (st) goto done;
   }
-  st = build_list(w, &w->pp, particle_pairs_of, offsets);
-  if (!st) st = build_list(w, &w->pw, wall_pairs_of, offsets);
-  if (!st) st = build_list(w, &w->pm.l, mesh_pairs_of, offsets);
-  if (!st) st = adem_mesh_pairs_reserve(&w->pm);
-  if (!st && grow_size_t(&w->pm.start, &w->pm.start_cap, n + 1)) st = ADEM_ERR_NOMEM;
+  st = build_list(w, w->pp, particle_pairs_of, offsets);
+  if (!st) st = build_list(w, w->pw, wall_pairs_of, offsets);
+  if (!st) st = build_list(w, &w->pm->l, mesh_pairs_of, offsets);
+  if (!st) st = adem_mesh_pairs_reserve(w->pm);
+  if (!st && grow_size_t(&w->pm->start, &w->pm->start_cap, n + 1)) st = ADEM_ERR_NOMEM;
   if (st) goto done;
-  memcpy(w->pm.start, offsets, (n + 1) * sizeof *offsets);
-  restore_history(w, &w->pp, false, saved_pp, nsaved_pp);
-  restore_history(w, &w->pw, true, saved_pw, nsaved_pw);
+  memcpy(w->pm->start, offsets, (n + 1) * sizeof *offsets);
+  restore_history(w, w->pp, false, saved_pp, nsaved_pp);
+  restore_history(w, w->pw, true, saved_pw, nsaved_pw);
   restore_mesh_history(w, saved_pm, nsaved_pm);
-  nb->time_at_build = w->wall_time;
-  st = adem_neighbors_gather(w);
+  nb->time_at_build = w->walls->time;
+  st = adem_neighbors_gather(nb, n, w->pp, w->pw);
   if (st) goto done;
   adem_particles_mark_build(p);
   nb->rebuilds++;
@@ -477,14 +493,13 @@ done:
   return ADEM_OK;
 }
 
-bool adem_neighbors_need_rebuild(const adem_world *w) {
-  const adem_particles *p = &w->p;
+bool adem_neighbors_need_rebuild(const adem_neighbors *nb, const adem_particles *p,
+                                 double wall_shift, int nthreads) {
   /* a moving wall uses up the skin too */
-  double half = 0.5 * w->nb.skin - adem_world_wall_shift(w);
+  double half = 0.5 * nb->skin - wall_shift;
   if (half <= 0.0) return true;
   double limit = half * half;
   double worst = 0.0;
-  int nthreads = adem_world_threads(w);
   size_t n = p->n;
   if (nthreads > 1) {
     ADEM_PARALLEL_FOR_MAX(worst)

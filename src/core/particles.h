@@ -14,6 +14,12 @@
 #include "soa.h"
 #include "stream.h"
 
+/* A named group of particles with a constant external force (H3). */
+typedef struct adem_group {
+  char name[ADEM_NAME_MAX];
+  adem_vec3 external_force; /* N per particle, constant (H3) */
+} adem_group;
+
 /* X(type, name, what it holds): hot fields first. */
 #define ADEM_PARTICLE_FIELDS(X)                                                       \
   X(adem_vec3, pos, "centre, m")                                                      \

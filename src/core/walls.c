@@ -5,26 +5,28 @@
 #include <string.h>
 
 #include "log.h"
-#include "world.h"
+#include "adem/vec3.h"
+#include "walls.h"
 
-int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
+int adem_walls_add_plane(adem_walls *wl, const adem_plane_def *def, int nmaterials,
+                         adem_error *err) {
   double len = v3_norm(def->normal);
   if (!(len > 0.0) || !isfinite(len) || !v3_isfinite(def->point)) {
     adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': the normal must be finite and non-zero",
                    def->name);
     return -1;
   }
-  if (def->material < 0 || def->material >= w->nmaterials) {
+  if (def->material < 0 || def->material >= nmaterials) {
     adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': material does not exist", def->name);
     return -1;
   }
-  adem_plane *pl = realloc(w->planes, (size_t)(w->nplanes + 1) * sizeof *pl);
+  adem_plane *pl = realloc(wl->planes, (size_t)(wl->nplanes + 1) * sizeof *pl);
   if (!pl) {
     adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     return -1;
   }
-  w->planes = pl;
-  adem_plane *np = &pl[w->nplanes];
+  wl->planes = pl;
+  adem_plane *np = &pl[wl->nplanes];
   memset(np, 0, sizeof *np);
   np->def = *def;
   np->def.normal = v3_scale(def->normal, 1.0 / len);
@@ -39,12 +41,11 @@ int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *e
     md.velocity = &def->velocity;
   }
   if (adem_motion_init(&np->motion, &md, err)) return -1;
-  w->prepared = false;
-  return w->nplanes++;
+  return wl->nplanes++;
 }
 
-int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
-                       adem_error *err) {
+int adem_walls_add_box(adem_walls *wl, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
+                       int nmaterials, adem_error *err) {
   if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
     adem_error_set(err, ADEM_ERR_INPUT, "box '%s': min must be below max on every axis", name);
     return -1;
@@ -60,7 +61,7 @@ int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 
     d.point = points[k];
     d.normal = normals[k];
     d.material = material;
-    int idx = adem_world_add_plane(w, &d, err);
+    int idx = adem_walls_add_plane(wl, &d, nmaterials, err);
     if (idx < 0) return -1;
     if (first < 0) first = idx;
   }
@@ -94,10 +95,9 @@ static void path_stem(const char *path, char *buf, size_t n) {
   buf[len] = '\0';
 }
 
-adem_status adem_world_check_mesh(const adem_world *w, const char *path,
-                                  const adem_mesh_transform *tf, adem_vec3 velocity,
-                                  adem_error *err) {
-  if (tf->material < 0 || tf->material >= w->nmaterials)
+adem_status adem_walls_check_mesh(int nmaterials, const char *path, const adem_mesh_transform *tf,
+                                  adem_vec3 velocity, adem_error *err) {
+  if (tf->material < 0 || tf->material >= nmaterials)
     return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh material index %d is not a material", path,
                           tf->material);
   bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
@@ -107,130 +107,129 @@ adem_status adem_world_check_mesh(const adem_world *w, const char *path,
   return ADEM_OK;
 }
 
-adem_status adem_world_add_mesh_soup(adem_world *w, const adem_mesh_soup *s,
+adem_status adem_walls_add_mesh_soup(adem_walls *wl, int nmaterials, const adem_mesh_soup *s,
                                      const adem_mesh_transform *tf, const char *path, int ascii,
                                      const char *name, adem_vec3 velocity, adem_error *err) {
   adem_mesh_transform def = adem_default_mesh_transform();
   if (!tf) tf = &def;
-  adem_status st = adem_world_check_mesh(w, path, tf, velocity, err);
+  adem_status st = adem_walls_check_mesh(nmaterials, path, tf, velocity, err);
   if (st) return st;
   bool moving = velocity.x != 0.0 || velocity.y != 0.0 || velocity.z != 0.0;
-  int before = w->mesh.ngroups;
-  size_t nv_before = w->mesh.nverts, nt_before = w->mesh.ntris;
-  st = adem_mesh_append_soup(&w->mesh, s, tf, path, ascii, err);
+  int before = wl->mesh.ngroups;
+  size_t nv_before = wl->mesh.nverts, nt_before = wl->mesh.ntris;
+  st = adem_mesh_append_soup(&wl->mesh, s, tf, path, ascii, err);
   if (st) return st;
-  size_t ng = (size_t)w->mesh.ngroups, nv = w->mesh.nverts, nt = w->mesh.ntris;
-  adem_motion *mo = realloc(w->mesh_motion, ng * sizeof *mo);
-  if (mo) w->mesh_motion = mo;
-  double *reach = realloc(w->mesh_reach, ng * sizeof *reach);
-  if (reach) w->mesh_reach = reach;
-  adem_vec3 *v0 = realloc(w->mesh_vert0, (nv + 1) * sizeof *v0);
-  if (v0) w->mesh_vert0 = v0;
-  adem_vec3 *n0 = realloc(w->mesh_normal0, (nt + 1) * sizeof *n0);
-  if (n0) w->mesh_normal0 = n0;
-  double *ff = realloc(w->face_force, (3 * nt + 1) * sizeof *ff);
-  if (ff) w->face_force = ff;
-  double *ft = realloc(w->face_torque, (3 * nt + 1) * sizeof *ft);
-  if (ft) w->face_torque = ft;
-  adem_vec3 *r0 = realloc(w->mesh_ref0, ng * sizeof *r0);
-  if (r0) w->mesh_ref0 = r0;
-  adem_vec3 *r = realloc(w->mesh_ref, ng * sizeof *r);
-  if (r) w->mesh_ref = r;
-  adem_mesh_wall *mw = realloc(w->mesh_walls, (size_t)(w->nmesh_walls + 1) * sizeof *mw);
-  if (mw) w->mesh_walls = mw;
+  size_t ng = (size_t)wl->mesh.ngroups, nv = wl->mesh.nverts, nt = wl->mesh.ntris;
+  adem_motion *mo = realloc(wl->mesh_motion, ng * sizeof *mo);
+  if (mo) wl->mesh_motion = mo;
+  double *reach = realloc(wl->mesh_reach, ng * sizeof *reach);
+  if (reach) wl->mesh_reach = reach;
+  adem_vec3 *v0 = realloc(wl->mesh_vert0, (nv + 1) * sizeof *v0);
+  if (v0) wl->mesh_vert0 = v0;
+  adem_vec3 *n0 = realloc(wl->mesh_normal0, (nt + 1) * sizeof *n0);
+  if (n0) wl->mesh_normal0 = n0;
+  double *ff = realloc(wl->face_force, (3 * nt + 1) * sizeof *ff);
+  if (ff) wl->face_force = ff;
+  double *ft = realloc(wl->face_torque, (3 * nt + 1) * sizeof *ft);
+  if (ft) wl->face_torque = ft;
+  adem_vec3 *r0 = realloc(wl->mesh_ref0, ng * sizeof *r0);
+  if (r0) wl->mesh_ref0 = r0;
+  adem_vec3 *r = realloc(wl->mesh_ref, ng * sizeof *r);
+  if (r) wl->mesh_ref = r;
+  adem_mesh_wall *mw = realloc(wl->mesh_walls, (size_t)(wl->nmesh_walls + 1) * sizeof *mw);
+  if (mw) wl->mesh_walls = mw;
   if (!mo || !reach || !v0 || !n0 || !ff || !ft || !r0 || !r || !mw)
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding %s", path);
   /* the walls are where they are at time 0 (meshes are added before stepping) */
-  memcpy(w->mesh_vert0 + nv_before, w->mesh.vert + nv_before, (nv - nv_before) * sizeof *v0);
-  memcpy(w->mesh_normal0 + nt_before, w->mesh.normal + nt_before, (nt - nt_before) * sizeof *n0);
-  memset(w->face_force, 0, 3 * nt * sizeof *ff);
-  memset(w->face_torque, 0, 3 * nt * sizeof *ft);
-  adem_mesh_wall *wall = &w->mesh_walls[w->nmesh_walls];
+  memcpy(wl->mesh_vert0 + nv_before, wl->mesh.vert + nv_before, (nv - nv_before) * sizeof *v0);
+  memcpy(wl->mesh_normal0 + nt_before, wl->mesh.normal + nt_before, (nt - nt_before) * sizeof *n0);
+  memset(wl->face_force, 0, 3 * nt * sizeof *ff);
+  memset(wl->face_torque, 0, 3 * nt * sizeof *ft);
+  adem_mesh_wall *wall = &wl->mesh_walls[wl->nmesh_walls];
   memset(wall, 0, sizeof *wall);
   wall->first = before;
-  wall->count = w->mesh.ngroups - before;
+  wall->count = wl->mesh.ngroups - before;
   if (wall->count == 1)
-    snprintf(wall->name, sizeof wall->name, "%s", w->mesh.groups[before].name);
+    snprintf(wall->name, sizeof wall->name, "%s", wl->mesh.groups[before].name);
   else if (name && *name)
     snprintf(wall->name, sizeof wall->name, "%s", name);
   else
     path_stem(path, wall->name, sizeof wall->name);
   double area = 0.0;
-  uint32_t t_first = wall->count > 0 ? w->mesh.groups[before].first : 0;
-  wall->ref0 = area_centroid(&w->mesh, t_first, (uint32_t)(nt - nt_before), &area);
-  w->nmesh_walls++;
-  for (int g = before; g < w->mesh.ngroups; ++g) {
-    memset(&w->mesh_motion[g], 0, sizeof w->mesh_motion[g]);
-    w->mesh_reach[g] = 0.0;
-    const adem_mesh_group *grp = &w->mesh.groups[g];
-    w->mesh_ref0[g] = w->mesh_ref[g] = area_centroid(&w->mesh, grp->first, grp->count, &area);
+  uint32_t t_first = wall->count > 0 ? wl->mesh.groups[before].first : 0;
+  wall->ref0 = area_centroid(&wl->mesh, t_first, (uint32_t)(nt - nt_before), &area);
+  wl->nmesh_walls++;
+  for (int g = before; g < wl->mesh.ngroups; ++g) {
+    memset(&wl->mesh_motion[g], 0, sizeof wl->mesh_motion[g]);
+    wl->mesh_reach[g] = 0.0;
+    const adem_mesh_group *grp = &wl->mesh.groups[g];
+    wl->mesh_ref0[g] = wl->mesh_ref[g] = area_centroid(&wl->mesh, grp->first, grp->count, &area);
     if (moving) {
       double t0 = 0.0;
       adem_motion_def md = {.n = 1, .time = &t0, .velocity = &velocity};
-      st = adem_world_set_mesh_motion(w, g, &md, err);
+      st = adem_walls_set_mesh_motion(wl, g, &md, err);
       if (st) return st;
     }
   }
-  w->prepared = false;
   return ADEM_OK;
 }
 
-adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,
+adem_status adem_walls_set_mesh_torque_point(adem_walls *wl, int wall, adem_vec3 point,
                                              adem_error *err) {
-  if (wall < 0 || wall >= w->nmesh_walls)
+  if (wall < 0 || wall >= wl->nmesh_walls)
     return adem_error_set(err, ADEM_ERR_INPUT, "mesh wall %d does not exist", wall);
   if (!v3_isfinite(point))
     return adem_error_set(err, ADEM_ERR_INPUT, "mesh wall '%s': the torque point must be finite",
-                          w->mesh_walls[wall].name);
-  adem_mesh_wall *mw = &w->mesh_walls[wall];
+                          wl->mesh_walls[wall].name);
+  adem_mesh_wall *mw = &wl->mesh_walls[wall];
   mw->ref0 = point;
   for (int g = mw->first; g < mw->first + mw->count; ++g) {
-    w->mesh_ref0[g] = point;
-    w->mesh_ref[g] = adem_motion_place(&w->mesh_motion[g], w->wall_time, point);
+    wl->mesh_ref0[g] = point;
+    wl->mesh_ref[g] = adem_motion_place(&wl->mesh_motion[g], wl->time, point);
   }
   return ADEM_OK;
 }
 
-void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
+void adem_walls_mesh_loads(const adem_walls *wl, adem_vec3 *group_force, adem_vec3 *group_torque,
                            adem_vec3 *wall_force, adem_vec3 *wall_torque) {
-  const adem_mesh *m = &w->mesh;
+  const adem_mesh *m = &wl->mesh;
   for (int g = 0; g < m->ngroups; ++g) {
     const adem_mesh_group *grp = &m->groups[g];
     adem_vec3 f = v3_zero(), t = v3_zero();
     for (size_t k = grp->first; k < (size_t)grp->first + grp->count; ++k) {
-      f = v3_add(f, v3(w->face_force[3 * k], w->face_force[3 * k + 1], w->face_force[3 * k + 2]));
-      t = v3_add(t, v3(w->face_torque[3 * k], w->face_torque[3 * k + 1], w->face_torque[3 * k + 2]));
+      f = v3_add(f, v3(wl->face_force[3 * k], wl->face_force[3 * k + 1], wl->face_force[3 * k + 2]));
+      t = v3_add(t, v3(wl->face_torque[3 * k], wl->face_torque[3 * k + 1], wl->face_torque[3 * k + 2]));
     }
     if (group_force) group_force[g] = f;
     if (group_torque) group_torque[g] = t;
   }
   if (!wall_force && !wall_torque) return;
-  for (int k = 0; k < w->nmesh_walls; ++k) {
-    const adem_mesh_wall *mw = &w->mesh_walls[k];
+  for (int k = 0; k < wl->nmesh_walls; ++k) {
+    const adem_mesh_wall *mw = &wl->mesh_walls[k];
     adem_vec3 f = v3_zero(), t = v3_zero();
     /* the wall's point travels with its first group; each group's torque is moved onto it */
-    adem_vec3 ref = mw->count > 0 ? adem_motion_place(&w->mesh_motion[mw->first], w->wall_time, mw->ref0)
+    adem_vec3 ref = mw->count > 0 ? adem_motion_place(&wl->mesh_motion[mw->first], wl->time, mw->ref0)
                                   : mw->ref0;
     for (int g = mw->first; g < mw->first + mw->count; ++g) {
       const adem_mesh_group *grp = &m->groups[g];
       adem_vec3 fg = v3_zero(), tg = v3_zero();
       for (size_t j = grp->first; j < (size_t)grp->first + grp->count; ++j) {
-        fg = v3_add(fg, v3(w->face_force[3 * j], w->face_force[3 * j + 1], w->face_force[3 * j + 2]));
-        tg = v3_add(tg, v3(w->face_torque[3 * j], w->face_torque[3 * j + 1], w->face_torque[3 * j + 2]));
+        fg = v3_add(fg, v3(wl->face_force[3 * j], wl->face_force[3 * j + 1], wl->face_force[3 * j + 2]));
+        tg = v3_add(tg, v3(wl->face_torque[3 * j], wl->face_torque[3 * j + 1], wl->face_torque[3 * j + 2]));
       }
       f = v3_add(f, fg);
-      t = v3_add(t, v3_add(tg, v3_cross(v3_sub(w->mesh_ref[g], ref), fg)));
+      t = v3_add(t, v3_add(tg, v3_cross(v3_sub(wl->mesh_ref[g], ref), fg)));
     }
     if (wall_force) wall_force[k] = f;
     if (wall_torque) wall_torque[k] = t;
   }
 }
 
-adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
+adem_status adem_walls_set_mesh_motion(adem_walls *wl, int group, const adem_motion_def *def,
                                        adem_error *err) {
-  if (group < 0 || group >= w->mesh.ngroups)
+  if (group < 0 || group >= wl->mesh.ngroups)
     return adem_error_set(err, ADEM_ERR_INPUT, "mesh group %d does not exist", group);
-  const adem_mesh_group *g = &w->mesh.groups[group];
+  const adem_mesh_group *g = &wl->mesh.groups[group];
   adem_motion m;
   adem_status st = adem_motion_init(&m, def, err);
   if (st) return st;
@@ -240,109 +239,111 @@ adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_moti
                           "mesh group '%s' shares vertices with other groups and cannot move: "
                           "load it with its own vertices", g->name);
   }
-  adem_motion_free(&w->mesh_motion[group]);
-  w->mesh_motion[group] = m;
+  adem_motion_free(&wl->mesh_motion[group]);
+  wl->mesh_motion[group] = m;
   double reach = 0.0;
   for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v)
-    reach = fmax(reach, v3_norm(v3_sub(w->mesh_vert0[v], m.center)));
-  w->mesh_reach[group] = reach;
-  w->mesh_ref[group] = adem_motion_place(&m, w->wall_time, w->mesh_ref0[group]);
+    reach = fmax(reach, v3_norm(v3_sub(wl->mesh_vert0[v], m.center)));
+  wl->mesh_reach[group] = reach;
+  wl->mesh_ref[group] = adem_motion_place(&m, wl->time, wl->mesh_ref0[group]);
   return ADEM_OK;
 }
 
-adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
+adem_status adem_walls_set_plane_motion(adem_walls *wl, int plane, const adem_motion_def *def,
                                         adem_error *err) {
-  if (plane < 0 || plane >= w->nplanes)
+  if (plane < 0 || plane >= wl->nplanes)
     return adem_error_set(err, ADEM_ERR_INPUT, "plane %d does not exist", plane);
   adem_motion m;
   adem_status st = adem_motion_init(&m, def, err);
   if (st) return st;
-  adem_motion_free(&w->planes[plane].motion);
-  w->planes[plane].motion = m;
+  adem_motion_free(&wl->planes[plane].motion);
+  wl->planes[plane].motion = m;
   return ADEM_OK;
 }
 
-void adem_world_place_walls(adem_world *w, double t) {
-  w->wall_time = t;
-  for (int k = 0; k < w->nplanes; ++k) {
-    adem_plane *pl = &w->planes[k];
+void adem_walls_place(adem_walls *wl, double t) {
+  wl->time = t;
+  for (int k = 0; k < wl->nplanes; ++k) {
+    adem_plane *pl = &wl->planes[k];
     if (!pl->motion.moving) continue;
     pl->def.point = adem_motion_place(&pl->motion, t, pl->point0);
     pl->def.normal = adem_motion_turn(&pl->motion, t, pl->normal0);
     pl->def.velocity = adem_motion_velocity(&pl->motion, t);
   }
-  adem_mesh *m = &w->mesh;
+  adem_mesh *m = &wl->mesh;
   for (int g = 0; g < m->ngroups; ++g) {
-    const adem_motion *mo = &w->mesh_motion[g];
+    const adem_motion *mo = &wl->mesh_motion[g];
     if (!mo->moving) continue;
     const adem_mesh_group *grp = &m->groups[g];
     for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
-      m->vert[v] = adem_motion_place(mo, t, w->mesh_vert0[v]);
+      m->vert[v] = adem_motion_place(mo, t, wl->mesh_vert0[v]);
     for (uint32_t k = grp->first; k < grp->first + grp->count; ++k)
-      m->normal[k] = adem_motion_turn(mo, t, w->mesh_normal0[k]);
-    w->mesh_ref[g] = adem_motion_place(mo, t, w->mesh_ref0[g]);
+      m->normal[k] = adem_motion_turn(mo, t, wl->mesh_normal0[k]);
+    wl->mesh_ref[g] = adem_motion_place(mo, t, wl->mesh_ref0[g]);
   }
 }
 
-double adem_world_wall_shift(const adem_world *w) {
-  double t0 = w->nb.time_at_build, t1 = w->wall_time, shift = 0.0;
+double adem_walls_shift(const adem_walls *wl, double t0, bool has_box, adem_vec3 lo, adem_vec3 hi) {
+  double t1 = wl->time, shift = 0.0;
   /* a rotating plane sweeps the whole domain: bound by its extent from the centre */
-  double extent = w->has_domain ? v3_norm(v3_sub(w->domain_hi, w->domain_lo)) : 0.0;
-  for (int k = 0; k < w->nplanes; ++k) {
-    const adem_motion *mo = &w->planes[k].motion;
+  double extent = has_box ? v3_norm(v3_sub(hi, lo)) : 0.0;
+  for (int k = 0; k < wl->nplanes; ++k) {
+    const adem_motion *mo = &wl->planes[k].motion;
     if (!mo->moving) continue;
     double reach = mo->omega != 0.0
-                       ? extent + v3_norm(v3_sub(mo->center, w->domain_lo))
+                       ? extent + v3_norm(v3_sub(mo->center, lo))
                        : 0.0;
     shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, reach));
   }
-  for (int g = 0; g < w->mesh.ngroups; ++g) {
-    const adem_motion *mo = &w->mesh_motion[g];
-    if (mo->moving) shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, w->mesh_reach[g]));
+  for (int g = 0; g < wl->mesh.ngroups; ++g) {
+    const adem_motion *mo = &wl->mesh_motion[g];
+    if (mo->moving) shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, wl->mesh_reach[g]));
   }
   return shift;
 }
 
-void adem_walls_free(adem_world *w) {
-  for (int k = 0; k < w->nplanes; ++k) adem_motion_free(&w->planes[k].motion);
-  for (int g = 0; g < w->mesh.ngroups; ++g)
-    if (w->mesh_motion) adem_motion_free(&w->mesh_motion[g]);
-  free(w->planes);
-  free(w->mesh_motion);
-  free(w->mesh_reach);
-  free(w->mesh_vert0);
-  free(w->mesh_normal0);
-  free(w->face_torque);
-  free(w->mesh_ref0);
-  free(w->mesh_ref);
-  free(w->mesh_walls);
-  w->face_torque = NULL;
-  w->mesh_ref0 = w->mesh_ref = NULL;
-  w->mesh_walls = NULL;
-  w->nmesh_walls = 0;
-  w->planes = NULL;
-  w->mesh_motion = NULL;
-  w->nplanes = 0;
+void adem_walls_clear_face_loads(adem_walls *wl) {
+  memset(wl->face_force, 0, 3 * wl->mesh.ntris * sizeof *wl->face_force);
+  memset(wl->face_torque, 0, 3 * wl->mesh.ntris * sizeof *wl->face_torque);
 }
 
-adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err) {
-  if (plane < 0 || plane >= w->nplanes)
+void adem_walls_free(adem_walls *wl) {
+  for (int k = 0; k < wl->nplanes; ++k) adem_motion_free(&wl->planes[k].motion);
+  for (int g = 0; g < wl->mesh.ngroups; ++g)
+    if (wl->mesh_motion) adem_motion_free(&wl->mesh_motion[g]);
+  free(wl->planes);
+  free(wl->mesh_motion);
+  free(wl->mesh_reach);
+  free(wl->mesh_vert0);
+  free(wl->mesh_normal0);
+  free(wl->face_force);
+  free(wl->face_torque);
+  free(wl->mesh_inactive);
+  free(wl->mesh_ref0);
+  free(wl->mesh_ref);
+  free(wl->mesh_walls);
+  adem_mesh_free(&wl->mesh);
+  memset(wl, 0, sizeof *wl);
+}
+
+adem_status adem_walls_set_plane_active(adem_walls *wl, int plane, bool active, adem_error *err) {
+  if (plane < 0 || plane >= wl->nplanes)
     return adem_error_set(err, ADEM_ERR_INPUT, "plane %d does not exist", plane);
-  w->planes[plane].inactive = !active;
+  wl->planes[plane].inactive = !active;
   return ADEM_OK;
 }
 
-adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err) {
-  if (group < 0 || group >= w->mesh.ngroups)
+adem_status adem_walls_set_mesh_active(adem_walls *wl, int group, bool active, adem_error *err) {
+  if (group < 0 || group >= wl->mesh.ngroups)
     return adem_error_set(err, ADEM_ERR_INPUT, "mesh group %d does not exist", group);
-  if (group >= w->mesh_inactive_n) { /* groups beyond the array are active */
+  if (group >= wl->mesh_inactive_n) { /* groups beyond the array are active */
     if (active) return ADEM_OK;
-    uint8_t *f = realloc(w->mesh_inactive, (size_t)w->mesh.ngroups);
+    uint8_t *f = realloc(wl->mesh_inactive, (size_t)wl->mesh.ngroups);
     if (!f) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-    memset(f + w->mesh_inactive_n, 0, (size_t)(w->mesh.ngroups - w->mesh_inactive_n));
-    w->mesh_inactive = f;
-    w->mesh_inactive_n = w->mesh.ngroups;
+    memset(f + wl->mesh_inactive_n, 0, (size_t)(wl->mesh.ngroups - wl->mesh_inactive_n));
+    wl->mesh_inactive = f;
+    wl->mesh_inactive_n = wl->mesh.ngroups;
   }
-  w->mesh_inactive[group] = !active;
+  wl->mesh_inactive[group] = !active;
   return ADEM_OK;
 }

@@ -28,15 +28,10 @@ void adem_world_free(adem_world *w) {
   adem_pairs_free(&w->pp);
   adem_pairs_free(&w->pw);
   adem_mesh_pairs_free(&w->pm);
-  adem_walls_free(w); /* the mesh's group count says how many motions to free */
-  adem_mesh_free(&w->mesh);
-  free(w->face_force);
-  free(w->mesh_inactive);
+  adem_walls_free(&w->walls);
   free(w->insert_rmin);
   adem_neighbors_free(&w->nb);
-  free(w->materials);
-  free(w->interactions);
-  free(w->interaction_defs);
+  adem_materials_free(&w->mat);
   free(w->groups);
   free(w);
 }
@@ -53,6 +48,105 @@ adem_plane_def adem_default_plane_def(void) {
   memset(&d, 0, sizeof d);
   d.normal = v3(0.0, 0.0, 1.0);
   return d;
+}
+
+int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err) {
+  int k = adem_materials_add(&w->mat, def, err);
+  if (k >= 0) w->prepared = false;
+  return k;
+}
+
+int adem_world_find_material(const adem_world *w, const char *name) {
+  return adem_materials_find(&w->mat, name);
+}
+
+int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err) {
+  int k = adem_materials_set_interaction(&w->mat, def, err);
+  if (k >= 0) w->prepared = false;
+  return k;
+}
+
+int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
+  int k = adem_walls_add_plane(&w->walls, def, w->mat.n, err);
+  if (k >= 0) w->prepared = false;
+  return k;
+}
+
+int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
+                       adem_error *err) {
+  int k = adem_walls_add_box(&w->walls, name, lo, hi, material, w->mat.n, err);
+  if (k >= 0) w->prepared = false;
+  return k;
+}
+
+adem_status adem_world_check_mesh(const adem_world *w, const char *path,
+                                  const adem_mesh_transform *tf, adem_vec3 velocity,
+                                  adem_error *err) {
+  return adem_walls_check_mesh(w->mat.n, path, tf, velocity, err);
+}
+
+adem_status adem_world_add_mesh_soup(adem_world *w, const adem_mesh_soup *s,
+                                     const adem_mesh_transform *tf, const char *path, int ascii,
+                                     const char *name, adem_vec3 velocity, adem_error *err) {
+  adem_status st =
+      adem_walls_add_mesh_soup(&w->walls, w->mat.n, s, tf, path, ascii, name, velocity, err);
+  if (!st) w->prepared = false;
+  return st;
+}
+
+adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,
+                                             adem_error *err) {
+  return adem_walls_set_mesh_torque_point(&w->walls, wall, point, err);
+}
+
+void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
+                           adem_vec3 *wall_force, adem_vec3 *wall_torque) {
+  adem_walls_mesh_loads(&w->walls, group_force, group_torque, wall_force, wall_torque);
+}
+
+adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
+                                       adem_error *err) {
+  return adem_walls_set_mesh_motion(&w->walls, group, def, err);
+}
+
+adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
+                                        adem_error *err) {
+  return adem_walls_set_plane_motion(&w->walls, plane, def, err);
+}
+
+adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err) {
+  return adem_walls_set_plane_active(&w->walls, plane, active, err);
+}
+
+adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err) {
+  return adem_walls_set_mesh_active(&w->walls, group, active, err);
+}
+
+void adem_world_place_walls(adem_world *w, double t) { adem_walls_place(&w->walls, t); }
+
+double adem_world_wall_shift(const adem_world *w) {
+  return adem_walls_shift(&w->walls, w->nb.time_at_build, w->has_domain, w->domain_lo, w->domain_hi);
+}
+
+static adem_neighbor_scope neighbor_scope(adem_world *w) {
+  adem_neighbor_scope s = {&w->p, &w->pp, &w->pw, &w->pm, &w->walls, adem_world_threads(w)};
+  return s;
+}
+
+adem_status adem_world_build_neighbors(adem_world *w, adem_error *err) {
+  adem_neighbor_scope s = neighbor_scope(w);
+  return adem_neighbors_build(&w->nb, &s, err);
+}
+
+adem_status adem_world_gather(adem_world *w) {
+  return adem_neighbors_gather(&w->nb, w->p.n, &w->pp, &w->pw);
+}
+
+void adem_world_compute_forces(adem_world *w) {
+  adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
+                        &w->nb,    &w->mat,  w->groups,   w->gravity,
+                        w->dt,     adem_world_threads(w)};
+  adem_contacts_compute(&s);
 }
 
 int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
@@ -81,11 +175,11 @@ int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, ade
     adem_error_set(err, ADEM_ERR_INPUT, "particle radius %g must be > 0", def->radius);
     return -1;
   }
-  if (def->material < 0 || def->material >= w->nmaterials) {
+  if (def->material < 0 || def->material >= w->mat.n) {
     adem_error_set(err, ADEM_ERR_INPUT, "particle material %d does not exist", def->material);
     return -1;
   }
-  const adem_material_def *m = &w->materials[def->material].def;
+  const adem_material_def *m = &w->mat.m[def->material].def;
   if (!(m->density > 0.0) || m->rigid) {
     adem_error_set(err, ADEM_ERR_INPUT,
                    "material '%s' cannot make particles: it needs a density > 0 and must not be "
@@ -141,8 +235,8 @@ size_t adem_world_particle_count(const adem_world *w) { return w->p.n; }
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY};
   adem_world *mw = (adem_world *)w; /* derive the pair table if the caller has not prepared */
-  if (!w->interactions) adem_materials_derive(mw, NULL);
-  int nm = w->nmaterials;
+  if (!w->mat.pairs) adem_materials_derive(&mw->mat, NULL);
+  int nm = w->mat.n;
   /* Smallest particle of each material sets the shortest times (t_c and t_R scale with r). */
   double *rmin = malloc((size_t)(nm > 0 ? nm : 1) * sizeof *rmin);
   if (!rmin) return est;
@@ -153,7 +247,7 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
     for (int k = 0; k < nm; ++k) rmin[k] = fmin(rmin[k], w->insert_rmin[k]);
   for (int a = 0; a < nm; ++a) {
     if (!isfinite(rmin[a])) continue;
-    const adem_material *ma = &w->materials[a];
+    const adem_material *ma = &w->mat.m[a];
     double r = rmin[a];
     double m = ma->def.density * (4.0 / 3.0) * ADEM_PI * r * r * r;
     /* Rayleigh time with the modified shear modulus (notes section 6). */
@@ -164,17 +258,17 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
       const adem_interaction *it = adem_world_interaction(w, a, b);
       if (isfinite(rmin[b])) {
         double rb = rmin[b];
-        double mb = w->materials[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
+        double mb = w->mat.m[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
         double tc = adem_hertz_collision_time(m * mb / (m + mb), r * rb / (r + rb), it->E, v_ref);
         est.t_collision = fmin(est.t_collision, tc);
       }
     }
-    for (int k = 0; k < w->nplanes; ++k) {
-      const adem_interaction *it = adem_world_interaction(w, a, w->planes[k].def.material);
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      const adem_interaction *it = adem_world_interaction(w, a, w->walls.planes[k].def.material);
       est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
     }
-    for (int k = 0; k < w->mesh.ngroups; ++k) {
-      const adem_interaction *it = adem_world_interaction(w, a, w->mesh.groups[k].material);
+    for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
+      const adem_interaction *it = adem_world_interaction(w, a, w->walls.mesh.groups[k].material);
       est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
     }
   }
@@ -205,20 +299,20 @@ static double total_energy(const adem_diagnostics *d) {
 static adem_status check_initial_mesh(const adem_world *w, adem_error *err) {
   const adem_particles *p = &w->p;
   const adem_mesh_pairs *pm = &w->pm;
-  if (w->mesh.ntris == 0 || !pm->start) return ADEM_OK;
+  if (w->walls.mesh.ntris == 0 || !pm->start) return ADEM_OK;
   for (size_t i = 0; i < p->n; ++i)
     for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k) {
       uint32_t t = pm->l.b[k];
       adem_vec3 q;
       adem_triangle_feature f;
-      double d = sqrt(adem_triangle_distance2(&w->mesh, t, p->pos[i], &q, &f));
+      double d = sqrt(adem_triangle_distance2(&w->walls.mesh, t, p->pos[i], &q, &f));
       double overlap = p->radius[i] - d;
       if (overlap > 1e-9 * p->radius[i])
         return adem_error_set(err, ADEM_ERR_INPUT,
                               "particle id %llu at (%g, %g, %g) overlaps mesh group '%s' (triangle "
                               "%u) by %g m at the start; move it off the wall or shrink it",
                               (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
-                              w->mesh.groups[w->mesh.group[t]].name, t, overlap);
+                              w->walls.mesh.groups[w->walls.mesh.group[t]].name, t, overlap);
     }
   return ADEM_OK;
 }
@@ -240,9 +334,9 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
                             overlap);
   }
   for (size_t i = 0; i < p->n; ++i)
-    for (int k = 0; k < w->nplanes; ++k) {
-      const adem_plane_def *pl = &w->planes[k].def;
-      if (w->planes[k].inactive) continue;
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      const adem_plane_def *pl = &w->walls.planes[k].def;
+      if (w->walls.planes[k].inactive) continue;
       double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -266,14 +360,14 @@ static void default_domain(adem_world *w) {
     hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
     rmax = fmax(rmax, w->p.radius[i]);
   }
-  for (int k = 0; k < w->nplanes; ++k) {
-    adem_vec3 x = w->planes[k].def.point;
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    adem_vec3 x = w->walls.planes[k].def.point;
     lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
     hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
   }
-  if (w->mesh.nverts > 0) { /* the meshes where they are now */
+  if (w->walls.mesh.nverts > 0) { /* the meshes where they are now */
     adem_vec3 mlo, mhi;
-    adem_mesh_bounds(&w->mesh, &mlo, &mhi);
+    adem_mesh_bounds(&w->walls.mesh, &mlo, &mhi);
     lo = v3(fmin(lo.x, mlo.x), fmin(lo.y, mlo.y), fmin(lo.z, mlo.z));
     hi = v3(fmax(hi.x, mhi.x), fmax(hi.y, mhi.y), fmax(hi.z, mhi.z));
   }
@@ -284,19 +378,19 @@ static void default_domain(adem_world *w) {
 }
 
 adem_status adem_world_prepare(adem_world *w, adem_error *err) {
-  adem_status st = adem_materials_derive(w, err);
+  adem_status st = adem_materials_derive(&w->mat, err);
   if (st) return st;
   if (!(w->dt > 0.0)) {
     adem_step_estimate est = adem_world_estimate_step(w, 1.0);
     w->dt = isfinite(est.dt) ? est.dt : 1e-6;
   }
   adem_world_place_walls(w, w->time);
-  st = adem_neighbors_build(w, err);
+  st = adem_world_build_neighbors(w, err);
   if (st) return st;
   st = check_initial_state(w, err);
   if (st) return st;
   default_domain(w);
-  adem_contacts_compute(w);
+  adem_world_compute_forces(w);
   adem_diagnostics d = adem_world_diagnostics(w);
   w->energy_initial = total_energy(&d);
   w->prepared = true;
@@ -355,7 +449,7 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
       if (s == 0)
         snprintf(name, sizeof name, "id %llu", (unsigned long long)p->id[l->b[k]]);
       else
-        snprintf(name, sizeof name, "'%s'", w->planes[l->b[k]].def.name);
+        snprintf(name, sizeof name, "'%s'", w->walls.planes[l->b[k]].def.name);
       return adem_error_set(err, ADEM_ERR_RUNTIME,
                             "particle id %llu overlaps %s %s by %.3g of its radius (limit %.3g) at "
                             "t = %.9g s (step %llu); the time step is probably too large",
@@ -370,7 +464,7 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
                           "particle id %llu overlaps mesh group '%s' by %.3g of its radius (limit "
                           "%.3g) at t = %.9g s (step %llu); the time step is probably too large",
                           (unsigned long long)p->id[lm->a[k]],
-                          w->mesh.groups[w->mesh.group[w->pm.owner[k]]].name, lm->overlap_ratio[k],
+                          w->walls.mesh.groups[w->walls.mesh.group[w->pm.owner[k]]].name, lm->overlap_ratio[k],
                           w->max_overlap_ratio, w->time, (unsigned long long)w->step);
   }
   return ADEM_OK;
@@ -387,11 +481,11 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     adem_particles_kick(&w->p, 0.5 * dt, false, nthreads);
     adem_particles_drift(&w->p, dt, nthreads);
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
-    if (adem_neighbors_need_rebuild(w)) {
-      adem_status st = adem_neighbors_build(w, err);
+    if (adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads)) {
+      adem_status st = adem_world_build_neighbors(w, err);
       if (st) return st;
     }
-    adem_contacts_compute(w);
+    adem_world_compute_forces(w);
     adem_particles_kick(&w->p, 0.5 * dt, true, nthreads);
     w->step++;
     w->time = (double)w->step * dt;
@@ -462,12 +556,12 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
   adem_put_u64(wr, w->nb.rebuilds);
   adem_put_f64(wr, w->nb.time_at_build);
-  adem_put_u32(wr, (uint32_t)w->nmaterials);
+  adem_put_u32(wr, (uint32_t)w->mat.n);
   adem_put_u32(wr, (uint32_t)w->ngroups);
   for (int k = 0; k < w->ngroups; ++k) adem_put_vec(wr, w->groups[k].external_force);
-  adem_put_u32(wr, (uint32_t)w->nplanes);
-  for (int k = 0; k < w->nplanes; ++k) {
-    const adem_plane_def *d = &w->planes[k].def;
+  adem_put_u32(wr, (uint32_t)w->walls.nplanes);
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    const adem_plane_def *d = &w->walls.planes[k].def;
     adem_put_str(wr, d->name);
     adem_put_vec(wr, d->point);
     adem_put_vec(wr, d->normal);
@@ -478,9 +572,9 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_pairs_save(wr, &w->pp);
   adem_pairs_save(wr, &w->pw);
   adem_mesh_pairs_save(wr, &w->pm, w->p.n);
-  size_t nf = 3 * w->mesh.ntris;
-  adem_put_array(wr, w->face_force, nf, sizeof *w->face_force);
-  adem_put_array(wr, w->face_torque, nf, sizeof *w->face_torque);
+  size_t nf = 3 * w->walls.mesh.ntris;
+  adem_put_array(wr, w->walls.face_force, nf, sizeof *w->walls.face_force);
+  adem_put_array(wr, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
 }
 
 static adem_status damaged(adem_error *err, const char *why) {
@@ -514,14 +608,14 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   uint32_t nmat = adem_get_u32(rd);
   uint32_t ngroups = adem_get_u32(rd);
   if (rd->failed) return damaged(err, cut);
-  if (nmat != (uint32_t)w->nmaterials || ngroups != (uint32_t)w->ngroups)
+  if (nmat != (uint32_t)w->mat.n || ngroups != (uint32_t)w->ngroups)
     return damaged(err, "its materials or groups do not match its own case text");
   for (int k = 0; k < w->ngroups; ++k) w->groups[k].external_force = adem_get_vec(rd);
   uint32_t nplanes = adem_get_u32(rd);
   if (rd->failed) return damaged(err, cut);
-  if (nplanes != (uint32_t)w->nplanes) return damaged(err, "its walls do not match its own case text");
-  for (int k = 0; k < w->nplanes; ++k) {
-    adem_plane_def *d = &w->planes[k].def;
+  if (nplanes != (uint32_t)w->walls.nplanes) return damaged(err, "its walls do not match its own case text");
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    adem_plane_def *d = &w->walls.planes[k].def;
     adem_get_str_into(rd, d->name, sizeof d->name);
     d->point = adem_get_vec(rd);
     d->normal = adem_get_vec(rd);
@@ -533,9 +627,9 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   if (!st) st = adem_pairs_load(rd, &w->pw, err);
   if (!st) st = adem_mesh_pairs_load(rd, &w->pm, w->p.n, err);
   if (st) return st;
-  size_t nf = 3 * w->mesh.ntris;
-  adem_get_array(rd, w->face_force, nf, sizeof *w->face_force);
-  adem_get_array(rd, w->face_torque, nf, sizeof *w->face_torque);
+  size_t nf = 3 * w->walls.mesh.ntris;
+  adem_get_array(rd, w->walls.face_force, nf, sizeof *w->walls.face_force);
+  adem_get_array(rd, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
   if (rd->failed) return damaged(err, cut);
   /* Indices must be in range before the gather lists and the stepper use them. */
   const char *bad = "its particle or pair indices are out of range";
@@ -543,10 +637,10 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   for (size_t k = 0; k < w->pp.n; ++k)
     if (w->pp.a[k] >= p->n || w->pp.b[k] >= p->n) return damaged(err, bad);
   for (size_t k = 0; k < w->pw.n; ++k)
-    if (w->pw.a[k] >= p->n || w->pw.b[k] >= (uint32_t)w->nplanes) return damaged(err, bad);
-  if (!adem_mesh_pairs_consistent(&w->pm, p->n, w->mesh.ntris)) return damaged(err, bad);
+    if (w->pw.a[k] >= p->n || w->pw.b[k] >= (uint32_t)w->walls.nplanes) return damaged(err, bad);
+  if (!adem_mesh_pairs_consistent(&w->pm, p->n, w->walls.mesh.ntris)) return damaged(err, bad);
   for (size_t i = 0; i < p->n; ++i)
-    if (p->material[i] >= w->nmaterials || (w->ngroups > 0 && p->group[i] >= w->ngroups))
+    if (p->material[i] >= w->mat.n || (w->ngroups > 0 && p->group[i] >= w->ngroups))
       return damaged(err, bad);
   return ADEM_OK;
 }

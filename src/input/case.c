@@ -1049,7 +1049,7 @@ static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem
                                   char names[2][ADEM_NAME_MAX]) {
   const int mats[2] = {d->material_a, d->material_b};
   for (int s = 0; s < 2; ++s) {
-    if (ctx->w->materials[mats[s]].def.surface_energy > 0.0) continue;
+    if (ctx->w->mat.m[mats[s]].def.surface_energy > 0.0) continue;
     char path[KEY_PATH_MAX], at[LOC_MAX];
     join(path, sizeof path, m->path, "normal");
     where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
@@ -1243,22 +1243,22 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
  * name may be two of them. */
 static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
   const adem_world *w = ctx->w;
-  int ng = w->mesh.ngroups, nw = w->nmesh_walls;
+  int ng = w->walls.mesh.ngroups, nw = w->walls.nmesh_walls;
   for (int a = 0; a < ng + nw; ++a) {
-    const char *an = a < ng ? w->mesh.groups[a].name : w->mesh_walls[a - ng].name;
-    if (a >= ng && w->mesh_walls[a - ng].count < 2) continue;
-    for (int k = 0; k < w->nplanes; ++k)
-      if (!strcmp(an, w->planes[k].def.name))
+    const char *an = a < ng ? w->walls.mesh.groups[a].name : w->walls.mesh_walls[a - ng].name;
+    if (a >= ng && w->walls.mesh_walls[a - ng].count < 2) continue;
+    for (int k = 0; k < w->walls.nplanes; ++k)
+      if (!strcmp(an, w->walls.planes[k].def.name))
         return fail(ctx, m->node, m->path,
                     "the name `%s` is used by a plane and by a mesh; give one of them another "
                     "`name`",
                     an);
     for (int b = ng; b < a; ++b)
-      if (w->mesh_walls[b - ng].count >= 2 && !strcmp(an, w->mesh_walls[b - ng].name))
+      if (w->walls.mesh_walls[b - ng].count >= 2 && !strcmp(an, w->walls.mesh_walls[b - ng].name))
         return fail(ctx, m->node, m->path,
                     "the name `%s` is used by two meshes; give one of them another `name`", an);
     for (int g = 0; a >= ng && g < ng; ++g)
-      if (!strcmp(an, w->mesh.groups[g].name))
+      if (!strcmp(an, w->walls.mesh.groups[g].name))
         return fail(ctx, m->node, m->path,
                     "the name `%s` is used by a mesh file and by a mesh group; give one of them "
                     "another `name`",
@@ -1323,7 +1323,7 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
   yaml_node_t *file_node, *own_node, *about_node, *motion_node = NULL;
   adem_error werr = {ADEM_OK, ""};
   char *resolved = NULL;
-  int first = w->mesh.ngroups;
+  int first = w->walls.mesh.ngroups;
   adem_status st;
   if ((st = get_string(ctx, m, "file", file, sizeof file, &file_node))) return st;
   if ((st = get_number(ctx, m, "scale", &tf.scale, NULL))) return st;
@@ -1358,22 +1358,22 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
     st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
     goto done;
   }
-  for (int g = first; g < w->mesh.ngroups && moves; ++g) {
+  for (int g = first; g < w->walls.mesh.ngroups && moves; ++g) {
     if (adem_world_set_mesh_motion(w, g, &md, &werr)) {
       join(path, sizeof path, m->path, "motion");
       st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, motion_node, path, "%s", werr.message);
       goto done;
     }
     /* a rotating mesh's points move at up to omega times their distance from the axis */
-    ctx->vmax = fmax(ctx->vmax, fabs(md.angular_speed) * w->mesh_reach[g]);
+    ctx->vmax = fmax(ctx->vmax, fabs(md.angular_speed) * w->walls.mesh_reach[g]);
   }
-  if (about_node && adem_world_set_mesh_torque_point(w, w->nmesh_walls - 1, about, &werr)) {
+  if (about_node && adem_world_set_mesh_torque_point(w, w->walls.nmesh_walls - 1, about, &werr)) {
     join(path, sizeof path, m->path, "torque_about");
     st = fail(ctx, about_node, path, "%s", werr.message);
     goto done;
   }
-  if (first < w->mesh.ngroups) { /* the file's bounding box */
-    const adem_mesh *mesh = &w->mesh;
+  if (first < w->walls.mesh.ngroups) { /* the file's bounding box */
+    const adem_mesh *mesh = &w->walls.mesh;
     for (size_t t = mesh->groups[first].first; t < mesh->ntris; ++t)
       for (int k = 0; k < 3; ++k) {
         adem_vec3 x = mesh->vert[mesh->tri[t][k]];
@@ -1414,9 +1414,9 @@ static adem_status wall_active(case_ctx *ctx, const map_cursor *m, int planes_be
   bool active = true;
   adem_status st = get_bool(ctx, m, "active", &active);
   adem_error werr = {ADEM_OK, ""};
-  for (int k = planes_before; !st && !active && k < ctx->w->nplanes; ++k)
+  for (int k = planes_before; !st && !active && k < ctx->w->walls.nplanes; ++k)
     if (adem_world_set_plane_active(ctx->w, k, false, &werr)) st = nomem(ctx);
-  for (int g = meshes_before; !st && !active && g < ctx->w->mesh.ngroups; ++g)
+  for (int g = meshes_before; !st && !active && g < ctx->w->walls.mesh.ngroups; ++g)
     if (adem_world_set_mesh_active(ctx->w, g, false, &werr)) st = nomem(ctx);
   return st;
 }
@@ -1438,7 +1438,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *name_node, *mat_node;
     int mat;
     if ((st = list_item(ctx, &l, i, &m))) break;
-    int planes_before = ctx->w->nplanes, meshes_before = ctx->w->mesh.ngroups;
+    int planes_before = ctx->w->walls.nplanes, meshes_before = ctx->w->walls.mesh.ngroups;
     if ((st = get_string(ctx, &m, "name", names[i], sizeof names[i], &name_node))) break;
     if (!name_node) snprintf(names[i], sizeof names[i], "wall%zu", i);
     nodes[i] = name_node ? name_node : m.node;
@@ -1477,7 +1477,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       }
       box_include(ctx, d.point, d.point);
       ctx->vmax = fmax(ctx->vmax, v3_norm(d.velocity));
-      if ((st = plane_motion(ctx, &m, ctx->w->nplanes - 1, velocity_node))) break;
+      if ((st = plane_motion(ctx, &m, ctx->w->walls.nplanes - 1, velocity_node))) break;
     } else if (!strcmp(m.variant, "mesh")) {
       if ((st = build_mesh_wall(ctx, &m, mat, name_node ? names[i] : NULL))) break;
     } else {
@@ -1865,9 +1865,9 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
   if (st || l.n == 0) return st;
   adem_world *w = ctx->w;
   if (!w->insert_rmin) {
-    w->insert_rmin = malloc((size_t)(w->nmaterials > 0 ? w->nmaterials : 1) * sizeof *w->insert_rmin);
+    w->insert_rmin = malloc((size_t)(w->mat.n > 0 ? w->mat.n : 1) * sizeof *w->insert_rmin);
     if (!w->insert_rmin) return nomem(ctx);
-    for (int k = 0; k < w->nmaterials; ++k) w->insert_rmin[k] = INFINITY;
+    for (int k = 0; k < w->mat.n; ++k) w->insert_rmin[k] = INFINITY;
   }
   for (size_t i = 0; i < l.n && !st; ++i) {
     map_cursor m, dm;
@@ -1933,7 +1933,7 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
     ctx->vmax = fmax(ctx->vmax, v3_norm(d.velocity));
     ctx->rmax = fmax(ctx->rmax, adem_insert_dist_largest(&d.dist));
     adem_error werr = {ADEM_OK, ""};
-    if (adem_pours_add(&ctx->c->pours, &d, w->materials[d.material].def.density, &werr)) {
+    if (adem_pours_add(&ctx->c->pours, &d, w->mat.m[d.material].def.density, &werr)) {
       adem_insert_region_free(&d.region);
       adem_insert_dist_free(&d.dist);
       st = nomem(ctx);
@@ -2165,8 +2165,8 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
  * contacts the real material would keep. One warning per group, for its weakest pair. */
 static adem_status warn_pulling_forces(case_ctx *ctx) {
   adem_world *w = ctx->w;
-  size_t nm = (size_t)w->nmaterials, ng = (size_t)w->ngroups;
-  if (!w->interactions || nm == 0) return ADEM_OK;
+  size_t nm = (size_t)w->mat.n, ng = (size_t)w->ngroups;
+  if (!w->mat.pairs || nm == 0) return ADEM_OK;
   double *rmin = malloc((ng + 1) * nm * sizeof *rmin); /* per group and material; last row: all */
   bool *wall = calloc(nm, sizeof *wall);
   if (!rmin || !wall) {
@@ -2180,8 +2180,8 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
     rmin[g * nm + m] = fmin(rmin[g * nm + m], w->p.radius[i]);
     rmin[ng * nm + m] = fmin(rmin[ng * nm + m], w->p.radius[i]);
   }
-  for (int k = 0; k < w->nplanes; ++k) wall[w->planes[k].def.material] = true;
-  for (int k = 0; k < w->mesh.ngroups; ++k) wall[w->mesh.groups[k].material] = true;
+  for (int k = 0; k < w->walls.nplanes; ++k) wall[w->walls.planes[k].def.material] = true;
+  for (int k = 0; k < w->walls.mesh.ngroups; ++k) wall[w->walls.mesh.groups[k].material] = true;
   for (size_t g = 0; g < ng; ++g) {
     double force = v3_norm(w->groups[g].external_force);
     if (!(force > 0.0)) continue;
@@ -2223,8 +2223,8 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
              "`%s`-`%s`%s JKR contact, (8/9) 3 pi gamma_mod R = %.3g N (R = %.3g m, gamma_mod = "
              "%.3g J/m^2%s); such forces can tear apart contacts the real material keeps. Keep "
              "them below %.0f%% of it (%.3g N)%s (Haervig et al. section 6.2)",
-             loc, w->groups[g].name, force, 100.0 * worst, w->materials[wa].def.name,
-             w->materials[wb].def.name, worst_wall ? " (wall)" : "", worst_pull, worst_R,
+             loc, w->groups[g].name, force, 100.0 * worst, w->mat.m[wa].def.name,
+             w->mat.m[wb].def.name, worst_wall ? " (wall)" : "", worst_pull, worst_R,
              it->gamma, it->E < it->E_real ? ", reduced with the stiffness by H24" : "",
              100.0 * ADEM_PULLOFF_SAFETY, ADEM_PULLOFF_SAFETY * worst_pull,
              it->E < it->E_real ? " or reduce the stiffness less" : "");

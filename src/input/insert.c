@@ -489,8 +489,8 @@ static adem_status walls_gather(wall_filter *f, const adem_world *w, adem_vec3 l
                                 double reach) {
   memset(f, 0, sizeof *f);
   f->w = w;
-  if (!w || w->mesh.ntris == 0) return ADEM_OK;
-  const adem_mesh *m = &w->mesh;
+  if (!w || w->walls.mesh.ntris == 0) return ADEM_OK;
+  const adem_mesh *m = &w->walls.mesh;
   f->tri = malloc(m->ntris * sizeof *f->tri);
   if (!f->tri) return ADEM_ERR_NOMEM;
   for (size_t t = 0; t < m->ntris; ++t) {
@@ -509,12 +509,12 @@ static bool walls_clear(const wall_filter *f, adem_vec3 x, double r) {
   const adem_world *w = f->w;
   if (!w) return true;
   double slack = r * (1.0 - WALL_TOLERANCE);
-  for (int k = 0; k < w->nplanes; ++k) {
-    if (w->planes[k].inactive) continue;
-    const adem_plane_def *pl = &w->planes[k].def;
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    if (w->walls.planes[k].inactive) continue;
+    const adem_plane_def *pl = &w->walls.planes[k].def;
     if (v3_dot(v3_sub(x, pl->point), pl->normal) < slack) return false;
   }
-  const adem_mesh *m = &w->mesh;
+  const adem_mesh *m = &w->walls.mesh;
   for (size_t e = 0; e < f->ntri; ++e) {
     adem_vec3 q;
     adem_triangle_feature feat;
@@ -784,7 +784,7 @@ static double pour_mass(const adem_pour *p, double r) {
 /* One batch: radii for the batch, placed among the world's particles and walls. */
 static adem_status pour_batch(adem_pour *p, adem_world *w, const pour_steps *s, adem_error *err) {
   uint64_t j = p->next_batch;
-  p->density = w->materials[p->def.material].def.density; /* a stage may have changed it */
+  p->density = w->mat.m[p->def.material].def.density; /* a stage may have changed it */
   uint64_t span = s->s_b - s->s_a;
   double frac = span == 0 ? 1.0 : fmin(1.0, (double)((j + 1) * s->k) / (double)span);
   if (j + 1 >= s->nbatches) frac = 1.0;
@@ -901,7 +901,7 @@ adem_status adem_pours_run(adem_pours *ps, adem_world *w, adem_error *err) {
               v3_dot(f, p->pos[i]);
   }
   w->energy_initial += energy;
-  st = adem_neighbors_build(w, err);
+  st = adem_world_build_neighbors(w, err);
   if (!st) w->prepared = true;
   return st;
 }

@@ -92,11 +92,11 @@ static void config_free(adem_stage_config *g) {
 static adem_status config_extract(adem_stage_config *g, const adem_case *c, adem_error *err) {
   const adem_world *w = c->world;
   memset(g, 0, sizeof *g);
-  g->nmaterials = w->nmaterials;
-  g->ninteractions = w->ninteraction_defs;
+  g->nmaterials = w->mat.n;
+  g->ninteractions = w->mat.ndefs;
   g->ngroups = w->ngroups;
-  g->nplanes = w->nplanes;
-  g->nmeshes = w->mesh.ngroups;
+  g->nplanes = w->walls.nplanes;
+  g->nmeshes = w->walls.mesh.ngroups;
   g->materials = calloc((size_t)g->nmaterials + 1, sizeof *g->materials);
   g->interactions = calloc((size_t)g->ninteractions + 1, sizeof *g->interactions);
   g->group_force = calloc((size_t)g->ngroups + 1, sizeof *g->group_force);
@@ -106,12 +106,12 @@ static adem_status config_extract(adem_stage_config *g, const adem_case *c, adem
     config_free(g);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  for (int k = 0; k < g->nmaterials; ++k) g->materials[k] = w->materials[k].def;
-  for (int k = 0; k < g->ninteractions; ++k) g->interactions[k] = w->interaction_defs[k];
+  for (int k = 0; k < g->nmaterials; ++k) g->materials[k] = w->mat.m[k].def;
+  for (int k = 0; k < g->ninteractions; ++k) g->interactions[k] = w->mat.defs[k];
   for (int k = 0; k < g->ngroups; ++k) g->group_force[k] = w->groups[k].external_force;
   adem_status st = ADEM_OK;
   for (int k = 0; k < g->nplanes && !st; ++k) {
-    const adem_plane *pl = &w->planes[k];
+    const adem_plane *pl = &w->walls.planes[k];
     g->planes[k].def = pl->def;
     g->planes[k].point0 = pl->point0;
     g->planes[k].normal0 = pl->normal0;
@@ -119,9 +119,9 @@ static adem_status config_extract(adem_stage_config *g, const adem_case *c, adem
     st = motion_copy(&g->planes[k].motion, &pl->motion, err);
   }
   for (int k = 0; k < g->nmeshes && !st; ++k) {
-    g->meshes[k].material = w->mesh.groups[k].material;
+    g->meshes[k].material = w->walls.mesh.groups[k].material;
     g->meshes[k].inactive = !adem_world_mesh_active(w, (uint32_t)k);
-    st = motion_copy(&g->meshes[k].motion, &w->mesh_motion[k], err);
+    st = motion_copy(&g->meshes[k].motion, &w->walls.mesh_motion[k], err);
   }
   g->gravity = w->gravity;
   g->frame_interval = c->output.frame_interval;
@@ -151,17 +151,17 @@ static adem_status check_same_world(const adem_case *c, const adem_case *sc, con
                                     adem_error *err) {
   const adem_world *w = c->world, *v = sc->world;
   const char *what = NULL;
-  if (v->nmaterials != w->nmaterials) what = "materials";
-  for (int k = 0; !what && k < w->nmaterials; ++k)
-    if (strcmp(v->materials[k].def.name, w->materials[k].def.name)) what = "materials";
+  if (v->mat.n != w->mat.n) what = "materials";
+  for (int k = 0; !what && k < w->mat.n; ++k)
+    if (strcmp(v->mat.m[k].def.name, w->mat.m[k].def.name)) what = "materials";
   if (!what && v->ngroups != w->ngroups) what = "groups";
   for (int k = 0; !what && k < w->ngroups; ++k)
     if (strcmp(v->groups[k].name, w->groups[k].name)) what = "groups";
-  if (!what && v->nplanes != w->nplanes) what = "walls";
-  for (int k = 0; !what && k < w->nplanes; ++k)
-    if (strcmp(v->planes[k].def.name, w->planes[k].def.name)) what = "walls";
-  if (!what && (v->mesh.ngroups != w->mesh.ngroups || v->mesh.nverts != w->mesh.nverts ||
-                v->mesh.ntris != w->mesh.ntris))
+  if (!what && v->walls.nplanes != w->walls.nplanes) what = "walls";
+  for (int k = 0; !what && k < w->walls.nplanes; ++k)
+    if (strcmp(v->walls.planes[k].def.name, w->walls.planes[k].def.name)) what = "walls";
+  if (!what && (v->walls.mesh.ngroups != w->walls.mesh.ngroups || v->walls.mesh.nverts != w->walls.mesh.nverts ||
+                v->walls.mesh.ntris != w->walls.mesh.ntris))
     what = "walls";
   if (!what && v->p.n != w->p.n) what = "particles";
   if (what)
@@ -170,19 +170,19 @@ static adem_status check_same_world(const adem_case *c, const adem_case *sc, con
                           "properties, not add or remove them (switch a wall off with `active: "
                           "false`)",
                           g->where, g->name, what);
-  if (w->mesh.nverts > 0 &&
-      memcmp(v->mesh_vert0, w->mesh_vert0, w->mesh.nverts * sizeof *w->mesh_vert0) != 0)
+  if (w->walls.mesh.nverts > 0 &&
+      memcmp(v->walls.mesh_vert0, w->walls.mesh_vert0, w->walls.mesh.nverts * sizeof *w->walls.mesh_vert0) != 0)
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "%s: stage `%s` changes the shape or placement of a mesh wall; a stage "
                           "may change a mesh wall's motion, material and `active` only",
                           g->where, g->name);
-  for (int k = 0; k < w->mesh.ngroups; ++k)
-    if (v->mesh_motion[k].moving && !w->mesh.groups[k].own_vertices)
+  for (int k = 0; k < w->walls.mesh.ngroups; ++k)
+    if (v->walls.mesh_motion[k].moving && !w->walls.mesh.groups[k].own_vertices)
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "%s: stage `%s` sets mesh wall `%s` moving, but it was loaded sharing "
                             "its vertices with other walls; give it a motion (it may be at rest) "
                             "in the case itself",
-                            g->where, g->name, w->mesh.groups[k].name);
+                            g->where, g->name, w->walls.mesh.groups[k].name);
   return ADEM_OK;
 }
 
@@ -298,15 +298,15 @@ static double total_energy(const adem_world *w) {
 static adem_status apply_walls(adem_world *w, const adem_stage_config *prev,
                                const adem_stage_config *next, double t_s, adem_error *err) {
   /* A plane at rest is at its reference place (a checkpoint has put where it is now). */
-  for (int k = 0; k < w->nplanes; ++k)
-    if (!w->planes[k].motion.moving) {
-      w->planes[k].def.point = w->planes[k].point0;
-      w->planes[k].def.normal = w->planes[k].normal0;
+  for (int k = 0; k < w->walls.nplanes; ++k)
+    if (!w->walls.planes[k].motion.moving) {
+      w->walls.planes[k].def.point = w->walls.planes[k].point0;
+      w->walls.planes[k].def.normal = w->walls.planes[k].normal0;
     }
   adem_world_place_walls(w, t_s);
   adem_status st = ADEM_OK;
-  for (int k = 0; k < w->nplanes && !st; ++k) {
-    adem_plane *pl = &w->planes[k];
+  for (int k = 0; k < w->walls.nplanes && !st; ++k) {
+    adem_plane *pl = &w->walls.planes[k];
     const adem_stage_wall *a = &prev->planes[k], *b = &next->planes[k];
     bool moved = memcmp(&a->point0, &b->point0, sizeof a->point0) ||
                  memcmp(&a->normal0, &b->normal0, sizeof a->normal0);
@@ -331,7 +331,7 @@ static adem_status apply_walls(adem_world *w, const adem_stage_config *prev,
     pl->def.material = b->def.material;
     pl->inactive = b->inactive;
   }
-  adem_mesh *m = &w->mesh;
+  adem_mesh *m = &w->walls.mesh;
   for (int g = 0; g < m->ngroups && !st; ++g) {
     const adem_stage_mesh *a = &prev->meshes[g], *b = &next->meshes[g];
     m->groups[g].material = b->material;
@@ -339,21 +339,21 @@ static adem_status apply_walls(adem_world *w, const adem_stage_config *prev,
     if (motion_same(&a->motion, &b->motion)) continue;
     const adem_mesh_group *grp = &m->groups[g];
     for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
-      w->mesh_vert0[v] = m->vert[v];
-    for (uint32_t t = grp->first; t < grp->first + grp->count; ++t) w->mesh_normal0[t] = m->normal[t];
-    for (int k = 0; k < w->nmesh_walls; ++k) /* a wall's torque point travels with its first group */
-      if (w->mesh_walls[k].first == g)
-        w->mesh_walls[k].ref0 = adem_motion_place(&w->mesh_motion[g], t_s, w->mesh_walls[k].ref0);
-    w->mesh_ref0[g] = w->mesh_ref[g];
+      w->walls.mesh_vert0[v] = m->vert[v];
+    for (uint32_t t = grp->first; t < grp->first + grp->count; ++t) w->walls.mesh_normal0[t] = m->normal[t];
+    for (int k = 0; k < w->walls.nmesh_walls; ++k) /* a wall's torque point travels with its first group */
+      if (w->walls.mesh_walls[k].first == g)
+        w->walls.mesh_walls[k].ref0 = adem_motion_place(&w->walls.mesh_motion[g], t_s, w->walls.mesh_walls[k].ref0);
+    w->walls.mesh_ref0[g] = w->walls.mesh_ref[g];
     adem_motion mo;
     if ((st = motion_copy(&mo, &b->motion, err))) break;
     mo.t0 = t_s;
-    adem_motion_free(&w->mesh_motion[g]);
-    w->mesh_motion[g] = mo;
+    adem_motion_free(&w->walls.mesh_motion[g]);
+    w->walls.mesh_motion[g] = mo;
     double reach = 0.0;
     for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
-      reach = fmax(reach, v3_norm(v3_sub(w->mesh_vert0[v], mo.center)));
-    w->mesh_reach[g] = reach;
+      reach = fmax(reach, v3_norm(v3_sub(w->walls.mesh_vert0[v], mo.center)));
+    w->walls.mesh_reach[g] = reach;
   }
   if (!st) adem_world_place_walls(w, t_s);
   return st;
@@ -370,14 +370,14 @@ static adem_status apply(adem_case *c, int k, bool live, adem_error *err) {
   double before = live ? total_energy(w) : 0.0;
   adem_status st = apply_walls(w, prev, next, t_s, err);
   if (st) return st;
-  for (int j = 0; j < w->nmaterials; ++j) w->materials[j].def = next->materials[j];
+  for (int j = 0; j < w->mat.n; ++j) w->mat.m[j].def = next->materials[j];
   adem_interaction_def *defs = malloc(((size_t)next->ninteractions + 1) * sizeof *defs);
   if (!defs) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   memcpy(defs, next->interactions, (size_t)next->ninteractions * sizeof *defs);
-  free(w->interaction_defs);
-  w->interaction_defs = defs;
-  w->ninteraction_defs = next->ninteractions;
-  if ((st = adem_materials_derive(w, err))) return st;
+  free(w->mat.defs);
+  w->mat.defs = defs;
+  w->mat.ndefs = next->ninteractions;
+  if ((st = adem_materials_derive(&w->mat, err))) return st;
   for (int j = 0; j < w->ngroups; ++j) w->groups[j].external_force = next->group_force[j];
   w->gravity = next->gravity;
   w->max_overlap_ratio = next->max_overlap_ratio;
@@ -392,7 +392,7 @@ static adem_status apply(adem_case *c, int k, bool live, adem_error *err) {
   adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
            (unsigned long long)w->step, s->s[k].name);
   /* Walls on or off, moved or with a new motion: the lists must see them from now on. */
-  if ((st = adem_neighbors_build(w, err))) return st;
+  if ((st = adem_world_build_neighbors(w, err))) return st;
   return ADEM_OK;
 }
 

@@ -383,7 +383,7 @@ adem_status adem_world_add_stl(adem_world *w, const char *path, const adem_mesh_
   if (st) return st;
   adem_mesh_soup s;
   int ascii;
-  st = adem_stl_read(path, &w->mesh, name, &s, &ascii, err);
+  st = adem_stl_read(path, &w->walls.mesh, name, &s, &ascii, err);
   if (st) return st;
   st = adem_world_add_mesh_soup(w, &s, tf, path, ascii, name, velocity, err);
   adem_mesh_soup_free(&s);

@@ -204,11 +204,11 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
 /* ---------------------------------------------------------------- CSV */
 
 void adem_output_wall_forces(const adem_world *w, adem_vec3 *out) {
-  for (int k = 0; k < w->nplanes; ++k) out[k] = v3_zero();
+  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
   const adem_pair_list *l = &w->pw;
   for (size_t k = 0; k < l->n; ++k) {
     uint32_t wall = l->b[k];
-    if (wall < (uint32_t)w->nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
+    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
   }
 }
 
@@ -265,18 +265,18 @@ static void csv_field_name(char *buf, size_t n, const char *name) {
 
 static void mesh_csv_header(strbuf *b, const adem_world *w) {
   char name[ADEM_NAME_MAX];
-  for (int g = 0; g < w->mesh.ngroups + w->nmesh_walls; ++g) {
-    bool group = g < w->mesh.ngroups;
-    const adem_mesh_wall *mw = group ? NULL : &w->mesh_walls[g - w->mesh.ngroups];
+  for (int g = 0; g < w->walls.mesh.ngroups + w->walls.nmesh_walls; ++g) {
+    bool group = g < w->walls.mesh.ngroups;
+    const adem_mesh_wall *mw = group ? NULL : &w->walls.mesh_walls[g - w->walls.mesh.ngroups];
     if (mw && mw->count < 2) continue;
-    csv_field_name(name, sizeof name, group ? w->mesh.groups[g].name : mw->name);
+    csv_field_name(name, sizeof name, group ? w->walls.mesh.groups[g].name : mw->name);
     sb_printf(b, ",%s_fx_N,%s_fy_N,%s_fz_N,%s_tx_Nm,%s_ty_Nm,%s_tz_Nm", name, name, name, name,
               name, name);
   }
 }
 
 static void mesh_csv_row(strbuf *b, const adem_world *w) {
-  size_t ng = (size_t)w->mesh.ngroups, nw = (size_t)w->nmesh_walls;
+  size_t ng = (size_t)w->walls.mesh.ngroups, nw = (size_t)w->walls.nmesh_walls;
   if (ng == 0) return;
   adem_vec3 *f = malloc(2 * (ng + nw) * sizeof *f);
   if (!f) {
@@ -286,7 +286,7 @@ static void mesh_csv_row(strbuf *b, const adem_world *w) {
   adem_vec3 *t = f + ng + nw;
   adem_world_mesh_loads(w, f, t, f + ng, t + ng);
   for (size_t k = 0; k < ng + nw; ++k) {
-    if (k >= ng && w->mesh_walls[k - ng].count < 2) continue;
+    if (k >= ng && w->walls.mesh_walls[k - ng].count < 2) continue;
     sb_printf(b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z, t[k].x, t[k].y,
               t[k].z);
   }
@@ -297,10 +297,10 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
   strbuf b = {0};
   sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
                 "contacts_pw,max_overlap_ratio");
-  for (int k = 0; k < w->nplanes; ++k) {
+  for (int k = 0; k < w->walls.nplanes; ++k) {
     /* Plane names come from the case file: keep the header one CSV field per column. */
     char name[ADEM_NAME_MAX];
-    snprintf(name, sizeof name, "%s", w->planes[k].def.name);
+    snprintf(name, sizeof name, "%s", w->walls.planes[k].def.name);
     if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
     for (char *c = name; *c; ++c)
       if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
@@ -325,13 +325,13 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
   sb_printf(&b, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%.17g", w->time, d.kinetic,
             d.rotational, d.potential, d.elastic, d.dissipated, d.contacts_pp, d.contacts_pw,
             d.max_overlap_ratio);
-  adem_vec3 *f = malloc((size_t)(w->nplanes > 0 ? w->nplanes : 1) * sizeof *f);
+  adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
   if (!f) {
     free(b.s);
     return NULL;
   }
   adem_output_wall_forces(w, f);
-  for (int k = 0; k < w->nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
+  for (int k = 0; k < w->walls.nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
   free(f);
   mesh_csv_row(&b, w);
   const adem_particles *p = &w->p;
@@ -446,10 +446,10 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
                   "f = %s\n",
               adem_plot_quote(title, qname, qn), adem_plot_quote(csv_path, qcsv, qn));
     sb_printf(&b, "plot %.17g with lines dt 2 lc rgb 'black' title 'weight of the particles'", weight);
-    for (int k = 0; k < w->mesh.ngroups + w->nplanes; ++k) {
-      bool mesh = k < w->mesh.ngroups;
-      int col = mesh ? 10 + 3 * w->nplanes + 6 * k : 10 + 3 * (k - w->mesh.ngroups);
-      const char *name = mesh ? w->mesh.groups[k].name : w->planes[k - w->mesh.ngroups].def.name;
+    for (int k = 0; k < w->walls.mesh.ngroups + w->walls.nplanes; ++k) {
+      bool mesh = k < w->walls.mesh.ngroups;
+      int col = mesh ? 10 + 3 * w->walls.nplanes + 6 * k : 10 + 3 * (k - w->walls.mesh.ngroups);
+      const char *name = mesh ? w->walls.mesh.groups[k].name : w->walls.planes[k - w->walls.mesh.ngroups].def.name;
       sb_printf(&b, ", \\\n     f skip 1 using 1:(%.17g*column(%d)+%.17g*column(%d)+%.17g*column(%d)) "
                     "with lines lw 2 title %s",
                 down.x, col, down.y, col + 1, down.z, col + 2, adem_plot_quote(name, qname, qn));
@@ -495,12 +495,12 @@ static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
 }
 
 static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_error *err) {
-  if (w->mesh.ntris == 0) return ADEM_OK;
+  if (w->walls.mesh.ntris == 0) return ADEM_OK;
   char name[64];
   snprintf(name, sizeof name, "frames/mesh_%06zu.vtu", o->next_frame);
   char *path = adem_file_join(o->dir, name);
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  adem_status st = adem_mesh_write_vtu(&w->mesh, w->face_force, path, err);
+  adem_status st = adem_mesh_write_vtu(&w->walls.mesh, w->walls.face_force, path, err);
   free(path);
   return st;
 }
@@ -534,7 +534,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
       o->next_frame = frames_done;
       /* The PVD must not list frames the resumed run is about to rewrite. */
       if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
-      if (!st && w->mesh.ntris > 0) st = mesh_pvd_write(o, err);
+      if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
     }
   }
   free(frames_dir);
@@ -565,7 +565,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
   if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
   if (!st) st = mesh_frame(o, w, err);
-  if (!st && w->mesh.ntris > 0) st = mesh_pvd_write(o, err);
+  if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
   if (!st) o->next_frame++;
   return st;
 }

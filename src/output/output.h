@@ -30,7 +30,7 @@ adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_er
 void adem_output_pvd_free(adem_pvd *pvd);
 
 /* Per-plane force that the particles exert on it (sum of -force_a over the wall pairs, in
- * pair-list order). out has w->nplanes entries. */
+ * pair-list order). out has w->walls.nplanes entries. */
 void adem_output_wall_forces(const adem_world *w, adem_vec3 *out);
 
 /* Particles that get their own CSV columns (output.track): for each, p<id>_rolling_torque_x_Nm,

@@ -197,7 +197,7 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
   /* The per-particle sums run over these lists: rebuilt in the order the neighbour build
    * makes them, so the forces of the next step are summed exactly as without the restart. */
   adem_world_place_walls(w, w->time); /* moving walls are a function of time */
-  if (adem_neighbors_gather(w) != ADEM_OK) {
+  if (adem_world_gather(w) != ADEM_OK) {
     adem_case_free(c);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the contact lists");
   }

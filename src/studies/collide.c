@@ -553,7 +553,7 @@ adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, 
     pa->vel[0] = v3(v, 0.0, 0.0);
     pa->omega[0] = v3(0.0, v / s.radius, 0.0);
     for (size_t k = 0; k < w->pw.n; ++k) memset(&w->pw.hist[k], 0, sizeof w->pw.hist[k]);
-    adem_contacts_compute(w);
+    adem_world_compute_forces(w);
     *torque = v3_norm(pa->rolling_torque[0]);
   }
   adem_world_free(w);

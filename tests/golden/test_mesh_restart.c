@@ -108,21 +108,21 @@ static void assert_same(const adem_world *a, const adem_world *b) {
     if (memcmp(&p->l.force_a[k], &q->l.force_a[k], sizeof(adem_vec3)) != 0)
       fail_msg("mesh contact force %zu differs", k);
   }
-  size_t nf = 3 * a->mesh.ntris;
-  if (memcmp(a->face_force, b->face_force, nf * sizeof(double)) != 0) fail_msg("face forces differ");
-  if (memcmp(a->face_torque, b->face_torque, nf * sizeof(double)) != 0) fail_msg("face torques differ");
-  if (memcmp(a->mesh.vert, b->mesh.vert, a->mesh.nverts * sizeof(adem_vec3)) != 0)
+  size_t nf = 3 * a->walls.mesh.ntris;
+  if (memcmp(a->walls.face_force, b->walls.face_force, nf * sizeof(double)) != 0) fail_msg("face forces differ");
+  if (memcmp(a->walls.face_torque, b->walls.face_torque, nf * sizeof(double)) != 0) fail_msg("face torques differ");
+  if (memcmp(a->walls.mesh.vert, b->walls.mesh.vert, a->walls.mesh.nverts * sizeof(adem_vec3)) != 0)
     fail_msg("mesh vertices differ");
 }
 
 /* Mesh contacts with a loaded tangential spring, and contacts on the moving plate. */
 static void mesh_activity(const adem_world *w, size_t *loaded, size_t *on_plate) {
   *loaded = *on_plate = 0;
-  int plate = adem_mesh_find_group(&w->mesh, "plate");
+  int plate = adem_mesh_find_group(&w->walls.mesh, "plate");
   for (size_t k = 0; k < w->pm.l.n; ++k) {
     if (!w->pm.l.touching[k]) continue;
     if (w->pm.l.hist[k].tangential.x != 0.0) ++*loaded;
-    if ((int)w->mesh.group[w->pm.owner[k]] == plate) ++*on_plate;
+    if ((int)w->walls.mesh.group[w->pm.owner[k]] == plate) ++*on_plate;
   }
 }
 

@@ -109,7 +109,7 @@ static void test_walls_in_stages(void **state) {
   /* stage 0 sets the wall moving at -0.5 m/s from t = 0 */
   vx_at(c, 0.02);
   double dt = w->dt, t_s = (double)adem_stages_start_step(c, 1) * dt;
-  assert_float_equal(w->planes[1].def.point.x, 0.2 - 0.5 * t_s, 1e-12);
+  assert_float_equal(w->walls.planes[1].def.point.x, 0.2 - 0.5 * t_s, 1e-12);
   double z1 = w->p.pos[0].z;
   (void)vx_at(c, 0.03);
   double vz1 = w->p.vel[0].z, t1 = w->time;
@@ -117,10 +117,10 @@ static void test_walls_in_stages(void **state) {
   double vz2 = w->p.vel[0].z, z2 = w->p.pos[0].z;
   double g = (vz2 - vz1) / (w->time - t1);
   printf("# floor off: dv_z/dt = %.12g m/s^2, fell %g m; the wall at x = %g\n", g, z1 - z2,
-         w->planes[1].def.point.x);
+         w->walls.planes[1].def.point.x);
   assert_float_equal(g, -9.81, 9.81 * 1e-9);
   assert_true(z2 - 0.005 < -0.0015); /* a third of the way through where the floor was */
-  assert_true(w->planes[0].inactive);
+  assert_true(w->walls.planes[0].inactive);
   adem_case_free(c);
 
   /* a motion set in stage 1 only: the wall rests until then, then moves from its place */
@@ -134,12 +134,12 @@ static void test_walls_in_stages(void **state) {
   assert_int_equal(staged_start(d, &err), ADEM_OK);
   vx_at(d, 0.02);
   t_s = (double)adem_stages_start_step(d, 1) * w->dt;
-  assert_true(w->planes[1].def.point.x == 0.2); /* at rest through stage 0, moved at its start */
+  assert_true(w->walls.planes[1].def.point.x == 0.2); /* at rest through stage 0, moved at its start */
   vx_at(d, 0.04);
   double t = w->time;
   printf("# wall set moving at t = %g s: at t = %g s it is at x = %.12g (expected %.12g)\n", t_s,
-         t, w->planes[1].def.point.x, 0.2 - 0.5 * (t - t_s));
-  assert_float_equal(w->planes[1].def.point.x, 0.2 - 0.5 * (t - t_s), 1e-12);
+         t, w->walls.planes[1].def.point.x, 0.2 - 0.5 * (t - t_s));
+  assert_float_equal(w->walls.planes[1].def.point.x, 0.2 - 0.5 * (t - t_s), 1e-12);
   adem_case_free(d);
 
   /* a mesh floor (the top face of an STL block) switched off by stage 1 */

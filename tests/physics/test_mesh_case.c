@@ -63,7 +63,7 @@ static void test_box_of_faces(void **state) {
   snprintf(text, sizeof text, box_case,
            "  - {type: mesh, name: box, material: steel, file: cube_ascii.stl, scale: 0.1}\n");
   adem_case *b = load(text, ADEM_SOURCE_DIR "/tests/data");
-  assert_int_equal(b->world->mesh.ntris, 12);
+  assert_int_equal(b->world->walls.mesh.ntris, 12);
   adem_error err;
   assert_int_equal(adem_world_prepare(a->world, &err), ADEM_OK);
   assert_int_equal(adem_world_prepare(b->world, &err), ADEM_OK);
@@ -259,7 +259,7 @@ static void test_torque_reference(void **state) {
     double W = 9.81 / w->p.inv_mass[0];
     adem_vec3 f[5], t[5], ff, tf;
     adem_world_mesh_loads(w, f, t, &ff, &tf);
-    int floor = adem_mesh_find_group(&w->mesh, "plate.floor");
+    int floor = adem_mesh_find_group(&w->walls.mesh, "plate.floor");
     assert_true(floor >= 0);
     /* floor centroid: the middle of [0, 0.032]^2 translated */
     adem_vec3 cen = about ? v3_zero() : v3(0.026, -0.004, 0.0);
@@ -273,11 +273,11 @@ static void test_torque_reference(void **state) {
     /* the file's total: about the area centroid of all five faces (or the given point) */
     double area = 0.0;
     adem_vec3 fc = v3_zero();
-    for (size_t k = 0; k < w->mesh.ntris; ++k) {
-      const uint32_t *v = w->mesh.tri[k];
-      adem_vec3 g = v3_scale(v3_add(w->mesh.vert[v[0]], v3_add(w->mesh.vert[v[1]], w->mesh.vert[v[2]])), 1.0 / 3.0);
-      fc = v3_axpy(fc, w->mesh.area[k], g);
-      area += w->mesh.area[k];
+    for (size_t k = 0; k < w->walls.mesh.ntris; ++k) {
+      const uint32_t *v = w->walls.mesh.tri[k];
+      adem_vec3 g = v3_scale(v3_add(w->walls.mesh.vert[v[0]], v3_add(w->walls.mesh.vert[v[1]], w->walls.mesh.vert[v[2]])), 1.0 / 3.0);
+      fc = v3_axpy(fc, w->walls.mesh.area[k], g);
+      area += w->walls.mesh.area[k];
     }
     fc = about ? v3_zero() : v3_scale(fc, 1.0 / area);
     adem_vec3 expect_file = v3_cross(v3_sub(x, fc), v3(0, 0, -W));
@@ -430,7 +430,7 @@ static void test_transform_and_plane_motion(void **state) {
   (void)state;
   adem_case *c = load(transform_case, ADEM_SOURCE_DIR "/tests/data");
   adem_world *w = c->world;
-  const adem_mesh *m = &w->mesh;
+  const adem_mesh *m = &w->walls.mesh;
   adem_vec3 lo[2] = {{1e9, 1e9, 1e9}, {1e9, 1e9, 1e9}};
   adem_vec3 hi[2] = {{-1e9, -1e9, -1e9}, {-1e9, -1e9, -1e9}};
   for (size_t t = 0; t < m->ntris; ++t)
@@ -448,7 +448,7 @@ static void test_transform_and_plane_motion(void **state) {
   assert_true(fabs(lo[1].z - 0.0) < 1e-17 && fabs(hi[1].z - 0.1) < 1e-17);
   adem_error err;
   if (adem_world_step(w, 500, &err)) fail_msg("%s", err.message); /* t = 0.01 s */
-  const adem_plane_def *lid = &w->planes[0].def;
+  const adem_plane_def *lid = &w->walls.planes[0].def;
   double t = w->time;
   printf("# lid at z = %.15g (1 + t^2 = %.15g), normal (%.15g, %.15g, %.15g)\n", lid->point.z,
          1.0 + t * t, lid->normal.x, lid->normal.y, lid->normal.z);

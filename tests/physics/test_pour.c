@@ -55,8 +55,8 @@ static void assert_clear(const adem_world *w, size_t first_id) {
       if (d < s) fail_msg("new particle id %llu overlaps id %llu by %g m",
                           (unsigned long long)p->id[i], (unsigned long long)p->id[j], s - d);
     }
-    for (int k = 0; k < w->nplanes; ++k) {
-      const adem_plane_def *pl = &w->planes[k].def;
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      const adem_plane_def *pl = &w->walls.planes[k].def;
       double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
       if (d < p->radius[i] * (1 - 1e-9)) fail_msg("new particle overlaps wall %s", pl->name);
     }

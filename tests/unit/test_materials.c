@@ -26,7 +26,7 @@ static void test_reduced_stiffness_on_rigid_wall(void **state) {
   m.rigid = 1;
   m.stiffness_factor = 1.0;
   int quartz = adem_world_add_material(w, &m, &err);
-  assert_int_equal(adem_materials_derive(w, &err), ADEM_OK);
+  assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   const adem_interaction *it = adem_world_interaction(w, psl, quartz);
   printf("# E = %.6g Pa (real %.6g), gamma = %.6g J/m^2 (real %.6g)\n", it->E, it->E_real,
          it->gamma, it->gamma_real);
@@ -49,7 +49,7 @@ static void test_effective_moduli(void **state) {
   m.rigid = 1;
   adem_error err;
   int wall = adem_world_add_material(w, &m, &err);
-  assert_int_equal(adem_materials_derive(w, &err), ADEM_OK);
+  assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   double G = 1e7 / (2.0 * 1.25);
   const adem_interaction *pp = adem_world_interaction(w, a, a);
   assert_true(fabs(pp->E / (1e7 / (2.0 * (1.0 - 0.0625))) - 1.0) < 1e-14);

@@ -35,8 +35,8 @@ static adem_world *random_world(uint64_t seed, int n, int brute) {
     test_particle(w, mat, x, v3(0, 0, 0), r);
   }
   adem_error err;
-  assert_int_equal(adem_materials_derive(w, &err), ADEM_OK);
-  assert_int_equal(adem_neighbors_build(w, &err), ADEM_OK);
+  assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
+  assert_int_equal(adem_world_build_neighbors(w, &err), ADEM_OK);
   return w;
 }
 
@@ -85,7 +85,7 @@ static void test_history_survives_rebuild(void **state) {
   adem_world *w = random_world(5, 400, 0);
   adem_error err;
   adem_world_set_dt(w, 1e-7);
-  adem_contacts_compute(w);
+  adem_world_compute_forces(w);
   /* Give every touching pair a history keyed by its ids. */
   size_t touching = 0;
   for (size_t k = 0; k < w->pp.n; ++k) {
@@ -105,7 +105,7 @@ static void test_history_survives_rebuild(void **state) {
     w->pp.a[k] = (uint32_t)inv[w->pp.a[k]];
     w->pp.b[k] = (uint32_t)inv[w->pp.b[k]];
   }
-  assert_int_equal(adem_neighbors_build(w, &err), ADEM_OK);
+  assert_int_equal(adem_world_build_neighbors(w, &err), ADEM_OK);
   free(perm);
   free(inv);
   size_t found = 0;

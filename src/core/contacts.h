@@ -1,0 +1,29 @@
+/* The force pass: every candidate pair's force and torques into the pair lists, then the sums per
+ * particle in a fixed order (the same for any thread count), BROF included. */
+#ifndef ADEM_CONTACTS_H
+#define ADEM_CONTACTS_H
+
+#include "adem/adem.h"
+#include "materials.h"
+#include "neighbors.h"
+#include "pairs.h"
+#include "particles.h"
+#include "walls.h"
+
+/* What a force pass reads and writes. */
+typedef struct adem_force_scope {
+  adem_particles *p;             /* force, torque, rolling torque, held are written */
+  adem_pair_list *pp, *pw;       /* results and history are written */
+  adem_mesh_pairs *pm;
+  adem_walls *walls;             /* face loads are written */
+  const adem_neighbors *nb;      /* gather lists */
+  const adem_materials *mat;
+  const adem_group *groups;
+  adem_vec3 gravity;
+  double dt;
+  int nthreads;
+} adem_force_scope;
+
+void adem_contacts_compute(const adem_force_scope *s);
+
+#endif

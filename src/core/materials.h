@@ -1,0 +1,62 @@
+/* Materials and the table of material pairs (H2, H12, H15, H24): what every contact between two
+ * materials uses that does not depend on the particles. */
+#ifndef ADEM_MATERIALS_H
+#define ADEM_MATERIALS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "adem/adem.h"
+
+/* A material after derivation: the real values plus those the contact laws use. */
+typedef struct adem_material {
+  adem_material_def def;
+  double young_mod;   /* E_mod = f E (H24) */
+  double shear_mod;   /* G_mod = E_mod / (2(1+nu)) */
+} adem_material;
+
+/* Everything about a pair of materials that does not depend on the particles (H2, H12, H15). */
+typedef struct adem_interaction {
+  adem_normal_model normal;
+  adem_rolling_model rolling;
+  double E;       /* effective Young's modulus 1/E = sum (1-nu^2)/E_k, modified stiffness */
+  double G;       /* effective shear modulus, 1/G = sum (2-nu_k)/G_k (H15) */
+  double E_real;  /* effective modulus of the real material (f = 1) */
+  double G_real;
+  double restitution;
+  double beta;    /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double friction;
+  double gamma;     /* effective surface energy for JKR, modified (H24) */
+  double gamma_real;
+  double hysteresis;
+  double rolling_friction_a, rolling_friction_b; /* eta_r of each side (BROF uses both) */
+  double rolling_damping;
+  bool set_restitution, set_friction; /* overridden by an interaction entry */
+  bool dtk_rolling_modification;      /* see adem_interaction_def */
+} adem_interaction;
+
+/* The materials of a world, the interaction entries given for some pairs, and the derived table
+ * of every pair (n x n, symmetric). */
+typedef struct adem_materials {
+  adem_material *m;
+  int n;
+  adem_interaction *pairs;   /* derived by adem_materials_derive */
+  adem_interaction_def *defs; /* as given */
+  int ndefs;
+} adem_materials;
+
+/* Adds a material; returns its index, or -1 with err set. */
+int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_error *err);
+int adem_materials_find(const adem_materials *mt, const char *name);
+/* Records how two materials interact; returns the entry's index, or -1 with err set. */
+int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_def *def,
+                                   adem_error *err);
+/* Derives the modified moduli and the pair table. */
+adem_status adem_materials_derive(adem_materials *mt, adem_error *err);
+void adem_materials_free(adem_materials *mt);
+
+static inline const adem_interaction *adem_materials_pair(const adem_materials *mt, int a, int b) {
+  return &mt->pairs[(size_t)a * (size_t)mt->n + (size_t)b];
+}
+
+#endif
