@@ -127,3 +127,20 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
   double d = v3_norm(v3_sub(adem_motion_displacement(m, t1), adem_motion_displacement(m, t0)));
   return d + fabs(m->omega * (t1 - t0)) * reach;
 }
+
+adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err) {
+  adem_motion_def d = {src->n, src->time, src->velocity, src->axis, src->omega, src->center};
+  adem_status st = adem_motion_init(dst, &d, err);
+  if (!st) dst->t0 = src->t0;
+  return st;
+}
+
+/* The same motion table, axis and centre (t0 aside). */
+bool adem_motion_same(const adem_motion *a, const adem_motion *b) {
+  if (a->n != b->n || a->omega != b->omega) return false;
+  if (memcmp(&a->axis, &b->axis, sizeof a->axis) || memcmp(&a->center, &b->center, sizeof a->center))
+    return false;
+  return a->n == 0 || (!memcmp(a->time, b->time, a->n * sizeof *a->time) &&
+                       !memcmp(a->velocity, b->velocity, a->n * sizeof *a->velocity));
+}
+

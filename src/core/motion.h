@@ -47,4 +47,9 @@ adem_vec3 adem_motion_point_velocity(const adem_motion *m, double t, adem_vec3 x
 /* An upper bound on how far any point within `reach` of the centre moves between t0 and t1. */
 double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double reach);
 
+/* A copy of src (its table duplicated), t0 included. */
+adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err);
+/* The same motion table, axis and centre (t0 aside). */
+bool adem_motion_same(const adem_motion *a, const adem_motion *b);
+
 #endif

@@ -8,6 +8,13 @@
 #include "adem/vec3.h"
 #include "walls.h"
 
+adem_plane_def adem_default_plane_def(void) {
+  adem_plane_def d;
+  memset(&d, 0, sizeof d);
+  d.normal = v3(0.0, 0.0, 1.0);
+  return d;
+}
+
 int adem_walls_add_plane(adem_walls *wl, const adem_plane_def *def, int nmaterials,
                          adem_error *err) {
   double len = v3_norm(def->normal);
@@ -305,6 +312,93 @@ double adem_walls_shift(const adem_walls *wl, double t0, bool has_box, adem_vec3
 void adem_walls_clear_face_loads(adem_walls *wl) {
   memset(wl->face_force, 0, 3 * wl->mesh.ntris * sizeof *wl->face_force);
   memset(wl->face_torque, 0, 3 * wl->mesh.ntris * sizeof *wl->face_torque);
+}
+
+adem_status adem_walls_get_settings(const adem_walls *wl, adem_plane_setting *planes,
+                                    adem_mesh_setting *meshes, adem_error *err) {
+  adem_status st = ADEM_OK;
+  for (int k = 0; k < wl->nplanes && !st; ++k) {
+    const adem_plane *pl = &wl->planes[k];
+    planes[k].def = pl->def;
+    planes[k].point0 = pl->point0;
+    planes[k].normal0 = pl->normal0;
+    planes[k].inactive = pl->inactive;
+    st = adem_motion_copy(&planes[k].motion, &pl->motion, err);
+  }
+  for (int k = 0; k < wl->mesh.ngroups && !st; ++k) {
+    meshes[k].material = wl->mesh.groups[k].material;
+    meshes[k].inactive = !adem_walls_mesh_active(wl, (uint32_t)k);
+    st = adem_motion_copy(&meshes[k].motion, &wl->mesh_motion[k], err);
+  }
+  return st;
+}
+
+/* A wall that starts a new motion at t_s starts it from where it is: its reference placement
+ * becomes the current one and the motion's clock starts at t_s. */
+adem_status adem_walls_change(adem_walls *wl, const adem_plane_setting *prev_planes,
+                              const adem_plane_setting *next_planes,
+                              const adem_mesh_setting *prev_meshes,
+                              const adem_mesh_setting *next_meshes, double t_s, adem_error *err) {
+  /* A plane at rest is at its reference place (a checkpoint has put where it is now). */
+  for (int k = 0; k < wl->nplanes; ++k)
+    if (!wl->planes[k].motion.moving) {
+      wl->planes[k].def.point = wl->planes[k].point0;
+      wl->planes[k].def.normal = wl->planes[k].normal0;
+    }
+  adem_walls_place(wl, t_s);
+  adem_status st = ADEM_OK;
+  for (int k = 0; k < wl->nplanes && !st; ++k) {
+    adem_plane *pl = &wl->planes[k];
+    const adem_plane_setting *a = &prev_planes[k], *b = &next_planes[k];
+    bool moved = memcmp(&a->point0, &b->point0, sizeof a->point0) ||
+                 memcmp(&a->normal0, &b->normal0, sizeof a->normal0);
+    bool new_motion = !adem_motion_same(&a->motion, &b->motion);
+    if (moved) { /* the stage puts the plane somewhere else */
+      pl->point0 = b->point0;
+      pl->normal0 = b->normal0;
+      pl->def.point = b->point0;
+      pl->def.normal = b->normal0;
+    } else if (new_motion) {
+      pl->point0 = pl->def.point;
+      pl->normal0 = pl->def.normal;
+    }
+    if (moved || new_motion) {
+      adem_motion m;
+      if ((st = adem_motion_copy(&m, &b->motion, err))) break;
+      m.t0 = t_s;
+      adem_motion_free(&pl->motion);
+      pl->motion = m;
+      pl->def.velocity = adem_motion_velocity(&pl->motion, t_s);
+    }
+    pl->def.material = b->def.material;
+    pl->inactive = b->inactive;
+  }
+  adem_mesh *m = &wl->mesh;
+  for (int g = 0; g < m->ngroups && !st; ++g) {
+    const adem_mesh_setting *a = &prev_meshes[g], *b = &next_meshes[g];
+    m->groups[g].material = b->material;
+    if ((st = adem_walls_set_mesh_active(wl, g, !b->inactive, err))) break;
+    if (adem_motion_same(&a->motion, &b->motion)) continue;
+    const adem_mesh_group *grp = &m->groups[g];
+    for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
+      wl->mesh_vert0[v] = m->vert[v];
+    for (uint32_t t = grp->first; t < grp->first + grp->count; ++t) wl->mesh_normal0[t] = m->normal[t];
+    for (int k = 0; k < wl->nmesh_walls; ++k) /* a wall's torque point travels with its first group */
+      if (wl->mesh_walls[k].first == g)
+        wl->mesh_walls[k].ref0 = adem_motion_place(&wl->mesh_motion[g], t_s, wl->mesh_walls[k].ref0);
+    wl->mesh_ref0[g] = wl->mesh_ref[g];
+    adem_motion mo;
+    if ((st = adem_motion_copy(&mo, &b->motion, err))) break;
+    mo.t0 = t_s;
+    adem_motion_free(&wl->mesh_motion[g]);
+    wl->mesh_motion[g] = mo;
+    double reach = 0.0;
+    for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
+      reach = fmax(reach, v3_norm(v3_sub(wl->mesh_vert0[v], mo.center)));
+    wl->mesh_reach[g] = reach;
+  }
+  if (!st) adem_walls_place(wl, t_s);
+  return st;
 }
 
 void adem_walls_free(adem_walls *wl) {

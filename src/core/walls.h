@@ -47,6 +47,30 @@ typedef struct adem_walls {
   int nmesh_walls;
 } adem_walls;
 
+/* What a configuration (a case, or a stage of it) says about a plane and a mesh group. */
+typedef struct adem_plane_setting {
+  adem_plane_def def;
+  adem_vec3 point0, normal0;
+  adem_motion motion;
+  bool inactive;
+} adem_plane_setting;
+
+typedef struct adem_mesh_setting {
+  adem_motion motion;
+  int material;
+  bool inactive;
+} adem_mesh_setting;
+
+/* The settings of every plane and mesh group as they are now (motions copied). */
+adem_status adem_walls_get_settings(const adem_walls *wl, adem_plane_setting *planes,
+                                    adem_mesh_setting *meshes, adem_error *err);
+/* Goes from the settings prev to next at time t_s (a stage start): material and on/off, and a
+ * wall that is moved or starts a new motion starts it from where it is, its clock at t_s. */
+adem_status adem_walls_change(adem_walls *wl, const adem_plane_setting *prev_planes,
+                              const adem_plane_setting *next_planes,
+                              const adem_mesh_setting *prev_meshes,
+                              const adem_mesh_setting *next_meshes, double t_s, adem_error *err);
+
 /* A plane whose material index is below nmaterials; returns its index or -1 with err set. */
 int adem_walls_add_plane(adem_walls *wl, const adem_plane_def *def, int nmaterials,
                          adem_error *err);

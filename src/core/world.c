@@ -43,13 +43,6 @@ adem_particle_def adem_default_particle_def(void) {
   return d;
 }
 
-adem_plane_def adem_default_plane_def(void) {
-  adem_plane_def d;
-  memset(&d, 0, sizeof d);
-  d.normal = v3(0.0, 0.0, 1.0);
-  return d;
-}
-
 int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err) {
   int k = adem_materials_add(&w->mat, def, err);
   if (k >= 0) w->prepared = false;
@@ -148,6 +141,34 @@ void adem_world_compute_forces(adem_world *w) {
                         w->dt,     adem_world_threads(w)};
   adem_contacts_compute(&s);
 }
+
+adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
+                                   const adem_plane_setting *next_planes,
+                                   const adem_mesh_setting *prev_meshes,
+                                   const adem_mesh_setting *next_meshes, double t_s,
+                                   adem_error *err) {
+  return adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
+}
+
+adem_status adem_world_change_materials(adem_world *w, const adem_material_def *defs,
+                                        const adem_interaction_def *interactions, int ninteractions,
+                                        adem_error *err) {
+  adem_materials *mt = &w->mat;
+  adem_interaction_def *d = malloc(((size_t)ninteractions + 1) * sizeof *d);
+  if (!d) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  memcpy(d, interactions, (size_t)ninteractions * sizeof *d);
+  for (int j = 0; j < mt->n; ++j) mt->m[j].def = defs[j];
+  free(mt->defs);
+  mt->defs = d;
+  mt->ndefs = ninteractions;
+  return adem_materials_derive(mt, err);
+}
+
+void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force) {
+  if (group >= 0 && group < w->ngroups) w->groups[group].external_force = force;
+}
+
+void adem_world_change_skin(adem_world *w, double skin_fraction) { w->nb.skin_fraction = skin_fraction; }
 
 int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
   int k = adem_world_find_group(w, name);

@@ -95,6 +95,20 @@ static inline bool adem_world_mesh_active(const adem_world *w, uint32_t group) {
 /* Largest distance a moving wall has travelled since the last neighbour build. */
 double adem_world_wall_shift(const adem_world *w);
 
+/* What a stage changes in a running world (input/stages.c), without a new prepare: walls go from
+ * one setting to the next at time t_s (walls.h), materials and interaction entries are replaced
+ * and the pair table derived again, a group's force, the skin (used from the next build). */
+adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
+                                   const adem_plane_setting *next_planes,
+                                   const adem_mesh_setting *prev_meshes,
+                                   const adem_mesh_setting *next_meshes, double t_s,
+                                   adem_error *err);
+adem_status adem_world_change_materials(adem_world *w, const adem_material_def *defs,
+                                        const adem_interaction_def *interactions, int ninteractions,
+                                        adem_error *err);
+void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force);
+void adem_world_change_skin(adem_world *w, double skin_fraction);
+
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 /* The gather lists after a checkpoint load. */

@@ -10,867 +10,21 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include <yaml.h>
 
 #include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
 #include "insert.h"
+#include "case_yaml.h"
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
 #include "world.h"
 
-#define KEY_PATH_MAX 256
-#define LOC_MAX 640
 /* Sets larger than this are surely a typo and would only exhaust memory. */
 #define MAX_SET_SPHERES 100000000.0
 
-/* Where the loader is: the YAML document and what has been built so far. */
-typedef struct case_ctx {
-  yaml_document_t doc;
-  bool have_doc;
-  const char *file;          /* name used in messages */
-  const char *stem_of;       /* file whose stem is the default case name */
-  const char *base_dir;      /* folder relative file paths of the case start from */
-  const char *const *sets;   /* the --set strings */
-  int nbase;                 /* node ids 1..nbase come from the text, later ones from --set */
-  int *origin;               /* origin[id - nbase - 1]: the --set that made node id (-1: none) */
-  size_t norigin;
-  adem_error *err;
-  adem_case *c;
-  adem_world *w;
-
-  /* materials, groups and walls by position, for messages and name checks */
-  char (*mat_name)[ADEM_NAME_MAX];
-  yaml_node_t **mat_node;
-  bool *mat_density, *mat_rigid;
-  int nmat;
-  char (*group_name)[ADEM_NAME_MAX];
-  yaml_node_t **group_node;
-  int ngroup;
-
-  /* every sphere made so far, in order of creation */
-  adem_vec3 *pos, *vel, *omega;
-  double *rad;
-  size_t n, cap;
-  double rmax;      /* largest radius */
-  double vmax;      /* largest initial speed of a particle or a plane wall */
-  bool has_box;     /* bounding box of particles and walls */
-  adem_vec3 box_lo, box_hi;
-} case_ctx;
-
-/* A mapping being read: its node (NULL when the section is absent) and where it sits. */
-typedef struct map_cursor {
-  yaml_node_t *node;
-  yaml_node_t *at;                  /* node messages point at: the mapping, or its parent */
-  char schema[96];                  /* prefix of its keys in the schema table */
-  const char *discriminator;        /* key choosing the variant, or NULL */
-  char variant[32];                 /* value of the discriminator */
-  char path[KEY_PATH_MAX];          /* key path for messages, "materials[0]" */
-} map_cursor;
-
-typedef struct list_cursor {
-  yaml_node_t *node; /* sequence, NULL when absent or empty */
-  const adem_schema_entry *e;
-  size_t n;
-  char path[KEY_PATH_MAX];
-} list_cursor;
-
-/* ---- messages ---- */
-
-static void where(const case_ctx *ctx, const yaml_node_t *node, char *buf, size_t n) {
-  if (node && ctx->have_doc) {
-    int id = (int)(node - ctx->doc.nodes.start) + 1;
-    if (id > ctx->nbase && (size_t)(id - ctx->nbase - 1) < ctx->norigin &&
-        ctx->origin[id - ctx->nbase - 1] >= 0) {
-      snprintf(buf, n, "--set %.500s", ctx->sets[ctx->origin[id - ctx->nbase - 1]]);
-      return;
-    }
-    snprintf(buf, n, "%.500s:%zu:%zu", ctx->file, (size_t)node->start_mark.line + 1,
-             (size_t)node->start_mark.column + 1);
-  } else {
-    snprintf(buf, n, "%.500s:1:1", ctx->file);
-  }
-}
-
-/* "line:column" of a node, or the --set that made it, for "first defined at ...". */
-static void where_short(const case_ctx *ctx, const yaml_node_t *node, char *buf, size_t n) {
-  int id = node ? (int)(node - ctx->doc.nodes.start) + 1 : 0;
-  if (node && id <= ctx->nbase)
-    snprintf(buf, n, "line %zu:%zu", (size_t)node->start_mark.line + 1,
-             (size_t)node->start_mark.column + 1);
-  else
-    where(ctx, node, buf, n);
-}
-
-static adem_status fail(case_ctx *ctx, const yaml_node_t *node, const char *path, const char *fmt,
-                        ...) ADEM_PRINTF(4, 5);
-static adem_status fail(case_ctx *ctx, const yaml_node_t *node, const char *path, const char *fmt,
-                        ...) {
-  char loc[LOC_MAX], msg[ADEM_MSG_MAX];
-  where(ctx, node, loc, sizeof loc);
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(msg, sizeof msg, fmt, ap);
-  va_end(ap);
-  if (path && *path) return adem_error_set(ctx->err, ADEM_ERR_INPUT, "%s: %s: %s", loc, path, msg);
-  return adem_error_set(ctx->err, ADEM_ERR_INPUT, "%s: %s", loc, msg);
-}
-
-static adem_status nomem(case_ctx *ctx) {
-  return adem_error_set(ctx->err, ADEM_ERR_NOMEM, "%s: out of memory while loading the case",
-                        ctx->file);
-}
-
-/* ---- suggestions ---- */
-
-/* Optimal string alignment distance (an adjacent swap costs 1), case-insensitive. */
-static size_t edit_distance(const char *a, const char *b) {
-  enum { N = 64 };
-  size_t na = strlen(a), nb = strlen(b);
-  if (na >= N || nb >= N) return (size_t)-1;
-  size_t d[N + 1][N + 1];
-  for (size_t i = 0; i <= na; ++i) d[i][0] = i;
-  for (size_t j = 0; j <= nb; ++j) d[0][j] = j;
-  for (size_t i = 1; i <= na; ++i) {
-    for (size_t j = 1; j <= nb; ++j) {
-      int ca = a[i - 1] | 0x20, cb = b[j - 1] | 0x20; /* ASCII letters to lower case */
-      size_t best = d[i - 1][j - 1] + (ca != cb);
-      if (d[i - 1][j] + 1 < best) best = d[i - 1][j] + 1;
-      if (d[i][j - 1] + 1 < best) best = d[i][j - 1] + 1;
-      if (i > 1 && j > 1 && ca == (b[j - 2] | 0x20) && (a[i - 2] | 0x20) == cb &&
-          d[i - 2][j - 2] + 1 < best)
-        best = d[i - 2][j - 2] + 1;
-      d[i][j] = best;
-    }
-  }
-  return d[na][nb];
-}
-
-/* Keeps the closest candidate that is plausibly a misspelling of word. */
-typedef struct suggestion {
-  const char *word;
-  const char *best;
-  size_t dist;
-} suggestion;
-
-static void suggest_try(suggestion *s, const char *cand) {
-  size_t d = edit_distance(s->word, cand);
-  size_t len = strlen(cand);
-  size_t limit = 1 + len / 4;
-  bool prefix = strlen(s->word) >= 3 && strncmp(cand, s->word, strlen(s->word)) == 0;
-  if (prefix && d > limit) d = limit; /* "young" for "youngs_modulus" */
-  if (d <= limit && d < s->dist) {
-    s->best = cand;
-    s->dist = d;
-  }
-}
-
-/* Appends ", item" to a list being written into buf. */
-static void list_append(char *buf, size_t n, const char *item) {
-  size_t k = strlen(buf);
-  if (k + 1 >= n) return;
-  snprintf(buf + k, n - k, "%s%s", k ? ", " : "", item);
-}
-
-/* ---- scalars ---- */
-
-static yaml_node_t *node_at(case_ctx *ctx, int id) { return yaml_document_get_node(&ctx->doc, id); }
-static const char *sval(const yaml_node_t *v) { return (const char *)v->data.scalar.value; }
-static bool is_plain(const yaml_node_t *v) {
-  return v->type == YAML_SCALAR_NODE && v->data.scalar.style == YAML_PLAIN_SCALAR_STYLE;
-}
-static bool is_null(const yaml_node_t *v) {
-  if (!is_plain(v)) return false;
-  const char *s = sval(v);
-  return !*s || !strcmp(s, "~") || !strcmp(s, "null") || !strcmp(s, "Null") || !strcmp(s, "NULL");
-}
-
-/* How a value was written, for "got ..." in messages. */
-static void node_text(const yaml_node_t *v, char *buf, size_t n) {
-  if (v->type == YAML_SEQUENCE_NODE) {
-    size_t k = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
-    snprintf(buf, n, "a list of %zu item%s", k, k == 1 ? "" : "s");
-  } else if (v->type == YAML_MAPPING_NODE)
-    snprintf(buf, n, "a mapping");
-  else if (is_null(v))
-    snprintf(buf, n, "no value");
-  else if (is_plain(v))
-    snprintf(buf, n, "`%.80s`", sval(v));
-  else
-    snprintf(buf, n, "the quoted string \"%.80s\"", sval(v));
-}
-
-/* Numbers are plain scalars read by strtod; quoted text is a string, not a number. */
-static bool parse_number(const yaml_node_t *v, double *x) {
-  if (!is_plain(v) || is_null(v)) return false;
-  const char *s = sval(v);
-  char *end;
-  double d = strtod(s, &end);
-  if (end == s || *end != '\0' || !isfinite(d)) return false;
-  *x = d;
-  return true;
-}
-
-static bool parse_uint(const yaml_node_t *v, uint64_t *x) {
-  if (!is_plain(v) || is_null(v)) return false;
-  const char *s = sval(v);
-  bool digits = true;
-  for (const char *p = s; *p; ++p)
-    if (*p < '0' || *p > '9') digits = false;
-  if (digits) {
-    errno = 0;
-    unsigned long long u = strtoull(s, NULL, 10);
-    if (errno == ERANGE) return false;
-    *x = (uint64_t)u;
-    return true;
-  }
-  double d; /* 1e6 and 2.0 are integers too */
-  if (!parse_number(v, &d) || d < 0 || d != floor(d) || d > 9007199254740992.0) return false;
-  *x = (uint64_t)d;
-  return true;
-}
-
-static bool parse_bool(const yaml_node_t *v, bool *b) {
-  if (!is_plain(v)) return false;
-  const char *s = sval(v);
-  if (!strcmp(s, "true") || !strcmp(s, "True") || !strcmp(s, "TRUE")) *b = true;
-  else if (!strcmp(s, "false") || !strcmp(s, "False") || !strcmp(s, "FALSE")) *b = false;
-  else return false;
-  return true;
-}
-
-static bool valid_name(const char *s) {
-  size_t n = strlen(s);
-  if (n == 0 || n >= ADEM_NAME_MAX) return false;
-  if (!((s[0] >= 'a' && s[0] <= 'z') || (s[0] >= 'A' && s[0] <= 'Z') || s[0] == '_')) return false;
-  for (const char *p = s; *p; ++p)
-    if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
-          *p == '_' || *p == '-'))
-      return false;
-  return true;
-}
-
-/* ---- typed readers of a present value ---- */
-
-static adem_status wrong_type(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                              const char *path) {
-  char d[256], t[128];
-  adem_schema_describe(e, d, sizeof d);
-  node_text(v, t, sizeof t);
-  return fail(ctx, v, path, "expected %s, got %s", d, t);
-}
-
-static adem_status check_range(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, double x) {
-  if (adem_schema_in_range(e, x)) return ADEM_OK;
-  char r[64], unit[48] = "";
-  adem_schema_describe_range(e, r, sizeof r);
-  if (e->unit && *e->unit) snprintf(unit, sizeof unit, " (%s)", e->unit);
-  return fail(ctx, v, path, "%s is out of range: it must be %s%s", sval(v), r, unit);
-}
-
-static adem_status read_number(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, double *x) {
-  if (!parse_number(v, x)) return wrong_type(ctx, e, v, path);
-  return check_range(ctx, e, v, path, *x);
-}
-
-static adem_status read_uint(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                             const char *path, uint64_t *x) {
-  if (!parse_uint(v, x)) return wrong_type(ctx, e, v, path);
-  return check_range(ctx, e, v, path, (double)*x);
-}
-
-static adem_status read_string(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, char *buf, size_t n) {
-  if (v->type != YAML_SCALAR_NODE || is_null(v)) return wrong_type(ctx, e, v, path);
-  if (e->type == ADEM_SCHEMA_NAME && !valid_name(sval(v))) return wrong_type(ctx, e, v, path);
-  if (v->data.scalar.length >= n || strlen(sval(v)) != v->data.scalar.length)
-    return fail(ctx, v, path, "the text is too long (at most %zu characters) or holds a NUL", n - 1);
-  memcpy(buf, sval(v), v->data.scalar.length + 1);
-  return ADEM_OK;
-}
-
-static adem_status read_vec3(case_ctx *ctx, const adem_schema_entry *e, yaml_node_t *v,
-                             const char *path, adem_vec3 *out) {
-  if (v->type != YAML_SEQUENCE_NODE || v->data.sequence.items.top - v->data.sequence.items.start != 3)
-    return wrong_type(ctx, e, v, path);
-  double x[3];
-  for (int k = 0; k < 3; ++k) {
-    yaml_node_t *item = node_at(ctx, v->data.sequence.items.start[k]);
-    if (!parse_number(item, &x[k])) {
-      char p[KEY_PATH_MAX + 8], t[128];
-      snprintf(p, sizeof p, "%s[%d]", path, k);
-      node_text(item, t, sizeof t);
-      return fail(ctx, item, p, "expected a number, got %s", t);
-    }
-  }
-  *out = v3(x[0], x[1], x[2]);
-  return ADEM_OK;
-}
-
-static adem_status read_enum(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                             const char *path, int *index) {
-  if (v->type != YAML_SCALAR_NODE || is_null(v)) return wrong_type(ctx, e, v, path);
-  *index = adem_schema_choice(e, sval(v));
-  if (*index >= 0) return ADEM_OK;
-  char list[256], word[ADEM_NAME_MAX];
-  adem_schema_list_choices(e->choices, list, sizeof list);
-  suggestion s = {sval(v), NULL, (size_t)-1};
-  for (const char *c = e->choices; *c;) {
-    const char *bar = strchr(c, '|');
-    size_t len = bar ? (size_t)(bar - c) : strlen(c);
-    snprintf(word, sizeof word, "%.*s", (int)len, c);
-    suggest_try(&s, word);
-    if (s.best == word) s.best = c; /* keep a pointer that outlives word */
-    c += len + (bar != NULL);
-  }
-  if (s.best) {
-    size_t len = strcspn(s.best, "|");
-    return fail(ctx, v, path, "`%.80s` is not one of: %s; did you mean `%.*s`?", sval(v), list,
-                (int)len, s.best);
-  }
-  return fail(ctx, v, path, "`%.80s` is not one of: %s", sval(v), list);
-}
-
-/* ---- mappings and lists ---- */
-
-static void join(char *out, size_t n, const char *parent, const char *key) {
-  if (parent && *parent)
-    snprintf(out, n, "%.200s.%.50s", parent, key);
-  else
-    snprintf(out, n, "%.50s", key);
-}
-
-static yaml_node_t *map_get(case_ctx *ctx, yaml_node_t *map, const char *key) {
-  if (!map) return NULL;
-  for (yaml_node_pair_t *p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top; ++p) {
-    yaml_node_t *k = node_at(ctx, p->key);
-    if (k->type == YAML_SCALAR_NODE && strcmp(sval(k), key) == 0) return node_at(ctx, p->value);
-  }
-  return NULL;
-}
-
-static adem_status unknown_key(case_ctx *ctx, const map_cursor *m, const yaml_node_t *k) {
-  const char *key = sval(k);
-  char path[KEY_PATH_MAX], allowed[600] = "";
-  join(path, sizeof path, m->path, key);
-  suggestion s = {key, NULL, (size_t)-1};
-  for (size_t i = 0; i < adem_schema_count(); ++i) {
-    const adem_schema_entry *e = adem_schema_at(i);
-    if (!adem_schema_is_child(e, m->schema, m->variant)) continue;
-    list_append(allowed, sizeof allowed, adem_schema_key(e));
-    suggest_try(&s, adem_schema_key(e));
-  }
-  const adem_schema_entry *other = adem_schema_find_any(m->schema, key);
-  if (other && other->variant) {
-    char vs[128];
-    adem_schema_list_choices(other->variant, vs, sizeof vs);
-    return fail(ctx, k, path, "`%s` does not apply to %s `%s` (only to %s: %s); allowed here: %s",
-                key, m->discriminator, m->variant, m->discriminator, vs, allowed);
-  }
-  if (s.best)
-    return fail(ctx, k, path, "unknown key; did you mean `%s`? Allowed here: %s", s.best, allowed);
-  return fail(ctx, k, path, "unknown key; allowed here: %s", allowed);
-}
-
-/* Checks a mapping's keys (duplicates, unknown keys) and reads its discriminator. node NULL or
- * null: the mapping is absent and every key takes its default. */
-static adem_status map_open(case_ctx *ctx, yaml_node_t *node, yaml_node_t *parent, const char *path,
-                            const char *schema_prefix, const char *discriminator, map_cursor *m) {
-  memset(m, 0, sizeof *m);
-  m->at = node ? node : parent;
-  snprintf(m->schema, sizeof m->schema, "%s", schema_prefix);
-  snprintf(m->path, sizeof m->path, "%s", path);
-  m->discriminator = discriminator;
-  if (!node || is_null(node)) {
-    if (discriminator) {
-      char p[KEY_PATH_MAX], d[256];
-      join(p, sizeof p, path, discriminator);
-      adem_schema_describe(adem_schema_find(schema_prefix, discriminator, NULL), d, sizeof d);
-      return fail(ctx, m->at, p, "required value is missing: expected %s", d);
-    }
-    return ADEM_OK;
-  }
-  if (node->type != YAML_MAPPING_NODE) {
-    char t[128];
-    node_text(node, t, sizeof t);
-    return fail(ctx, node, path, "expected a mapping (key: value), got %s", t);
-  }
-  m->node = node;
-  yaml_node_pair_t *start = node->data.mapping.pairs.start, *top = node->data.mapping.pairs.top;
-  for (yaml_node_pair_t *p = start; p < top; ++p) {
-    yaml_node_t *k = node_at(ctx, p->key);
-    if (k->type != YAML_SCALAR_NODE || is_null(k))
-      return fail(ctx, k, path, "a key must be a plain word");
-    for (yaml_node_pair_t *q = start; q < p; ++q) {
-      yaml_node_t *kq = node_at(ctx, q->key);
-      if (kq->type == YAML_SCALAR_NODE && strcmp(sval(kq), sval(k)) == 0) {
-        char kp[KEY_PATH_MAX], first[LOC_MAX];
-        join(kp, sizeof kp, path, sval(k));
-        where_short(ctx, kq, first, sizeof first);
-        return fail(ctx, k, kp, "duplicate key (first given at %s)", first);
-      }
-    }
-  }
-  if (discriminator) {
-    const adem_schema_entry *e = adem_schema_find(schema_prefix, discriminator, NULL);
-    yaml_node_t *v = map_get(ctx, node, discriminator);
-    char p[KEY_PATH_MAX];
-    join(p, sizeof p, path, discriminator);
-    if (!v) {
-      char d[256];
-      adem_schema_describe(e, d, sizeof d);
-      return fail(ctx, node, p, "required value is missing: expected %s", d);
-    }
-    int index;
-    adem_status st = read_enum(ctx, e, v, p, &index);
-    if (st) return st;
-    snprintf(m->variant, sizeof m->variant, "%s", sval(v));
-  }
-  for (yaml_node_pair_t *p = start; p < top; ++p) {
-    yaml_node_t *k = node_at(ctx, p->key);
-    if (!adem_schema_find(m->schema, sval(k), m->variant)) return unknown_key(ctx, m, k);
-  }
-  return ADEM_OK;
-}
-
-static adem_status missing(case_ctx *ctx, const map_cursor *m, const adem_schema_entry *e,
-                           const char *path) {
-  char d[256];
-  adem_schema_describe(e, d, sizeof d);
-  if (e->need == ADEM_SCHEMA_REQUIRED_IF)
-    return fail(ctx, m->at, path, "required value is missing (required %s): expected %s",
-                e->need_doc, d);
-  return fail(ctx, m->at, path, "required value is missing: expected %s", d);
-}
-
-/* The schema entry and value node of key in m; fails when a required key is missing. */
-static adem_status lookup(case_ctx *ctx, const map_cursor *m, const char *key,
-                          const adem_schema_entry **e, yaml_node_t **v, char *path) {
-  join(path, KEY_PATH_MAX, m->path, key);
-  *e = adem_schema_find(m->schema, key, m->variant);
-  if (!*e)
-    return adem_error_set(ctx->err, ADEM_ERR_INPUT, "internal error: `%s` is not in the case schema",
-                          path);
-  *v = map_get(ctx, m->node, key);
-  if (!*v && (*e)->need == ADEM_SCHEMA_REQUIRED) return missing(ctx, m, *e, path);
-  return ADEM_OK;
-}
-
-/* The get_* functions read key from m, or its default when absent; *node (if not NULL) is the
- * value node, NULL when the key was not given. */
-static adem_status get_number(case_ctx *ctx, const map_cursor *m, const char *key, double *x,
-                              yaml_node_t **node) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (node) *node = v;
-  if (st) return st;
-  if (!v) {
-    if (e->def) *x = strtod(e->def, NULL);
-    return ADEM_OK;
-  }
-  return read_number(ctx, e, v, path, x);
-}
-
-static adem_status get_uint(case_ctx *ctx, const map_cursor *m, const char *key, uint64_t *x,
-                            yaml_node_t **node) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (node) *node = v;
-  if (st) return st;
-  if (!v) {
-    if (e->def) *x = strtoull(e->def, NULL, 10);
-    return ADEM_OK;
-  }
-  return read_uint(ctx, e, v, path, x);
-}
-
-static adem_status get_bool(case_ctx *ctx, const map_cursor *m, const char *key, bool *b) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (st) return st;
-  if (!v) {
-    *b = e->def && strcmp(e->def, "true") == 0;
-    return ADEM_OK;
-  }
-  if (!parse_bool(v, b)) return wrong_type(ctx, e, v, path);
-  return ADEM_OK;
-}
-
-static adem_status get_string(case_ctx *ctx, const map_cursor *m, const char *key, char *buf,
-                              size_t n, yaml_node_t **node) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (node) *node = v;
-  if (st) return st;
-  if (!v) {
-    if (e->def) snprintf(buf, n, "%s", e->def);
-    return ADEM_OK;
-  }
-  return read_string(ctx, e, v, path, buf, n);
-}
-
-static adem_status get_vec3(case_ctx *ctx, const map_cursor *m, const char *key, adem_vec3 *x,
-                            yaml_node_t **node) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  *x = v3_zero(); /* defined on every path, also for keys without a default */
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (node) *node = v;
-  if (st) return st;
-  if (!v) {
-    if (e->def) {
-      double a = 0, b = 0, c = 0;
-      sscanf(e->def, "[%lf, %lf, %lf]", &a, &b, &c); /* the table's own literal */
-      *x = v3(a, b, c);
-    }
-    return ADEM_OK;
-  }
-  return read_vec3(ctx, e, v, path, x);
-}
-
-static adem_status get_enum(case_ctx *ctx, const map_cursor *m, const char *key, int *index) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (st) return st;
-  if (!v) {
-    *index = e->def ? adem_schema_choice(e, e->def) : -1;
-    return ADEM_OK;
-  }
-  return read_enum(ctx, e, v, path, index);
-}
-
-/* `auto` or a number: *is_auto tells which. */
-static adem_status get_auto(case_ctx *ctx, const map_cursor *m, const char *key, bool *is_auto,
-                            double *x, yaml_node_t **node) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (node) *node = v;
-  if (st) return st;
-  if (!v || (is_plain(v) && strcmp(sval(v), "auto") == 0)) {
-    *is_auto = !v ? (e->def && strcmp(e->def, "auto") == 0) : true;
-    if (!*is_auto && e->def) *x = strtod(e->def, NULL);
-    return ADEM_OK;
-  }
-  *is_auto = false;
-  return read_number(ctx, e, v, path, x);
-}
-
-/* [name, name]: the names and their nodes (for messages about unknown names). */
-static adem_status get_pair(case_ctx *ctx, const map_cursor *m, const char *key,
-                            char names[2][ADEM_NAME_MAX], yaml_node_t *nodes[2], char paths[2][KEY_PATH_MAX]) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (st) return st;
-  if (v->type != YAML_SEQUENCE_NODE || v->data.sequence.items.top - v->data.sequence.items.start != 2)
-    return wrong_type(ctx, e, v, path);
-  for (int k = 0; k < 2; ++k) {
-    nodes[k] = node_at(ctx, v->data.sequence.items.start[k]);
-    snprintf(paths[k], KEY_PATH_MAX, "%.240s[%d]", path, k);
-    if (nodes[k]->type != YAML_SCALAR_NODE || is_null(nodes[k]) || !valid_name(sval(nodes[k]))) {
-      char t[128];
-      node_text(nodes[k], t, sizeof t);
-      return fail(ctx, nodes[k], paths[k], "expected a material name, got %s", t);
-    }
-    snprintf(names[k], ADEM_NAME_MAX, "%s", sval(nodes[k]));
-  }
-  return ADEM_OK;
-}
-
-static adem_status get_map(case_ctx *ctx, const map_cursor *m, const char *key, map_cursor *sub) {
-  const adem_schema_entry *e;
-  yaml_node_t *v;
-  char path[KEY_PATH_MAX];
-  memset(sub, 0, sizeof *sub);
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
-  if (st) return st;
-  if (v && is_null(v) && e->need == ADEM_SCHEMA_REQUIRED) return missing(ctx, m, e, path);
-  return map_open(ctx, v, m->at, path, e->path, e->discriminator, sub);
-}
-
-static adem_status get_list(case_ctx *ctx, const map_cursor *m, const char *key, list_cursor *l) {
-  yaml_node_t *v;
-  memset(l, 0, sizeof *l);
-  adem_status st = lookup(ctx, m, key, &l->e, &v, l->path);
-  if (st) return st;
-  if (v && !is_null(v)) {
-    if (v->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, l->e, v, l->path);
-    l->node = v;
-    l->n = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
-  }
-  if ((l->e->range & ADEM_RANGE_MIN) && (double)l->n < l->e->lo) {
-    if (!v) return missing(ctx, m, l->e, l->path);
-    return fail(ctx, v, l->path, "needs at least %g item%s", l->e->lo, l->e->lo == 1 ? "" : "s");
-  }
-  return ADEM_OK;
-}
-
-static adem_status list_item(case_ctx *ctx, const list_cursor *l, size_t i, map_cursor *item) {
-  char path[KEY_PATH_MAX], schema[96];
-  snprintf(path, sizeof path, "%.240s[%zu]", l->path, i);
-  snprintf(schema, sizeof schema, "%s[]", l->e->path);
-  yaml_node_t *v = node_at(ctx, l->node->data.sequence.items.start[i]);
-  if (is_null(v)) return fail(ctx, v, path, "empty list item; expected a mapping (key: value)");
-  return map_open(ctx, v, l->node, path, schema, l->e->discriminator, item);
-}
-
-/* ---- --set overrides ---- */
-
-static adem_status load_yaml(const char *text, size_t len, yaml_document_t *doc, const char *file,
-                             bool is_set, adem_error *err) {
-  yaml_parser_t parser;
-  if (!yaml_parser_initialize(&parser))
-    return adem_error_set(err, ADEM_ERR_NOMEM, "%s: out of memory", file);
-  yaml_parser_set_input_string(&parser, (const unsigned char *)text, len);
-  adem_status st = ADEM_OK;
-  bool loaded = yaml_parser_load(&parser, doc);
-  if (loaded) {
-    /* A case is one document: a second one is almost surely a mistake. */
-    yaml_document_t extra;
-    if (yaml_parser_load(&parser, &extra)) {
-      yaml_node_t *root = yaml_document_get_root_node(&extra);
-      if (root)
-        st = adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu:%zu: a second YAML document; a case %s one",
-                            file, (size_t)root->start_mark.line + 1,
-                            (size_t)root->start_mark.column + 1, is_set ? "value is" : "file holds");
-      yaml_document_delete(&extra);
-    } else {
-      loaded = false;
-    }
-    if (!loaded || st) yaml_document_delete(doc);
-  }
-  if (!loaded && !st) {
-    if (parser.error == YAML_MEMORY_ERROR) {
-      st = adem_error_set(err, ADEM_ERR_NOMEM, "%s: out of memory reading YAML", file);
-    } else if (parser.error == YAML_READER_ERROR) {
-      st = adem_error_set(err, ADEM_ERR_INPUT, "%s: YAML error: %s at byte %zu", file,
-                          parser.problem ? parser.problem : "unreadable input",
-                          (size_t)parser.problem_offset);
-    } else if (is_set) {
-      st = adem_error_set(err, ADEM_ERR_INPUT, "%s: the value is not valid YAML: %s", file,
-                          parser.problem ? parser.problem : "syntax error");
-    } else {
-      char context[200] = "";
-      if (parser.context)
-        snprintf(context, sizeof context, " (%s at line %zu:%zu)", parser.context,
-                 (size_t)parser.context_mark.line + 1, (size_t)parser.context_mark.column + 1);
-      st = adem_error_set(err, ADEM_ERR_INPUT, "%s:%zu:%zu: YAML syntax error: %s%s", file,
-                          (size_t)parser.problem_mark.line + 1, (size_t)parser.problem_mark.column + 1,
-                          parser.problem ? parser.problem : "syntax error", context);
-    }
-  }
-  yaml_parser_delete(&parser);
-  return st;
-}
-
-static int doc_size(const yaml_document_t *d) { return (int)(d->nodes.top - d->nodes.start); }
-
-/* Copies node id of src (with everything under it) into dst; returns the new id or 0. */
-static int graft(yaml_document_t *dst, yaml_document_t *src, int id, int depth) {
-  yaml_node_t *n = yaml_document_get_node(src, id);
-  if (!n || depth > 64) return 0;
-  if (n->type == YAML_SCALAR_NODE)
-    return yaml_document_add_scalar(dst, NULL, n->data.scalar.value, (int)n->data.scalar.length,
-                                    n->data.scalar.style);
-  if (n->type == YAML_SEQUENCE_NODE) {
-    int s = yaml_document_add_sequence(dst, NULL, YAML_FLOW_SEQUENCE_STYLE);
-    size_t count = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
-    for (size_t k = 0; s && k < count; ++k) {
-      int c = graft(dst, src, n->data.sequence.items.start[k], depth + 1);
-      if (!c || !yaml_document_append_sequence_item(dst, s, c)) return 0;
-    }
-    return s;
-  }
-  int m = yaml_document_add_mapping(dst, NULL, YAML_FLOW_MAPPING_STYLE);
-  size_t count = (size_t)(n->data.mapping.pairs.top - n->data.mapping.pairs.start);
-  for (size_t k = 0; m && k < count; ++k) {
-    yaml_node_pair_t p = n->data.mapping.pairs.start[k];
-    int a = graft(dst, src, p.key, depth + 1);
-    int b = a ? graft(dst, src, p.value, depth + 1) : 0;
-    if (!b || !yaml_document_append_mapping_pair(dst, m, a, b)) return 0;
-  }
-  return m;
-}
-
-static bool all_digits(const char *s) {
-  if (!*s) return false;
-  for (; *s; ++s)
-    if (*s < '0' || *s > '9') return false;
-  return true;
-}
-
-/* Applies one "key.path=value": walks the path from the root (adding missing mapping keys) and
- * replaces the target with the value parsed as YAML. Node pointers move when nodes are added,
- * so the walk holds ids. */
-static adem_status apply_set(case_ctx *ctx, const char *text) {
-  yaml_document_t *doc = &ctx->doc;
-  const char *eq = strchr(text, '=');
-  if (!eq || eq == text)
-    return adem_error_set(ctx->err, ADEM_ERR_INPUT, "--set %s: expected key.path=value", text);
-  char path[KEY_PATH_MAX];
-  if ((size_t)(eq - text) >= sizeof path)
-    return adem_error_set(ctx->err, ADEM_ERR_INPUT, "--set %.200s...: the key path is too long", text);
-  memcpy(path, text, (size_t)(eq - text));
-  path[eq - text] = '\0';
-
-  char label[LOC_MAX];
-  snprintf(label, sizeof label, "--set %.500s", text);
-  yaml_document_t value;
-  adem_status st = load_yaml(eq + 1, strlen(eq + 1), &value, label, true, ctx->err);
-  if (st) return st;
-
-  int node = yaml_document_get_root_node(doc) ? 1 : 0;
-  if (!node) node = yaml_document_add_mapping(doc, NULL, YAML_BLOCK_MAPPING_STYLE);
-  char walked[KEY_PATH_MAX] = "";
-  char *seg = path;
-  while (node && !st) {
-    char *dot = strchr(seg, '.');
-    if (dot) *dot = '\0';
-    bool last = dot == NULL;
-    if (!*seg) {
-      st = adem_error_set(ctx->err, ADEM_ERR_INPUT, "--set %s: empty segment in the key path", text);
-      break;
-    }
-    yaml_node_t *n = yaml_document_get_node(doc, node);
-    int target = 0;  /* id of the node the segment names, 0 if missing */
-    int *slot = NULL; /* where that id is stored, to replace it */
-    size_t slot_index = 0;
-    bool in_map = n->type == YAML_MAPPING_NODE;
-    if (in_map) {
-      yaml_node_pair_t *p = n->data.mapping.pairs.start;
-      for (; p < n->data.mapping.pairs.top; ++p) {
-        yaml_node_t *k = yaml_document_get_node(doc, p->key);
-        if (k->type == YAML_SCALAR_NODE && strcmp(sval(k), seg) == 0) break;
-      }
-      if (p < n->data.mapping.pairs.top) {
-        target = p->value;
-        slot_index = (size_t)(p - n->data.mapping.pairs.start);
-        slot = &p->value;
-      }
-    } else if (n->type == YAML_SEQUENCE_NODE) {
-      size_t count = (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
-      char names[400] = "";
-      size_t i = 0;
-      if (all_digits(seg)) {
-        i = strtoul(seg, NULL, 10);
-        if (i >= count) {
-          st = adem_error_set(ctx->err, ADEM_ERR_INPUT,
-                              "--set %s: `%s`: index out of range; `%s` has %zu item%s", text, seg,
-                              walked, count, count == 1 ? "" : "s");
-          break;
-        }
-      } else {
-        for (i = 0; i < count; ++i) {
-          yaml_node_t *item = yaml_document_get_node(doc, n->data.sequence.items.start[i]);
-          yaml_node_t *name = NULL;
-          if (item->type == YAML_MAPPING_NODE)
-            for (yaml_node_pair_t *p = item->data.mapping.pairs.start;
-                 p < item->data.mapping.pairs.top; ++p) {
-              yaml_node_t *k = yaml_document_get_node(doc, p->key);
-              if (k->type == YAML_SCALAR_NODE && !strcmp(sval(k), "name"))
-                name = yaml_document_get_node(doc, p->value);
-            }
-          if (name && name->type == YAML_SCALAR_NODE) {
-            if (!strcmp(sval(name), seg)) break;
-            list_append(names, sizeof names, sval(name));
-          }
-        }
-        if (i == count) {
-          st = adem_error_set(ctx->err, ADEM_ERR_INPUT,
-                              "--set %s: `%s`: no item of `%s` has that name or index (names: %s)",
-                              text, seg, walked, *names ? names : "none");
-          break;
-        }
-      }
-      target = n->data.sequence.items.start[i];
-      slot_index = i;
-      slot = &n->data.sequence.items.start[i];
-    } else {
-      st = adem_error_set(ctx->err, ADEM_ERR_INPUT,
-                          "--set %s: `%s`: `%s` is a single value, it has no keys", text, seg,
-                          walked);
-      break;
-    }
-    yaml_node_t *tn = target ? yaml_document_get_node(doc, target) : NULL;
-    bool open = !tn || is_null(tn); /* nothing there yet: walk on through a new mapping */
-    int replacement = 0;
-    if (last && yaml_document_get_root_node(&value))
-      replacement = graft(doc, &value, 1, 0);
-    else if (last) /* "key=": no value, which validation then names */
-      replacement = yaml_document_add_scalar(doc, NULL, (const yaml_char_t *)"", 0,
-                                             YAML_PLAIN_SCALAR_STYLE);
-    else if (open)
-      replacement = yaml_document_add_mapping(doc, NULL, YAML_BLOCK_MAPPING_STYLE);
-    if (last || open) {
-      if (!replacement) {
-        st = nomem(ctx);
-        break;
-      }
-      n = yaml_document_get_node(doc, node); /* may have moved */
-      if (slot) {
-        if (in_map)
-          n->data.mapping.pairs.start[slot_index].value = replacement;
-        else
-          n->data.sequence.items.start[slot_index] = replacement;
-      } else {
-        int key = yaml_document_add_scalar(doc, NULL, (const yaml_char_t *)seg, -1,
-                                           YAML_PLAIN_SCALAR_STYLE);
-        if (!key || !yaml_document_append_mapping_pair(doc, node, key, replacement)) {
-          st = nomem(ctx);
-          break;
-        }
-      }
-      target = replacement;
-    }
-    char parent[KEY_PATH_MAX];
-    snprintf(parent, sizeof parent, "%s", walked);
-    join(walked, sizeof walked, parent, seg);
-    if (last) break;
-    node = target;
-    seg = dot + 1;
-  }
-  yaml_document_delete(&value);
-  return st;
-}
-
-static adem_status apply_sets(case_ctx *ctx, int nsets) {
-  for (int k = 0; k < nsets; ++k) {
-    int before = doc_size(&ctx->doc);
-    adem_status st = apply_set(ctx, ctx->sets[k]);
-    if (st) return st;
-    int after = doc_size(&ctx->doc);
-    if (after > before) {
-      int *o = realloc(ctx->origin, (size_t)(after - ctx->nbase) * sizeof *o);
-      if (!o) return nomem(ctx);
-      ctx->origin = o;
-      /* A root mapping made for an empty file stands for the file: -1. */
-      for (int id = before + 1; id <= after; ++id) o[id - ctx->nbase - 1] = id == 1 ? -1 : k;
-      ctx->norigin = (size_t)(after - ctx->nbase);
-    }
-  }
-  return ADEM_OK;
-}
-
-/* ---- spheres ---- */
 
 static void box_include(case_ctx *ctx, adem_vec3 lo, adem_vec3 hi) {
   if (!ctx->has_box) {
@@ -894,7 +48,7 @@ static adem_status push_sphere(case_ctx *ctx, adem_vec3 x, double r, adem_vec3 v
     if (omega) ctx->omega = omega;
     double *rad = realloc(ctx->rad, cap * sizeof *rad);
     if (rad) ctx->rad = rad;
-    if (!pos || !vel || !omega || !rad) return nomem(ctx);
+    if (!pos || !vel || !omega || !rad) return adem_yaml_nomem(ctx);
     ctx->cap = cap;
   }
   ctx->pos[ctx->n] = x;
@@ -918,8 +72,8 @@ static adem_status flush_spheres(case_ctx *ctx, size_t first, int material, int 
     d.group = group;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_add_particle(ctx->w, &d, &werr) < 0) {
-      if (werr.status == ADEM_ERR_NOMEM) return nomem(ctx);
-      return fail(ctx, at, path, "%s", werr.message);
+      if (werr.status == ADEM_ERR_NOMEM) return adem_yaml_nomem(ctx);
+      return adem_yaml_fail(ctx, at, path, "%s", werr.message);
     }
     double r = ctx->rad[i];
     box_include(ctx, v3_sub(d.position, v3(r, r, r)), v3_add(d.position, v3(r, r, r)));
@@ -937,8 +91,8 @@ static adem_status check_box(case_ctx *ctx, adem_vec3 lo, adem_vec3 hi, const ya
   for (int k = 0; k < 3; ++k)
     if (!(a[k] < b[k])) {
       char path[KEY_PATH_MAX];
-      join(path, sizeof path, m->path, "max");
-      return fail(ctx, hi_node ? hi_node : m->at, path,
+      adem_yaml_join(path, sizeof path, m->path, "max");
+      return adem_yaml_fail(ctx, hi_node ? hi_node : m->at, path,
                   "must be greater than `min` in every component (%c: max %g <= min %g)", "xyz"[k],
                   b[k], a[k]);
     }
@@ -955,13 +109,13 @@ static adem_status find_material(case_ctx *ctx, const char *name, const yaml_nod
       *index = k;
       return ADEM_OK;
     }
-    list_append(known, sizeof known, ctx->mat_name[k]);
-    suggest_try(&s, ctx->mat_name[k]);
+    adem_yaml_list_append(known, sizeof known, ctx->mat_name[k]);
+    adem_yaml_suggest_try(&s, ctx->mat_name[k]);
   }
   if (s.best)
-    return fail(ctx, node, path, "unknown material `%s`; did you mean `%s`? Defined: %s", name,
+    return adem_yaml_fail(ctx, node, path, "unknown material `%s`; did you mean `%s`? Defined: %s", name,
                 s.best, known);
-  return fail(ctx, node, path, "unknown material `%s`; defined: %s", name, known);
+  return adem_yaml_fail(ctx, node, path, "unknown material `%s`; defined: %s", name, known);
 }
 
 static adem_status find_group(case_ctx *ctx, const char *name, const yaml_node_t *node,
@@ -970,67 +124,67 @@ static adem_status find_group(case_ctx *ctx, const char *name, const yaml_node_t
   if (*index >= 0) return ADEM_OK;
   char known[600] = "default";
   suggestion s = {name, NULL, (size_t)-1};
-  suggest_try(&s, "default");
+  adem_yaml_suggest_try(&s, "default");
   for (int k = 0; k < ctx->ngroup; ++k) {
-    list_append(known, sizeof known, ctx->group_name[k]);
-    suggest_try(&s, ctx->group_name[k]);
+    adem_yaml_list_append(known, sizeof known, ctx->group_name[k]);
+    adem_yaml_suggest_try(&s, ctx->group_name[k]);
   }
   if (s.best)
-    return fail(ctx, node, path, "unknown group `%s`; did you mean `%s`? Defined: %s", name, s.best,
+    return adem_yaml_fail(ctx, node, path, "unknown group `%s`; did you mean `%s`? Defined: %s", name, s.best,
                 known);
-  return fail(ctx, node, path, "unknown group `%s`; defined: %s", name, known);
+  return adem_yaml_fail(ctx, node, path, "unknown group `%s`; defined: %s", name, known);
 }
 
 static adem_status build_materials(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "materials", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "materials", &l);
   if (st) return st;
   ctx->mat_name = calloc(l.n, sizeof *ctx->mat_name);
   ctx->mat_node = calloc(l.n, sizeof *ctx->mat_node);
   ctx->mat_density = calloc(l.n, sizeof *ctx->mat_density);
   ctx->mat_rigid = calloc(l.n, sizeof *ctx->mat_rigid);
-  if (!ctx->mat_name || !ctx->mat_node || !ctx->mat_density || !ctx->mat_rigid) return nomem(ctx);
+  if (!ctx->mat_name || !ctx->mat_node || !ctx->mat_density || !ctx->mat_rigid) return adem_yaml_nomem(ctx);
   for (size_t i = 0; i < l.n; ++i) {
     map_cursor m;
-    if ((st = list_item(ctx, &l, i, &m))) return st;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
     adem_material_def d = adem_default_material_def();
     yaml_node_t *name_node, *density, *young, *poisson;
     bool rigid;
-    if ((st = get_string(ctx, &m, "name", d.name, sizeof d.name, &name_node))) return st;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", d.name, sizeof d.name, &name_node))) return st;
     for (int k = 0; k < ctx->nmat; ++k)
       if (!strcmp(ctx->mat_name[k], d.name)) {
         char first[LOC_MAX], path[KEY_PATH_MAX];
-        where_short(ctx, ctx->mat_node[k], first, sizeof first);
-        join(path, sizeof path, m.path, "name");
-        return fail(ctx, name_node, path, "duplicate material name `%s` (first defined at %s)",
+        adem_yaml_where_short(ctx, ctx->mat_node[k], first, sizeof first);
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        return adem_yaml_fail(ctx, name_node, path, "duplicate material name `%s` (first defined at %s)",
                     d.name, first);
       }
-    if ((st = get_bool(ctx, &m, "rigid", &rigid))) return st;
+    if ((st = adem_yaml_get_bool(ctx, &m, "rigid", &rigid))) return st;
     d.rigid = rigid;
-    if ((st = get_number(ctx, &m, "density", &d.density, &density))) return st;
-    if ((st = get_number(ctx, &m, "youngs_modulus", &d.young, &young))) return st;
-    if ((st = get_number(ctx, &m, "poisson_ratio", &d.poisson, &poisson))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "density", &d.density, &density))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "youngs_modulus", &d.young, &young))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "poisson_ratio", &d.poisson, &poisson))) return st;
     char path[KEY_PATH_MAX];
     if (!rigid && !young) {
-      join(path, sizeof path, m.path, "youngs_modulus");
-      return missing(ctx, &m, adem_schema_find("materials[]", "youngs_modulus", NULL), path);
+      adem_yaml_join(path, sizeof path, m.path, "youngs_modulus");
+      return adem_yaml_missing(ctx, &m, adem_schema_find("materials[]", "youngs_modulus", NULL), path);
     }
     if (!rigid && !poisson) {
-      join(path, sizeof path, m.path, "poisson_ratio");
-      return missing(ctx, &m, adem_schema_find("materials[]", "poisson_ratio", NULL), path);
+      adem_yaml_join(path, sizeof path, m.path, "poisson_ratio");
+      return adem_yaml_missing(ctx, &m, adem_schema_find("materials[]", "poisson_ratio", NULL), path);
     }
-    if ((st = get_number(ctx, &m, "restitution", &d.restitution, NULL))) return st;
-    if ((st = get_number(ctx, &m, "friction", &d.friction, NULL))) return st;
-    if ((st = get_number(ctx, &m, "surface_energy", &d.surface_energy, NULL))) return st;
-    if ((st = get_number(ctx, &m, "adhesion_hysteresis", &d.hysteresis, NULL))) return st;
-    if ((st = get_number(ctx, &m, "stiffness_factor", &d.stiffness_factor, NULL))) return st;
-    if ((st = get_number(ctx, &m, "rolling_friction", &d.rolling_friction, NULL))) return st;
-    if ((st = get_number(ctx, &m, "rolling_damping", &d.rolling_damping, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "restitution", &d.restitution, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "friction", &d.friction, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "surface_energy", &d.surface_energy, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "adhesion_hysteresis", &d.hysteresis, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "stiffness_factor", &d.stiffness_factor, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "rolling_friction", &d.rolling_friction, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "rolling_damping", &d.rolling_damping, NULL))) return st;
     adem_error werr = {ADEM_OK, ""};
     int index = adem_world_add_material(ctx->w, &d, &werr);
     if (index < 0) {
-      if (werr.status == ADEM_ERR_NOMEM) return nomem(ctx);
-      return fail(ctx, m.node, m.path, "%s", werr.message);
+      if (werr.status == ADEM_ERR_NOMEM) return adem_yaml_nomem(ctx);
+      return adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
     }
     if (index != ctx->nmat)
       return adem_error_set(ctx->err, ADEM_ERR_INPUT, "internal error: material index %d", index);
@@ -1051,10 +205,10 @@ static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem
   for (int s = 0; s < 2; ++s) {
     if (ctx->w->mat.m[mats[s]].def.surface_energy > 0.0) continue;
     char path[KEY_PATH_MAX], at[LOC_MAX];
-    join(path, sizeof path, m->path, "normal");
-    where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
-    yaml_node_t *node = map_get(ctx, m->node, "normal");
-    return fail(ctx, node ? node : m->node, path,
+    adem_yaml_join(path, sizeof path, m->path, "normal");
+    adem_yaml_where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
+    yaml_node_t *node = adem_yaml_map_get(ctx, m->node, "normal");
+    return adem_yaml_fail(ctx, node ? node : m->node, path,
                 "`jkr` between `%s` and `%s` needs a surface energy on both materials, but `%s` "
                 "(at %s) has surface_energy 0; give it a `surface_energy` > 0 (for a wall, the "
                 "wall material's) or use `normal: hertz`",
@@ -1065,14 +219,14 @@ static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem
 
 static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "interactions", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "interactions", &l);
   if (st || l.n == 0) return st;
   int *pairs = malloc(2 * l.n * sizeof *pairs);
   yaml_node_t **nodes = malloc(l.n * sizeof *nodes);
   if (!pairs || !nodes) {
     free(pairs);
     free(nodes);
-    return nomem(ctx);
+    return adem_yaml_nomem(ctx);
   }
   for (size_t i = 0; i < l.n && !st; ++i) {
     map_cursor m;
@@ -1082,8 +236,8 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     int normal, rolling;
     yaml_node_t *e_node, *mu_node;
     double e, mu;
-    if ((st = list_item(ctx, &l, i, &m))) break;
-    if ((st = get_pair(ctx, &m, "materials", names, name_nodes, paths))) break;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_get_pair(ctx, &m, "materials", names, name_nodes, paths))) break;
     if ((st = find_material(ctx, names[0], name_nodes[0], paths[0], &d.material_a))) break;
     if ((st = find_material(ctx, names[1], name_nodes[1], paths[1], &d.material_b))) break;
     nodes[i] = m.node;
@@ -1092,15 +246,15 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     for (size_t k = 0; k < i && !st; ++k)
       if (pairs[2 * k] == pairs[2 * i] && pairs[2 * k + 1] == pairs[2 * i + 1]) {
         char first[LOC_MAX];
-        where_short(ctx, nodes[k], first, sizeof first);
-        st = fail(ctx, m.node, m.path, "a second interaction of `%s` and `%s` (first at %s)",
+        adem_yaml_where_short(ctx, nodes[k], first, sizeof first);
+        st = adem_yaml_fail(ctx, m.node, m.path, "a second interaction of `%s` and `%s` (first at %s)",
                   names[0], names[1], first);
       }
     if (st) break;
-    if ((st = get_number(ctx, &m, "restitution", &e, &e_node))) break;
-    if ((st = get_number(ctx, &m, "friction", &mu, &mu_node))) break;
-    if ((st = get_enum(ctx, &m, "normal", &normal))) break;
-    if ((st = get_enum(ctx, &m, "rolling", &rolling))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "restitution", &e, &e_node))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "friction", &mu, &mu_node))) break;
+    if ((st = adem_yaml_get_enum(ctx, &m, "normal", &normal))) break;
+    if ((st = adem_yaml_get_enum(ctx, &m, "rolling", &rolling))) break;
     if (e_node) d.restitution = e;
     if (mu_node) d.friction = mu;
     /* The schema's choices are listed in the order of the enums. */
@@ -1110,10 +264,10 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
       /* DTK's stiffness and limit come from the JKR pull-off force and contact radius (H18-H22):
        * without JKR adhesion they do not exist. */
       char rpath[KEY_PATH_MAX];
-      join(rpath, sizeof rpath, m.path, "rolling");
-      yaml_node_t *at = map_get(ctx, m.node, "rolling");
+      adem_yaml_join(rpath, sizeof rpath, m.path, "rolling");
+      yaml_node_t *at = adem_yaml_map_get(ctx, m.node, "rolling");
       if (d.normal != ADEM_NORMAL_JKR) {
-        st = fail(ctx, at, rpath,
+        st = adem_yaml_fail(ctx, at, rpath,
                   "`dtk` rolling needs the JKR pull-off force and contact radius, which the "
                   "`hertz` normal model does not provide; add `normal: jkr` to this interaction or "
                   "choose another rolling model (model_a, model_c, brof)");
@@ -1123,7 +277,7 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     if (d.normal == ADEM_NORMAL_JKR && (st = check_jkr_pair(ctx, &m, &d, names))) break;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_set_interaction(ctx->w, &d, &werr) < 0)
-      st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, m.node, m.path, "%s", werr.message);
+      st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
   }
   free(pairs);
   free(nodes);
@@ -1132,29 +286,29 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
 
 static adem_status build_groups(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "groups", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "groups", &l);
   if (st || l.n == 0) return st;
   ctx->group_name = calloc(l.n, sizeof *ctx->group_name);
   ctx->group_node = calloc(l.n, sizeof *ctx->group_node);
-  if (!ctx->group_name || !ctx->group_node) return nomem(ctx);
+  if (!ctx->group_name || !ctx->group_node) return adem_yaml_nomem(ctx);
   for (size_t i = 0; i < l.n; ++i) {
     map_cursor m;
     char name[ADEM_NAME_MAX];
     yaml_node_t *name_node;
     adem_vec3 force;
-    if ((st = list_item(ctx, &l, i, &m))) return st;
-    if ((st = get_string(ctx, &m, "name", name, sizeof name, &name_node))) return st;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", name, sizeof name, &name_node))) return st;
     for (int k = 0; k < ctx->ngroup; ++k)
       if (!strcmp(ctx->group_name[k], name)) {
         char first[LOC_MAX], path[KEY_PATH_MAX];
-        where_short(ctx, ctx->group_node[k], first, sizeof first);
-        join(path, sizeof path, m.path, "name");
-        return fail(ctx, name_node, path, "duplicate group name `%s` (first defined at %s)", name,
+        adem_yaml_where_short(ctx, ctx->group_node[k], first, sizeof first);
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        return adem_yaml_fail(ctx, name_node, path, "duplicate group name `%s` (first defined at %s)", name,
                     first);
       }
-    if ((st = get_vec3(ctx, &m, "external_force", &force, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "external_force", &force, NULL))) return st;
     /* Naming `default` sets the force of the group particles without `group` belong to. */
-    if (adem_world_add_group(ctx->w, name, force) < 0) return nomem(ctx);
+    if (adem_world_add_group(ctx->w, name, force) < 0) return adem_yaml_nomem(ctx);
     snprintf(ctx->group_name[ctx->ngroup], ADEM_NAME_MAX, "%s", name);
     ctx->group_node[ctx->ngroup++] = name_node;
   }
@@ -1172,41 +326,41 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   *time = NULL;
   *vel = NULL;
   *given = false;
-  adem_status st = get_map(ctx, wall, "motion", &mo);
+  adem_status st = adem_yaml_get_map(ctx, wall, "motion", &mo);
   if (st || !mo.node) return st;
   *given = true;
   *at = mo.node;
   yaml_node_t *vnode;
   adem_vec3 v;
-  if ((st = get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
   const adem_schema_entry *e;
   yaml_node_t *table;
   char path[KEY_PATH_MAX];
-  if ((st = lookup(ctx, &mo, "table", &e, &table, path))) return st;
-  if (table && !is_null(table)) {
+  if ((st = adem_yaml_lookup(ctx, &mo, "table", &e, &table, path))) return st;
+  if (table && !adem_yaml_is_null(table)) {
     if (vnode)
-      return fail(ctx, table, path, "give either `velocity` (constant) or `table`, not both");
-    if (table->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, table, path);
+      return adem_yaml_fail(ctx, table, path, "give either `velocity` (constant) or `table`, not both");
+    if (table->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, table, path);
     size_t n = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
-    if (n == 0) return fail(ctx, table, path, "needs at least 1 row [t, vx, vy, vz]");
+    if (n == 0) return adem_yaml_fail(ctx, table, path, "needs at least 1 row [t, vx, vy, vz]");
     *time = malloc(n * sizeof **time);
     *vel = malloc(n * sizeof **vel);
-    if (!*time || !*vel) return nomem(ctx);
+    if (!*time || !*vel) return adem_yaml_nomem(ctx);
     for (size_t k = 0; k < n; ++k) {
-      yaml_node_t *row = node_at(ctx, table->data.sequence.items.start[k]);
+      yaml_node_t *row = adem_yaml_node_at(ctx, table->data.sequence.items.start[k]);
       char rp[KEY_PATH_MAX + 24], t[128];
       snprintf(rp, sizeof rp, "%s[%zu]", path, k);
       double x[4];
       bool ok = row->type == YAML_SEQUENCE_NODE &&
                 row->data.sequence.items.top - row->data.sequence.items.start == 4;
       for (int j = 0; ok && j < 4; ++j)
-        ok = parse_number(node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
+        ok = adem_yaml_parse_number(adem_yaml_node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
       if (!ok) {
-        node_text(row, t, sizeof t);
-        return fail(ctx, row, rp, "expected a row [t, vx, vy, vz] of 4 numbers (s, m/s), got %s", t);
+        adem_yaml_node_text(row, t, sizeof t);
+        return adem_yaml_fail(ctx, row, rp, "expected a row [t, vx, vy, vz] of 4 numbers (s, m/s), got %s", t);
       }
       if (k > 0 && !(x[0] > (*time)[k - 1]))
-        return fail(ctx, row, rp,
+        return adem_yaml_fail(ctx, row, rp,
                     "the table is not ordered in time: t = %g s does not come after t = %g s of "
                     "the row before; times must increase strictly",
                     x[0], (*time)[k - 1]);
@@ -1217,7 +371,7 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   } else if (vnode) {
     *time = malloc(sizeof **time);
     *vel = malloc(sizeof **vel);
-    if (!*time || !*vel) return nomem(ctx);
+    if (!*time || !*vel) return adem_yaml_nomem(ctx);
     (*time)[0] = 0.0;
     (*vel)[0] = v;
     def->n = 1;
@@ -1225,15 +379,15 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   def->time = *time;
   def->velocity = *vel;
   for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
-  if ((st = get_map(ctx, &mo, "rotation", &rot))) return st;
+  if ((st = adem_yaml_get_map(ctx, &mo, "rotation", &rot))) return st;
   if (rot.node) {
     yaml_node_t *axis_node;
-    if ((st = get_vec3(ctx, &rot, "axis", &def->axis, &axis_node))) return st;
-    if ((st = get_vec3(ctx, &rot, "center", &def->center, NULL))) return st;
-    if ((st = get_number(ctx, &rot, "speed", &def->angular_speed, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rot, "axis", &def->axis, &axis_node))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rot, "center", &def->center, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &rot, "speed", &def->angular_speed, NULL))) return st;
     if (!(v3_norm(def->axis) > 0.0)) {
-      join(path, sizeof path, rot.path, "axis");
-      return fail(ctx, axis_node, path, "must be a non-zero vector");
+      adem_yaml_join(path, sizeof path, rot.path, "axis");
+      return adem_yaml_fail(ctx, axis_node, path, "must be a non-zero vector");
     }
   }
   return ADEM_OK;
@@ -1249,17 +403,17 @@ static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
     if (a >= ng && w->walls.mesh_walls[a - ng].count < 2) continue;
     for (int k = 0; k < w->walls.nplanes; ++k)
       if (!strcmp(an, w->walls.planes[k].def.name))
-        return fail(ctx, m->node, m->path,
+        return adem_yaml_fail(ctx, m->node, m->path,
                     "the name `%s` is used by a plane and by a mesh; give one of them another "
                     "`name`",
                     an);
     for (int b = ng; b < a; ++b)
       if (w->walls.mesh_walls[b - ng].count >= 2 && !strcmp(an, w->walls.mesh_walls[b - ng].name))
-        return fail(ctx, m->node, m->path,
+        return adem_yaml_fail(ctx, m->node, m->path,
                     "the name `%s` is used by two meshes; give one of them another `name`", an);
     for (int g = 0; a >= ng && g < ng; ++g)
       if (!strcmp(an, w->walls.mesh.groups[g].name))
-        return fail(ctx, m->node, m->path,
+        return adem_yaml_fail(ctx, m->node, m->path,
                     "the name `%s` is used by a mesh file and by a mesh group; give one of them "
                     "another `name`",
                     an);
@@ -1272,35 +426,35 @@ static adem_status read_rotations(case_ctx *ctx, const map_cursor *wall, adem_me
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
-  adem_status st = lookup(ctx, wall, "rotate", &e, &v, path);
-  if (st || !v || is_null(v)) return st;
+  adem_status st = adem_yaml_lookup(ctx, wall, "rotate", &e, &v, path);
+  if (st || !v || adem_yaml_is_null(v)) return st;
   size_t n = 1;
   if (v->type == YAML_SEQUENCE_NODE)
     n = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
   else if (v->type != YAML_MAPPING_NODE)
-    return fail(ctx, v, path, "expected `{axis: [x, y, z], angle: degrees}` or a list of them");
+    return adem_yaml_fail(ctx, v, path, "expected `{axis: [x, y, z], angle: degrees}` or a list of them");
   for (size_t k = 0; k < n; ++k) {
     map_cursor r;
     char rp[KEY_PATH_MAX];
     yaml_node_t *item = v;
     if (v->type == YAML_SEQUENCE_NODE) {
       snprintf(rp, sizeof rp, "%.200s[%zu]", path, k);
-      item = node_at(ctx, v->data.sequence.items.start[k]);
+      item = adem_yaml_node_at(ctx, v->data.sequence.items.start[k]);
     } else {
       snprintf(rp, sizeof rp, "%s", path);
     }
-    if ((st = map_open(ctx, item, v, rp, "walls[].rotate[]", NULL, &r))) return st;
-    if (!r.node) return fail(ctx, item, rp, "expected `{axis: [x, y, z], angle: degrees}`");
+    if ((st = adem_yaml_map_open(ctx, item, v, rp, "walls[].rotate[]", NULL, &r))) return st;
+    if (!r.node) return adem_yaml_fail(ctx, item, rp, "expected `{axis: [x, y, z], angle: degrees}`");
     adem_vec3 axis;
     double angle = 0.0;
     yaml_node_t *axis_node;
-    if ((st = get_vec3(ctx, &r, "axis", &axis, &axis_node))) return st;
-    if ((st = get_number(ctx, &r, "angle", &angle, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &r, "axis", &axis, &axis_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, &r, "angle", &angle, NULL))) return st;
     adem_error werr = {ADEM_OK, ""};
     if (adem_mesh_transform_rotate(tf, axis, angle, &werr)) {
       char ap[KEY_PATH_MAX];
-      join(ap, sizeof ap, rp, "axis");
-      return fail(ctx, axis_node, ap, "%s", werr.message);
+      adem_yaml_join(ap, sizeof ap, rp, "axis");
+      return adem_yaml_fail(ctx, axis_node, ap, "%s", werr.message);
     }
   }
   return ADEM_OK;
@@ -1325,51 +479,51 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
   char *resolved = NULL;
   int first = w->walls.mesh.ngroups;
   adem_status st;
-  if ((st = get_string(ctx, m, "file", file, sizeof file, &file_node))) return st;
-  if ((st = get_number(ctx, m, "scale", &tf.scale, NULL))) return st;
+  if ((st = adem_yaml_get_string(ctx, m, "file", file, sizeof file, &file_node))) return st;
+  if ((st = adem_yaml_get_number(ctx, m, "scale", &tf.scale, NULL))) return st;
   if ((st = read_rotations(ctx, m, &tf))) return st;
-  if ((st = get_vec3(ctx, m, "translate", &tf.translation, NULL))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "translate", &tf.translation, NULL))) return st;
   adem_vec3 about;
-  if ((st = get_vec3(ctx, m, "torque_about", &about, &about_node))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "torque_about", &about, &about_node))) return st;
   adem_motion_def md;
   double *times = NULL;
   adem_vec3 *vels = NULL;
   bool moves = false, own = false;
   st = read_motion(ctx, m, &md, &times, &vels, &moves, &motion_node);
-  if (!st) st = get_bool(ctx, m, "own_vertices", &own);
+  if (!st) st = adem_yaml_get_bool(ctx, m, "own_vertices", &own);
   if (st) goto done;
-  own_node = map_get(ctx, m->node, "own_vertices");
+  own_node = adem_yaml_map_get(ctx, m->node, "own_vertices");
   if (!own_node) own = moves;
   if (moves && !own) {
-    join(path, sizeof path, m->path, "own_vertices");
-    st = fail(ctx, own_node, path,
+    adem_yaml_join(path, sizeof path, m->path, "own_vertices");
+    st = adem_yaml_fail(ctx, own_node, path,
               "a mesh with a `motion` needs its own vertices: set `own_vertices: true`");
     goto done;
   }
   tf.own_vertices = own;
   resolved = mesh_path(ctx, file);
   if (!resolved) {
-    st = nomem(ctx);
+    st = adem_yaml_nomem(ctx);
     goto done;
   }
   st = adem_world_add_stl(w, resolved, &tf, name, v3_zero(), &werr);
-  join(path, sizeof path, m->path, "file");
+  adem_yaml_join(path, sizeof path, m->path, "file");
   if (st) {
-    st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
+    st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
     goto done;
   }
   for (int g = first; g < w->walls.mesh.ngroups && moves; ++g) {
     if (adem_world_set_mesh_motion(w, g, &md, &werr)) {
-      join(path, sizeof path, m->path, "motion");
-      st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, motion_node, path, "%s", werr.message);
+      adem_yaml_join(path, sizeof path, m->path, "motion");
+      st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, motion_node, path, "%s", werr.message);
       goto done;
     }
     /* a rotating mesh's points move at up to omega times their distance from the axis */
     ctx->vmax = fmax(ctx->vmax, fabs(md.angular_speed) * w->walls.mesh_reach[g]);
   }
   if (about_node && adem_world_set_mesh_torque_point(w, w->walls.nmesh_walls - 1, about, &werr)) {
-    join(path, sizeof path, m->path, "torque_about");
-    st = fail(ctx, about_node, path, "%s", werr.message);
+    adem_yaml_join(path, sizeof path, m->path, "torque_about");
+    st = adem_yaml_fail(ctx, about_node, path, "%s", werr.message);
     goto done;
   }
   if (first < w->walls.mesh.ngroups) { /* the file's bounding box */
@@ -1397,12 +551,12 @@ static adem_status plane_motion(case_ctx *ctx, const map_cursor *m, int plane,
   yaml_node_t *at = NULL;
   char path[KEY_PATH_MAX];
   adem_status st = read_motion(ctx, m, &md, &times, &vels, &moves, &at);
-  join(path, sizeof path, m->path, "motion");
+  adem_yaml_join(path, sizeof path, m->path, "motion");
   if (!st && moves && velocity_node)
-    st = fail(ctx, at, path, "give either `velocity` or `motion`, not both");
+    st = adem_yaml_fail(ctx, at, path, "give either `velocity` or `motion`, not both");
   adem_error werr = {ADEM_OK, ""};
   if (!st && moves && adem_world_set_plane_motion(ctx->w, plane, &md, &werr))
-    st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, at, path, "%s", werr.message);
+    st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, at, path, "%s", werr.message);
   free(times);
   free(vels);
   return st;
@@ -1412,47 +566,47 @@ static adem_status plane_motion(case_ctx *ctx, const map_cursor *m, int plane,
 static adem_status wall_active(case_ctx *ctx, const map_cursor *m, int planes_before,
                                int meshes_before) {
   bool active = true;
-  adem_status st = get_bool(ctx, m, "active", &active);
+  adem_status st = adem_yaml_get_bool(ctx, m, "active", &active);
   adem_error werr = {ADEM_OK, ""};
   for (int k = planes_before; !st && !active && k < ctx->w->walls.nplanes; ++k)
-    if (adem_world_set_plane_active(ctx->w, k, false, &werr)) st = nomem(ctx);
+    if (adem_world_set_plane_active(ctx->w, k, false, &werr)) st = adem_yaml_nomem(ctx);
   for (int g = meshes_before; !st && !active && g < ctx->w->walls.mesh.ngroups; ++g)
-    if (adem_world_set_mesh_active(ctx->w, g, false, &werr)) st = nomem(ctx);
+    if (adem_world_set_mesh_active(ctx->w, g, false, &werr)) st = adem_yaml_nomem(ctx);
   return st;
 }
 
 static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "walls", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "walls", &l);
   if (st || l.n == 0) return st;
   char(*names)[ADEM_NAME_MAX] = calloc(l.n, sizeof *names);
   yaml_node_t **nodes = calloc(l.n, sizeof *nodes);
   if (!names || !nodes) {
     free(names);
     free(nodes);
-    return nomem(ctx);
+    return adem_yaml_nomem(ctx);
   }
   for (size_t i = 0; i < l.n && !st; ++i) {
     map_cursor m;
     char material[ADEM_NAME_MAX], path[KEY_PATH_MAX];
     yaml_node_t *name_node, *mat_node;
     int mat;
-    if ((st = list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
     int planes_before = ctx->w->walls.nplanes, meshes_before = ctx->w->walls.mesh.ngroups;
-    if ((st = get_string(ctx, &m, "name", names[i], sizeof names[i], &name_node))) break;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", names[i], sizeof names[i], &name_node))) break;
     if (!name_node) snprintf(names[i], sizeof names[i], "wall%zu", i);
     nodes[i] = name_node ? name_node : m.node;
     for (size_t k = 0; k < i && !st; ++k)
       if (!strcmp(names[k], names[i])) {
         char first[LOC_MAX];
-        where_short(ctx, nodes[k], first, sizeof first);
-        join(path, sizeof path, m.path, "name");
-        st = fail(ctx, nodes[i], path, "duplicate wall name `%s` (first used at %s)", names[i],
+        adem_yaml_where_short(ctx, nodes[k], first, sizeof first);
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        st = adem_yaml_fail(ctx, nodes[i], path, "duplicate wall name `%s` (first used at %s)", names[i],
                   first);
       }
     if (st) break;
-    if ((st = get_string(ctx, &m, "material", material, sizeof material, &mat_node))) break;
-    join(path, sizeof path, m.path, "material");
+    if ((st = adem_yaml_get_string(ctx, &m, "material", material, sizeof material, &mat_node))) break;
+    adem_yaml_join(path, sizeof path, m.path, "material");
     if ((st = find_material(ctx, material, mat_node, path, &mat))) break;
     adem_error werr = {ADEM_OK, ""};
     if (!strcmp(m.variant, "plane")) {
@@ -1460,19 +614,19 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       yaml_node_t *normal_node;
       snprintf(d.name, sizeof d.name, "%s", names[i]);
       d.material = mat;
-      if ((st = get_vec3(ctx, &m, "point", &d.point, NULL))) break;
-      if ((st = get_vec3(ctx, &m, "normal", &d.normal, &normal_node))) break;
+      if ((st = adem_yaml_get_vec3(ctx, &m, "point", &d.point, NULL))) break;
+      if ((st = adem_yaml_get_vec3(ctx, &m, "normal", &d.normal, &normal_node))) break;
       yaml_node_t *velocity_node;
-      if ((st = get_vec3(ctx, &m, "velocity", &d.velocity, &velocity_node))) break;
+      if ((st = adem_yaml_get_vec3(ctx, &m, "velocity", &d.velocity, &velocity_node))) break;
       double len = v3_norm(d.normal);
       if (!(len > 0) || !isfinite(len)) {
-        join(path, sizeof path, m.path, "normal");
-        st = fail(ctx, normal_node, path, "must be a non-zero vector");
+        adem_yaml_join(path, sizeof path, m.path, "normal");
+        st = adem_yaml_fail(ctx, normal_node, path, "must be a non-zero vector");
         break;
       }
       d.normal = v3_scale(d.normal, 1.0 / len);
       if (adem_world_add_plane(ctx->w, &d, &werr) < 0) {
-        st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, m.node, m.path, "%s", werr.message);
+        st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
         break;
       }
       box_include(ctx, d.point, d.point);
@@ -1483,11 +637,11 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
     } else {
       adem_vec3 lo, hi;
       yaml_node_t *hi_node;
-      if ((st = get_vec3(ctx, &m, "min", &lo, NULL))) break;
-      if ((st = get_vec3(ctx, &m, "max", &hi, &hi_node))) break;
+      if ((st = adem_yaml_get_vec3(ctx, &m, "min", &lo, NULL))) break;
+      if ((st = adem_yaml_get_vec3(ctx, &m, "max", &hi, &hi_node))) break;
       if ((st = check_box(ctx, lo, hi, hi_node, &m))) break;
       if (adem_world_add_box(ctx->w, names[i], lo, hi, mat, &werr) < 0) {
-        st = werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, m.node, m.path, "%s", werr.message);
+        st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
         break;
       }
       box_include(ctx, lo, hi);
@@ -1503,7 +657,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
 /* An explicit list of spheres; none of them may overlap another of the list. */
 static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int group) {
   list_cursor l;
-  adem_status st = get_list(ctx, set, "spheres", &l);
+  adem_status st = adem_yaml_get_list(ctx, set, "spheres", &l);
   if (st) return st;
   size_t first = ctx->n;
   double rmax = 0;
@@ -1511,11 +665,11 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
     map_cursor m;
     adem_vec3 x, v, w;
     double r = 0.0;
-    if ((st = list_item(ctx, &l, i, &m))) return st;
-    if ((st = get_vec3(ctx, &m, "position", &x, NULL))) return st;
-    if ((st = get_number(ctx, &m, "radius", &r, NULL))) return st;
-    if ((st = get_vec3(ctx, &m, "velocity", &v, NULL))) return st;
-    if ((st = get_vec3(ctx, &m, "angular_velocity", &w, NULL))) return st;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "position", &x, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, &m, "radius", &r, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "velocity", &v, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "angular_velocity", &w, NULL))) return st;
     if ((st = push_sphere(ctx, x, r, v, w))) return st;
     rmax = fmax(rmax, r);
   }
@@ -1527,22 +681,22 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
       hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
     }
     adem_sphere_grid g;
-    if (adem_insert_grid_init(&g, lo, hi, 2.0 * rmax, rmax, l.n)) return nomem(ctx);
+    if (adem_insert_grid_init(&g, lo, hi, 2.0 * rmax, rmax, l.n)) return adem_yaml_nomem(ctx);
     for (size_t i = first; i < ctx->n && !st; ++i) {
       int64_t j = adem_insert_grid_overlap(&g, ctx->pos, ctx->rad, ctx->pos[i], ctx->rad[i]);
       if (j >= 0) {
         size_t a = (size_t)j - first, b = i - first;
-        yaml_node_t *na = node_at(ctx, l.node->data.sequence.items.start[a]);
-        yaml_node_t *nb = node_at(ctx, l.node->data.sequence.items.start[b]);
+        yaml_node_t *na = adem_yaml_node_at(ctx, l.node->data.sequence.items.start[a]);
+        yaml_node_t *nb = adem_yaml_node_at(ctx, l.node->data.sequence.items.start[b]);
         char pa[KEY_PATH_MAX], pb[KEY_PATH_MAX], first_at[LOC_MAX];
         snprintf(pa, sizeof pa, "%.240s[%zu]", l.path, a);
         snprintf(pb, sizeof pb, "%.240s[%zu]", l.path, b);
-        where_short(ctx, na, first_at, sizeof first_at);
-        st = fail(ctx, nb, pb,
+        adem_yaml_where_short(ctx, na, first_at, sizeof first_at);
+        st = adem_yaml_fail(ctx, nb, pb,
                   "overlaps %s (at %s): centre distance %g m < sum of radii %g m", pa, first_at,
                   v3_norm(v3_sub(ctx->pos[i], ctx->pos[j])), ctx->rad[i] + ctx->rad[j]);
       } else if (adem_insert_grid_add(&g, ctx->pos, ctx->rad, i)) {
-        st = nomem(ctx);
+        st = adem_yaml_nomem(ctx);
       }
     }
     adem_insert_grid_free(&g);
@@ -1565,31 +719,31 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   yaml_node_t *s_node, *hi_node, *count_node;
   adem_status st;
   char path[KEY_PATH_MAX];
-  if ((st = get_number(ctx, m, "radius", &r, NULL))) return st;
-  if ((st = get_number(ctx, m, "spacing", &s, &s_node))) return st;
+  if ((st = adem_yaml_get_number(ctx, m, "radius", &r, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, m, "spacing", &s, &s_node))) return st;
   if (s < 2.0 * r) {
-    join(path, sizeof path, m->path, "spacing");
-    return fail(ctx, s_node, path,
+    adem_yaml_join(path, sizeof path, m->path, "spacing");
+    return adem_yaml_fail(ctx, s_node, path,
                 "spacing %g m is less than the diameter 2 radius = %g m; neighbours would overlap", s,
                 2.0 * r);
   }
-  if ((st = get_vec3(ctx, m, "min", &lo, NULL))) return st;
-  if ((st = get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "min", &lo, NULL))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
   if ((st = check_box(ctx, lo, hi, hi_node, m))) return st;
-  if ((st = get_uint(ctx, m, "count", &count, &count_node))) return st;
-  if ((st = get_vec3(ctx, m, "velocity", &v, NULL))) return st;
-  if ((st = get_vec3(ctx, m, "angular_velocity", &w, NULL))) return st;
+  if ((st = adem_yaml_get_uint(ctx, m, "count", &count, &count_node))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "velocity", &v, NULL))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, m, "angular_velocity", &w, NULL))) return st;
   double nx = lattice_sites(lo.x, hi.x, r, s), ny = lattice_sites(lo.y, hi.y, r, s),
          nz = lattice_sites(lo.z, hi.z, r, s);
   if (nx < 1 || ny < 1 || nz < 1) {
-    join(path, sizeof path, m->path, "max");
-    return fail(ctx, hi_node, path, "the box is narrower than one sphere (diameter %g m) along %c",
+    adem_yaml_join(path, sizeof path, m->path, "max");
+    return adem_yaml_fail(ctx, hi_node, path, "the box is narrower than one sphere (diameter %g m) along %c",
                 2.0 * r, nx < 1 ? 'x' : ny < 1 ? 'y' : 'z');
   }
   double capacity = nx * ny * nz;
   double n = count > 0 ? fmin((double)count, capacity) : capacity;
   if (n > MAX_SET_SPHERES)
-    return fail(ctx, m->node, m->path, "would create %.3g spheres (at most %.0g per set)", n,
+    return adem_yaml_fail(ctx, m->node, m->path, "would create %.3g spheres (at most %.0g per set)", n,
                 MAX_SET_SPHERES);
   if ((double)count > capacity)
     adem_log(ADEM_LOG_WARN, "%s: the lattice box holds %.0f spheres; count asks for %llu", m->path,
@@ -1614,19 +768,19 @@ static adem_status get_numbers(case_ctx *ctx, const map_cursor *m, const char *k
   char path[KEY_PATH_MAX];
   *out = NULL;
   *n = 0;
-  adem_status st = lookup(ctx, m, key, &e, &v, path);
+  adem_status st = adem_yaml_lookup(ctx, m, key, &e, &v, path);
   if (node) *node = v;
   if (st || !v) return st;
-  if (v->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, v, path);
+  if (v->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, v, path);
   size_t count = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
-  if (count == 0) return fail(ctx, v, path, "needs at least one number");
+  if (count == 0) return adem_yaml_fail(ctx, v, path, "needs at least one number");
   *out = malloc(count * sizeof **out);
-  if (!*out) return nomem(ctx);
+  if (!*out) return adem_yaml_nomem(ctx);
   for (size_t k = 0; k < count; ++k) {
-    yaml_node_t *item = node_at(ctx, v->data.sequence.items.start[k]);
+    yaml_node_t *item = adem_yaml_node_at(ctx, v->data.sequence.items.start[k]);
     char p[KEY_PATH_MAX + 24];
     snprintf(p, sizeof p, "%s[%zu]", path, k);
-    if ((st = read_number(ctx, e, item, p, &(*out)[k]))) {
+    if ((st = adem_yaml_read_number(ctx, e, item, p, &(*out)[k]))) {
       free(*out);
       *out = NULL;
       return st;
@@ -1641,26 +795,26 @@ static adem_status get_numbers(case_ctx *ctx, const map_cursor *m, const char *k
 static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, const char *fit_what,
                              const char *region_word, adem_size_dist *d, map_cursor *dm) {
   memset(d, 0, sizeof *d);
-  adem_status st = get_map(ctx, m, "radius", dm);
+  adem_status st = adem_yaml_get_map(ctx, m, "radius", dm);
   if (st) return st;
   char path[KEY_PATH_MAX];
   yaml_node_t *node;
   d->limit = fit;
   if (!strcmp(dm->variant, "constant")) {
     d->kind = ADEM_SIZE_CONSTANT;
-    if ((st = get_number(ctx, dm, "value", &d->value, &node))) return st;
-    join(path, sizeof path, dm->path, "value");
+    if ((st = adem_yaml_get_number(ctx, dm, "value", &d->value, &node))) return st;
+    adem_yaml_join(path, sizeof path, dm->path, "value");
     if (d->value > fit)
-      return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->value,
+      return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->value,
                   region_word, fit_what, fit);
   } else if (!strcmp(dm->variant, "uniform")) {
     d->kind = ADEM_SIZE_UNIFORM;
-    if ((st = get_number(ctx, dm, "min", &d->min, NULL))) return st;
-    if ((st = get_number(ctx, dm, "max", &d->max, &node))) return st;
-    join(path, sizeof path, dm->path, "max");
-    if (!(d->max > d->min)) return fail(ctx, node, path, "must be greater than `min` (%g m)", d->min);
+    if ((st = adem_yaml_get_number(ctx, dm, "min", &d->min, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, dm, "max", &d->max, &node))) return st;
+    adem_yaml_join(path, sizeof path, dm->path, "max");
+    if (!(d->max > d->min)) return adem_yaml_fail(ctx, node, path, "must be greater than `min` (%g m)", d->min);
     if (d->max > fit)
-      return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->max,
+      return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->max,
                   region_word, fit_what, fit);
   } else if (!strcmp(dm->variant, "discrete")) {
     d->kind = ADEM_SIZE_DISCRETE;
@@ -1672,7 +826,7 @@ static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, con
     d->cumulative = malloc(d->n * sizeof *d->cumulative);
     if (!d->cumulative) {
       free(weights);
-      return nomem(ctx);
+      return adem_yaml_nomem(ctx);
     }
     double sum = 0.0;
     for (size_t k = 0; k < d->n; ++k) {
@@ -1680,20 +834,20 @@ static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, con
       d->cumulative[k] = sum;
     }
     free(weights);
-    join(path, sizeof path, dm->path, "weights");
+    adem_yaml_join(path, sizeof path, dm->path, "weights");
     if (wnode && nw != d->n)
-      return fail(ctx, wnode, path, "has %zu weights for %zu values; give one weight per value", nw,
+      return adem_yaml_fail(ctx, wnode, path, "has %zu weights for %zu values; give one weight per value", nw,
                   d->n);
-    if (!(sum > 0.0)) return fail(ctx, wnode, path, "the weights are all 0");
-    join(path, sizeof path, dm->path, "values");
+    if (!(sum > 0.0)) return adem_yaml_fail(ctx, wnode, path, "the weights are all 0");
+    adem_yaml_join(path, sizeof path, dm->path, "values");
     for (size_t k = 0; k < d->n; ++k)
       if (d->values[k] > fit)
-        return fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->values[k],
+        return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->values[k],
                     region_word, fit_what, fit);
   } else {
     d->kind = !strcmp(dm->variant, "lognormal") ? ADEM_SIZE_LOGNORMAL : ADEM_SIZE_NORMAL;
-    if ((st = get_number(ctx, dm, "mean", &d->mean, NULL))) return st;
-    if ((st = get_number(ctx, dm, "std", &d->std, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, dm, "mean", &d->mean, NULL))) return st;
+    if ((st = adem_yaml_get_number(ctx, dm, "std", &d->std, NULL))) return st;
   }
   return ADEM_OK;
 }
@@ -1707,25 +861,25 @@ static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys
   adem_status st = ADEM_OK;
   /* absent from a random set: the box keys are used (an absent mapping with a `shape` to
    * choose would be reported missing) */
-  if (!box_keys || map_get(ctx, m->node, "region")) st = get_map(ctx, m, "region", &rm);
+  if (!box_keys || adem_yaml_map_get(ctx, m->node, "region")) st = adem_yaml_get_map(ctx, m, "region", &rm);
   if (st) return st;
   char path[KEY_PATH_MAX];
   adem_vec3 lo, hi;
   yaml_node_t *lo_node = NULL, *hi_node = NULL;
   if (box_keys) {
-    if ((st = get_vec3(ctx, m, "min", &lo, &lo_node))) return st;
-    if ((st = get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, m, "min", &lo, &lo_node))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
     if (rm.node && (lo_node || hi_node)) {
-      join(path, sizeof path, m->path, lo_node ? "min" : "max");
-      return fail(ctx, lo_node ? lo_node : hi_node, path,
+      adem_yaml_join(path, sizeof path, m->path, lo_node ? "min" : "max");
+      return adem_yaml_fail(ctx, lo_node ? lo_node : hi_node, path,
                   "give either the box `min`/`max` or a `region`, not both");
     }
     if (!rm.node) {
       *word = "box";
       if (!lo_node || !hi_node) {
         const char *key = lo_node ? "max" : "min";
-        join(path, sizeof path, m->path, key);
-        return missing(ctx, m, adem_schema_find(m->schema, key, m->variant), path);
+        adem_yaml_join(path, sizeof path, m->path, key);
+        return adem_yaml_missing(ctx, m, adem_schema_find(m->schema, key, m->variant), path);
       }
       if ((st = check_box(ctx, lo, hi, hi_node, m))) return st;
       adem_insert_region_box(r, lo, hi);
@@ -1735,8 +889,8 @@ static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys
   adem_error werr = {ADEM_OK, ""};
   if (!strcmp(rm.variant, "box")) {
     *word = "box";
-    if ((st = get_vec3(ctx, &rm, "min", &lo, NULL))) return st;
-    if ((st = get_vec3(ctx, &rm, "max", &hi, &hi_node))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rm, "min", &lo, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rm, "max", &hi, &hi_node))) return st;
     if ((st = check_box(ctx, lo, hi, hi_node, &rm))) return st;
     adem_insert_region_box(r, lo, hi);
   } else if (!strcmp(rm.variant, "cylinder")) {
@@ -1744,27 +898,27 @@ static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys
     adem_vec3 a, b;
     double radius = 0.0;
     yaml_node_t *end_node;
-    if ((st = get_vec3(ctx, &rm, "start", &a, NULL))) return st;
-    if ((st = get_vec3(ctx, &rm, "end", &b, &end_node))) return st;
-    if ((st = get_number(ctx, &rm, "radius", &radius, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rm, "start", &a, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rm, "end", &b, &end_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, &rm, "radius", &radius, NULL))) return st;
     if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
-      join(path, sizeof path, rm.path, "end");
-      return fail(ctx, end_node, path, "%s", werr.message);
+      adem_yaml_join(path, sizeof path, rm.path, "end");
+      return adem_yaml_fail(ctx, end_node, path, "%s", werr.message);
     }
   } else {
     *word = "mesh region";
     char file[ADEM_PATH_MAX];
     yaml_node_t *file_node;
     adem_mesh_transform tf = adem_default_mesh_transform();
-    if ((st = get_string(ctx, &rm, "file", file, sizeof file, &file_node))) return st;
-    if ((st = get_number(ctx, &rm, "scale", &tf.scale, NULL))) return st;
-    if ((st = get_vec3(ctx, &rm, "translate", &tf.translation, NULL))) return st;
+    if ((st = adem_yaml_get_string(ctx, &rm, "file", file, sizeof file, &file_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, &rm, "scale", &tf.scale, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &rm, "translate", &tf.translation, NULL))) return st;
     char *resolved = mesh_path(ctx, file);
-    if (!resolved) return nomem(ctx);
+    if (!resolved) return adem_yaml_nomem(ctx);
     st = adem_insert_region_mesh(r, resolved, &tf, &werr);
     free(resolved);
-    join(path, sizeof path, rm.path, "file");
-    if (st) return werr.status == ADEM_ERR_NOMEM ? nomem(ctx) : fail(ctx, file_node, path, "%s", werr.message);
+    adem_yaml_join(path, sizeof path, rm.path, "file");
+    if (st) return werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
   }
   return ADEM_OK;
 }
@@ -1787,23 +941,23 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   adem_fill_result res;
   memset(&res, 0, sizeof res);
   adem_status st = read_region(ctx, m, true, &reg, &word);
-  if (!st) st = get_uint(ctx, m, "count", &count, &count_node);
-  if (!st) st = get_number(ctx, m, "solid_fraction", &fraction, &fraction_node);
+  if (!st) st = adem_yaml_get_uint(ctx, m, "count", &count, &count_node);
+  if (!st) st = adem_yaml_get_number(ctx, m, "solid_fraction", &fraction, &fraction_node);
   if (!st && count_node && fraction_node) {
-    join(path, sizeof path, m->path, "solid_fraction");
-    st = fail(ctx, fraction_node, path, "give either `count` or `solid_fraction`, not both");
+    adem_yaml_join(path, sizeof path, m->path, "solid_fraction");
+    st = adem_yaml_fail(ctx, fraction_node, path, "give either `count` or `solid_fraction`, not both");
   }
   if (!st && !count_node && !fraction_node) {
-    join(path, sizeof path, m->path, "count");
-    st = missing(ctx, m, adem_schema_find(m->schema, "count", m->variant), path);
+    adem_yaml_join(path, sizeof path, m->path, "count");
+    st = adem_yaml_missing(ctx, m, adem_schema_find(m->schema, "count", m->variant), path);
   }
   if (!st && (double)count > MAX_SET_SPHERES)
-    st = fail(ctx, m->node, m->path, "count %llu is more than %.0g spheres per set",
+    st = adem_yaml_fail(ctx, m->node, m->path, "count %llu is more than %.0g spheres per set",
               (unsigned long long)count, MAX_SET_SPHERES);
-  if (!st) st = get_uint(ctx, m, "max_attempts", &max_attempts, &attempts_node);
+  if (!st) st = adem_yaml_get_uint(ctx, m, "max_attempts", &max_attempts, &attempts_node);
   if (!st && !attempts_node) max_attempts = 0;
-  if (!st) st = get_vec3(ctx, m, "velocity", &v, NULL);
-  if (!st) st = get_vec3(ctx, m, "angular_velocity", &w, NULL);
+  if (!st) st = adem_yaml_get_vec3(ctx, m, "velocity", &v, NULL);
+  if (!st) st = adem_yaml_get_vec3(ctx, m, "angular_velocity", &w, NULL);
   double fit = adem_insert_region_fit(&reg, &fit_what);
   if (!st) st = read_dist(ctx, m, fit, fit_what, word, &dist, &dm);
   if (!st) {
@@ -1812,15 +966,15 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
     adem_fill_def def = {&reg, &dist, count, fraction, max_attempts, ctx->w};
     adem_error werr = {ADEM_OK, ""};
     st = adem_insert_fill(&def, &rng, ctx->pos, ctx->rad, ctx->n, &res, &werr);
-    if (st == ADEM_ERR_NOMEM) st = nomem(ctx);
-    else if (st) st = fail(ctx, dm.node, dm.path, "%s the %s (%s is %g m)", werr.message, word,
+    if (st == ADEM_ERR_NOMEM) st = adem_yaml_nomem(ctx);
+    else if (st) st = adem_yaml_fail(ctx, dm.node, dm.path, "%s the %s (%s is %g m)", werr.message, word,
                            fit_what, fit);
   }
   size_t first = ctx->n;
   for (size_t k = 0; k < res.n && !st; ++k) st = push_sphere(ctx, res.pos[k], res.radius[k], v, w);
   if (!st && res.n < res.wanted) {
     char loc[LOC_MAX], frac[160] = "";
-    where(ctx, m->node, loc, sizeof loc);
+    adem_yaml_where(ctx, m->node, loc, sizeof loc);
     if (fraction_node)
       snprintf(frac, sizeof frac, " (solid fraction %.4g of the %.4g asked)",
                res.volume / reg.volume, fraction);
@@ -1842,17 +996,17 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
 static adem_status particle_material(case_ctx *ctx, const map_cursor *m, int *mat) {
   char material[ADEM_NAME_MAX], path[KEY_PATH_MAX];
   yaml_node_t *mat_node;
-  adem_status st = get_string(ctx, m, "material", material, sizeof material, &mat_node);
+  adem_status st = adem_yaml_get_string(ctx, m, "material", material, sizeof material, &mat_node);
   if (st) return st;
-  join(path, sizeof path, m->path, "material");
+  adem_yaml_join(path, sizeof path, m->path, "material");
   if ((st = find_material(ctx, material, mat_node, path, mat))) return st;
   if (ctx->mat_rigid[*mat])
-    return fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
+    return adem_yaml_fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
                 material);
   if (!ctx->mat_density[*mat]) {
     char at[LOC_MAX];
-    where_short(ctx, ctx->mat_node[*mat], at, sizeof at);
-    return fail(ctx, mat_node, path,
+    adem_yaml_where_short(ctx, ctx->mat_node[*mat], at, sizeof at);
+    return adem_yaml_fail(ctx, mat_node, path,
                 "material `%s` (at %s) has no `density`; materials of particles need one", material,
                 at);
   }
@@ -1861,12 +1015,12 @@ static adem_status particle_material(case_ctx *ctx, const map_cursor *m, int *ma
 
 static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "pours", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "pours", &l);
   if (st || l.n == 0) return st;
   adem_world *w = ctx->w;
   if (!w->insert_rmin) {
     w->insert_rmin = malloc((size_t)(w->mat.n > 0 ? w->mat.n : 1) * sizeof *w->insert_rmin);
-    if (!w->insert_rmin) return nomem(ctx);
+    if (!w->insert_rmin) return adem_yaml_nomem(ctx);
     for (int k = 0; k < w->mat.n; ++k) w->insert_rmin[k] = INFINITY;
   }
   for (size_t i = 0; i < l.n && !st; ++i) {
@@ -1876,50 +1030,50 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
     char path[KEY_PATH_MAX], group_name[ADEM_NAME_MAX];
     yaml_node_t *name_node, *group_node, *rate_node, *mass_node, *end_node, *interval_node;
     const char *word = "", *fit_what = "";
-    if ((st = list_item(ctx, &l, i, &m))) break;
-    if ((st = get_string(ctx, &m, "name", d.name, sizeof d.name, &name_node))) break;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", d.name, sizeof d.name, &name_node))) break;
     if (!name_node) snprintf(d.name, sizeof d.name, "pour%zu", i);
     for (int k = 0; ctx->c->pours && k < ctx->c->pours->n && !st; ++k)
       if (!strcmp(ctx->c->pours->p[k].def.name, d.name)) {
-        join(path, sizeof path, m.path, "name");
-        st = fail(ctx, name_node ? name_node : m.node, path, "duplicate pour name `%s`", d.name);
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        st = adem_yaml_fail(ctx, name_node ? name_node : m.node, path, "duplicate pour name `%s`", d.name);
       }
     if (st) break;
     if ((st = particle_material(ctx, &m, &d.material))) break;
-    if ((st = get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) break;
-    join(path, sizeof path, m.path, "group");
+    if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) break;
+    adem_yaml_join(path, sizeof path, m.path, "group");
     if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &d.group))) break;
-    if ((st = get_number(ctx, &m, "rate", &d.rate, &rate_node))) break;
-    if ((st = get_number(ctx, &m, "mass_rate", &d.mass_rate, &mass_node))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "rate", &d.rate, &rate_node))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "mass_rate", &d.mass_rate, &mass_node))) break;
     if (rate_node && mass_node) {
-      join(path, sizeof path, m.path, "mass_rate");
-      st = fail(ctx, mass_node, path, "give either `rate` (particles/s) or `mass_rate` (kg/s), not both");
+      adem_yaml_join(path, sizeof path, m.path, "mass_rate");
+      st = adem_yaml_fail(ctx, mass_node, path, "give either `rate` (particles/s) or `mass_rate` (kg/s), not both");
       break;
     }
     if (!rate_node && !mass_node) {
-      join(path, sizeof path, m.path, "rate");
-      st = missing(ctx, &m, adem_schema_find("pours[]", "rate", NULL), path);
+      adem_yaml_join(path, sizeof path, m.path, "rate");
+      st = adem_yaml_missing(ctx, &m, adem_schema_find("pours[]", "rate", NULL), path);
       break;
     }
-    if ((st = get_number(ctx, &m, "start", &d.start, NULL))) break;
-    if ((st = get_number(ctx, &m, "end", &d.end, &end_node))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "start", &d.start, NULL))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "end", &d.end, &end_node))) break;
     if (!(d.end > d.start)) {
-      join(path, sizeof path, m.path, "end");
-      st = fail(ctx, end_node, path, "the window ends (%g s) before it starts (`start`: %g s)",
+      adem_yaml_join(path, sizeof path, m.path, "end");
+      st = adem_yaml_fail(ctx, end_node, path, "the window ends (%g s) before it starts (`start`: %g s)",
                 d.end, d.start);
       break;
     }
     if (d.end > ctx->c->end_time) {
       char loc[LOC_MAX];
-      where(ctx, end_node, loc, sizeof loc);
+      adem_yaml_where(ctx, end_node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN, "%s: %s.end: the pour ends at t = %g s, after time.end = %g s: the "
                "run stops before it is complete", loc, m.path, d.end, ctx->c->end_time);
     }
     d.interval = (d.end - d.start) / 20.0;
-    if ((st = get_number(ctx, &m, "interval", &d.interval, &interval_node))) break;
-    if ((st = get_vec3(ctx, &m, "velocity", &d.velocity, NULL))) break;
-    if ((st = get_vec3(ctx, &m, "angular_velocity", &d.angular_velocity, NULL))) break;
-    if ((st = get_uint(ctx, &m, "max_attempts", &d.max_attempts, NULL))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "interval", &d.interval, &interval_node))) break;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "velocity", &d.velocity, NULL))) break;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "angular_velocity", &d.angular_velocity, NULL))) break;
+    if ((st = adem_yaml_get_uint(ctx, &m, "max_attempts", &d.max_attempts, NULL))) break;
     if ((st = read_region(ctx, &m, false, &d.region, &word))) break;
     double fit = adem_insert_region_fit(&d.region, &fit_what);
     if ((st = read_dist(ctx, &m, fit, fit_what, word, &d.dist, &dm))) {
@@ -1936,7 +1090,7 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
     if (adem_pours_add(&ctx->c->pours, &d, w->mat.m[d.material].def.density, &werr)) {
       adem_insert_region_free(&d.region);
       adem_insert_dist_free(&d.dist);
-      st = nomem(ctx);
+      st = adem_yaml_nomem(ctx);
     }
   }
   return st;
@@ -1965,10 +1119,10 @@ static bool emit_node(case_ctx *ctx, yaml_node_t *v, char **buf, size_t *len, si
                       int depth) {
   if (depth > 64) return false;
   if (v->type == YAML_SCALAR_NODE) {
-    const char *s = sval(v);
+    const char *s = adem_yaml_sval(v);
     size_t n = v->data.scalar.length;
-    if (is_null(v)) return emit_text(buf, len, cap, "~", 1);
-    if (is_plain(v) && !strpbrk(s, ",[]{}#:\"'\n") && s[0] != ' ' && s[0] != '&' && s[0] != '*' &&
+    if (adem_yaml_is_null(v)) return emit_text(buf, len, cap, "~", 1);
+    if (adem_yaml_is_plain(v) && !strpbrk(s, ",[]{}#:\"'\n") && s[0] != ' ' && s[0] != '&' && s[0] != '*' &&
         s[0] != '!' && s[0] != '|' && s[0] != '>' && s[0] != '%' && s[0] != '@' && s[0] != '`')
       return emit_text(buf, len, cap, s, n);
     if (!emit_text(buf, len, cap, "\"", 1)) return false;
@@ -1987,14 +1141,14 @@ static bool emit_node(case_ctx *ctx, yaml_node_t *v, char **buf, size_t *len, si
   if (seq) {
     for (yaml_node_item_t *it = v->data.sequence.items.start; it < v->data.sequence.items.top; ++it)
       if ((it > v->data.sequence.items.start && !emit_text(buf, len, cap, ", ", 2)) ||
-          !emit_node(ctx, node_at(ctx, *it), buf, len, cap, depth + 1))
+          !emit_node(ctx, adem_yaml_node_at(ctx, *it), buf, len, cap, depth + 1))
         return false;
   } else {
     for (yaml_node_pair_t *p = v->data.mapping.pairs.start; p < v->data.mapping.pairs.top; ++p)
       if ((p > v->data.mapping.pairs.start && !emit_text(buf, len, cap, ", ", 2)) ||
-          !emit_node(ctx, node_at(ctx, p->key), buf, len, cap, depth + 1) ||
+          !emit_node(ctx, adem_yaml_node_at(ctx, p->key), buf, len, cap, depth + 1) ||
           !emit_text(buf, len, cap, ": ", 2) ||
-          !emit_node(ctx, node_at(ctx, p->value), buf, len, cap, depth + 1))
+          !emit_node(ctx, adem_yaml_node_at(ctx, p->value), buf, len, cap, depth + 1))
         return false;
   }
   return emit_text(buf, len, cap, seq ? "]" : "}", 1);
@@ -2003,7 +1157,7 @@ static bool emit_node(case_ctx *ctx, yaml_node_t *v, char **buf, size_t *len, si
 /* `stages`: names, durations and the `set` of each, as "path=value" strings for the loader. */
 static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "stages", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "stages", &l);
   if (st || l.n == 0) return st;
   adem_case *c = ctx->c;
   for (size_t i = 0; i < l.n && !st; ++i) {
@@ -2012,48 +1166,48 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *name_node, *duration_node, *v;
     const adem_schema_entry *e;
     double duration = -1.0;
-    if ((st = list_item(ctx, &l, i, &m))) break;
-    if ((st = get_string(ctx, &m, "name", name, sizeof name, &name_node))) break;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", name, sizeof name, &name_node))) break;
     if (!name_node) snprintf(name, sizeof name, "stage%zu", i);
     for (int k = 0; c->stages && k < c->stages->n && !st; ++k)
       if (!strcmp(c->stages->s[k].name, name)) {
-        join(path, sizeof path, m.path, "name");
-        st = fail(ctx, name_node ? name_node : m.node, path, "duplicate stage name `%s`", name);
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        st = adem_yaml_fail(ctx, name_node ? name_node : m.node, path, "duplicate stage name `%s`", name);
       }
     if (st) break;
-    if ((st = get_number(ctx, &m, "duration", &duration, &duration_node))) break;
+    if ((st = adem_yaml_get_number(ctx, &m, "duration", &duration, &duration_node))) break;
     if (!duration_node) duration = -1.0;
-    where(ctx, m.node, loc, sizeof loc);
+    adem_yaml_where(ctx, m.node, loc, sizeof loc);
     adem_error werr = {ADEM_OK, ""};
     if (adem_stages_add(&c->stages, name, duration, loc, &werr)) {
-      st = nomem(ctx);
+      st = adem_yaml_nomem(ctx);
       break;
     }
-    if ((st = lookup(ctx, &m, "set", &e, &v, path))) break;
-    if (!v || is_null(v)) continue;
+    if ((st = adem_yaml_lookup(ctx, &m, "set", &e, &v, path))) break;
+    if (!v || adem_yaml_is_null(v)) continue;
     if (v->type != YAML_MAPPING_NODE) {
-      st = wrong_type(ctx, e, v, path);
+      st = adem_yaml_wrong_type(ctx, e, v, path);
       break;
     }
     for (yaml_node_pair_t *p = v->data.mapping.pairs.start; p < v->data.mapping.pairs.top && !st; ++p) {
-      yaml_node_t *k = node_at(ctx, p->key);
+      yaml_node_t *k = adem_yaml_node_at(ctx, p->key);
       char kp[KEY_PATH_MAX];
-      if (k->type != YAML_SCALAR_NODE || is_null(k)) {
-        st = fail(ctx, k, path, "a key must be a key path such as materials.glass.friction");
+      if (k->type != YAML_SCALAR_NODE || adem_yaml_is_null(k)) {
+        st = adem_yaml_fail(ctx, k, path, "a key must be a key path such as materials.glass.friction");
         break;
       }
-      join(kp, sizeof kp, path, sval(k));
-      const char *why = adem_stages_check_path(sval(k));
+      adem_yaml_join(kp, sizeof kp, path, adem_yaml_sval(k));
+      const char *why = adem_stages_check_path(adem_yaml_sval(k));
       if (why) {
-        st = fail(ctx, k, kp, "cannot change in a stage: %s", why);
+        st = adem_yaml_fail(ctx, k, kp, "cannot change in a stage: %s", why);
         break;
       }
       char *text = NULL;
       size_t len = 0, cap = 0;
-      bool ok = emit_text(&text, &len, &cap, sval(k), strlen(sval(k))) &&
+      bool ok = emit_text(&text, &len, &cap, adem_yaml_sval(k), strlen(adem_yaml_sval(k))) &&
                 emit_text(&text, &len, &cap, "=", 1) &&
-                emit_node(ctx, node_at(ctx, p->value), &text, &len, &cap, 0);
-      if (!ok || adem_stages_add_set(c->stages, text, &werr)) st = nomem(ctx);
+                emit_node(ctx, adem_yaml_node_at(ctx, p->value), &text, &len, &cap, 0);
+      if (!ok || adem_stages_add_set(c->stages, text, &werr)) st = adem_yaml_nomem(ctx);
       free(text);
     }
   }
@@ -2062,33 +1216,33 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
 
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
-  adem_status st = get_list(ctx, root, "particles", &l);
+  adem_status st = adem_yaml_get_list(ctx, root, "particles", &l);
   if (st) return st;
-  if (l.n == 0 && !map_get(ctx, root->node, "pours")) { /* a case needs something to move */
-    if (!l.node) return missing(ctx, root, l.e, l.path);
-    return fail(ctx, l.node, l.path, "needs at least 1 item (or give `pours`)");
+  if (l.n == 0 && !adem_yaml_map_get(ctx, root->node, "pours")) { /* a case needs something to move */
+    if (!l.node) return adem_yaml_missing(ctx, root, l.e, l.path);
+    return adem_yaml_fail(ctx, l.node, l.path, "needs at least 1 item (or give `pours`)");
   }
   for (size_t i = 0; i < l.n; ++i) {
     map_cursor m;
     char material[ADEM_NAME_MAX], group_name[ADEM_NAME_MAX], path[KEY_PATH_MAX];
     yaml_node_t *mat_node, *group_node;
     int mat, group;
-    if ((st = list_item(ctx, &l, i, &m))) return st;
-    if ((st = get_string(ctx, &m, "material", material, sizeof material, &mat_node))) return st;
-    join(path, sizeof path, m.path, "material");
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
+    if ((st = adem_yaml_get_string(ctx, &m, "material", material, sizeof material, &mat_node))) return st;
+    adem_yaml_join(path, sizeof path, m.path, "material");
     if ((st = find_material(ctx, material, mat_node, path, &mat))) return st;
     if (ctx->mat_rigid[mat])
-      return fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
+      return adem_yaml_fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
                   material);
     if (!ctx->mat_density[mat]) {
       char at[LOC_MAX];
-      where_short(ctx, ctx->mat_node[mat], at, sizeof at);
-      return fail(ctx, mat_node, path,
+      adem_yaml_where_short(ctx, ctx->mat_node[mat], at, sizeof at);
+      return adem_yaml_fail(ctx, mat_node, path,
                   "material `%s` (at %s) has no `density`; materials of particles need one", material,
                   at);
     }
-    if ((st = get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
-    join(path, sizeof path, m.path, "group");
+    if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
+    adem_yaml_join(path, sizeof path, m.path, "group");
     if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &group))) return st;
     if (!strcmp(m.variant, "list"))
       st = build_list(ctx, &m, mat, group);
@@ -2124,8 +1278,8 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
   double step = 0, v_ref = 0;
   yaml_node_t *step_node;
   adem_status st;
-  if ((st = get_auto(ctx, time, "step", &step_auto, &step, &step_node))) return st;
-  if ((st = get_auto(ctx, time, "reference_speed", &speed_auto, &v_ref, NULL))) return st;
+  if ((st = adem_yaml_get_auto(ctx, time, "step", &step_auto, &step, &step_node))) return st;
+  if ((st = adem_yaml_get_auto(ctx, time, "reference_speed", &speed_auto, &v_ref, NULL))) return st;
   if (speed_auto) {
     double gn = v3_norm(g), height = 0;
     if (gn > 0 && ctx->has_box) {
@@ -2138,7 +1292,7 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
   bool proposal = c->estimate.dt > 0 && isfinite(c->estimate.dt);
   if (step_auto) {
     if (!proposal)
-      return fail(ctx, time->at, "time.step",
+      return adem_yaml_fail(ctx, time->at, "time.step",
                   "`auto` cannot propose a step (no particles were created); give a number");
     c->dt = c->estimate.dt;
     c->dt_auto = 1;
@@ -2150,7 +1304,7 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     if (c->dt_user_ratio > 1.0) {
       bool collision = c->estimate.t_collision / 50.0 <= 0.2 * c->estimate.t_rayleigh;
       char loc[LOC_MAX];
-      where(ctx, step_node, loc, sizeof loc);
+      adem_yaml_where(ctx, step_node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN, "%s: time.step %g s is %.1fx the proposed %g s (%s)", loc, step,
                c->dt_user_ratio, c->estimate.dt, collision ? "t_collision/50" : "0.2 t_Rayleigh");
     }
@@ -2172,7 +1326,7 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
   if (!rmin || !wall) {
     free(rmin);
     free(wall);
-    return nomem(ctx);
+    return adem_yaml_nomem(ctx);
   }
   for (size_t k = 0; k < (ng + 1) * nm; ++k) rmin[k] = INFINITY;
   for (size_t i = 0; i < w->p.n; ++i) {
@@ -2216,7 +1370,7 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
     const adem_interaction *it = adem_world_interaction(w, (int)wa, (int)wb);
     char loc[LOC_MAX] = "";
     for (int k = 0; k < ctx->ngroup; ++k)
-      if (!strcmp(ctx->group_name[k], w->groups[g].name)) where(ctx, ctx->group_node[k], loc, sizeof loc);
+      if (!strcmp(ctx->group_name[k], w->groups[g].name)) adem_yaml_where(ctx, ctx->group_node[k], loc, sizeof loc);
     if (!loc[0]) snprintf(loc, sizeof loc, "%.500s", ctx->file);
     adem_log(ADEM_LOG_WARN,
              "%s: group `%s`: its external force of %.3g N is %.0f%% of the force that breaks a "
@@ -2242,27 +1396,27 @@ static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
   char path[KEY_PATH_MAX];
   adem_output_settings *o = &ctx->c->output;
   o->ntrack = 0;
-  adem_status st = lookup(ctx, out, "track", &e, &v, path);
-  if (st || !v || is_null(v)) return st;
-  if (v->type != YAML_SEQUENCE_NODE) return wrong_type(ctx, e, v, path);
+  adem_status st = adem_yaml_lookup(ctx, out, "track", &e, &v, path);
+  if (st || !v || adem_yaml_is_null(v)) return st;
+  if (v->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, v, path);
   size_t n = (size_t)(v->data.sequence.items.top - v->data.sequence.items.start);
   if ((double)n > e->hi)
-    return fail(ctx, v, path, "lists %zu particles; at most %g can be tracked", n, e->hi);
+    return adem_yaml_fail(ctx, v, path, "lists %zu particles; at most %g can be tracked", n, e->hi);
   for (size_t k = 0; k < n; ++k) {
-    yaml_node_t *item = node_at(ctx, v->data.sequence.items.start[k]);
+    yaml_node_t *item = adem_yaml_node_at(ctx, v->data.sequence.items.start[k]);
     char p[KEY_PATH_MAX + 24], t[128];
     snprintf(p, sizeof p, "%s[%zu]", path, k);
     uint64_t id;
-    if (!parse_uint(item, &id)) {
-      node_text(item, t, sizeof t);
-      return fail(ctx, item, p, "expected a particle id (an integer >= 0), got %s", t);
+    if (!adem_yaml_parse_uint(item, &id)) {
+      adem_yaml_node_text(item, t, sizeof t);
+      return adem_yaml_fail(ctx, item, p, "expected a particle id (an integer >= 0), got %s", t);
     }
     if (id >= ctx->n)
-      return fail(ctx, item, p, "there is no particle %llu: the case creates %zu (ids 0 to %zu)",
+      return adem_yaml_fail(ctx, item, p, "there is no particle %llu: the case creates %zu (ids 0 to %zu)",
                   (unsigned long long)id, ctx->n, ctx->n ? ctx->n - 1 : 0);
     for (int j = 0; j < o->ntrack; ++j)
       if (o->track[j] == id)
-        return fail(ctx, item, p, "particle %llu is listed twice", (unsigned long long)id);
+        return adem_yaml_fail(ctx, item, p, "particle %llu is listed twice", (unsigned long long)id);
     o->track[o->ntrack] = id;
     o->ntrack++;
   }
@@ -2274,13 +1428,13 @@ static adem_status build(case_ctx *ctx) {
   map_cursor root, time, nb, limits, out, domain;
   yaml_node_t *node;
   adem_status st;
-  if ((st = map_open(ctx, yaml_document_get_root_node(&ctx->doc), NULL, "", "", NULL, &root)))
+  if ((st = adem_yaml_map_open(ctx, yaml_document_get_root_node(&ctx->doc), NULL, "", "", NULL, &root)))
     return st;
-  if ((st = get_string(ctx, &root, "name", c->name, sizeof c->name, &node))) return st;
+  if ((st = adem_yaml_get_string(ctx, &root, "name", c->name, sizeof c->name, &node))) return st;
   if (!node) file_stem(ctx->stem_of, c->name, sizeof c->name);
-  if ((st = get_uint(ctx, &root, "seed", &c->seed, NULL))) return st;
-  if ((st = get_map(ctx, &root, "time", &time))) return st; /* required: report it early */
-  if ((st = get_number(ctx, &time, "end", &c->end_time, NULL))) return st;
+  if ((st = adem_yaml_get_uint(ctx, &root, "seed", &c->seed, NULL))) return st;
+  if ((st = adem_yaml_get_map(ctx, &root, "time", &time))) return st; /* required: report it early */
+  if ((st = adem_yaml_get_number(ctx, &time, "end", &c->end_time, NULL))) return st;
   if ((st = build_materials(ctx, &root))) return st;
   if ((st = build_interactions(ctx, &root))) return st;
   if ((st = build_groups(ctx, &root))) return st;
@@ -2289,41 +1443,41 @@ static adem_status build(case_ctx *ctx) {
   if ((st = build_pours(ctx, &root))) return st;
 
   adem_vec3 g;
-  if ((st = get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
+  if ((st = adem_yaml_get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
   adem_world_set_gravity(ctx->w, g);
 
   double skin, overlap;
-  if ((st = get_map(ctx, &root, "neighbor", &nb))) return st;
-  if ((st = get_number(ctx, &nb, "skin", &skin, NULL))) return st;
+  if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
+  if ((st = adem_yaml_get_number(ctx, &nb, "skin", &skin, NULL))) return st;
   adem_world_set_skin(ctx->w, skin);
-  if ((st = get_map(ctx, &root, "limits", &limits))) return st;
-  if ((st = get_number(ctx, &limits, "max_overlap_ratio", &overlap, NULL))) return st;
+  if ((st = adem_yaml_get_map(ctx, &root, "limits", &limits))) return st;
+  if ((st = adem_yaml_get_number(ctx, &limits, "max_overlap_ratio", &overlap, NULL))) return st;
   adem_world_set_max_overlap_ratio(ctx->w, overlap);
 
   adem_output_settings *o = &c->output;
-  if ((st = get_map(ctx, &root, "output", &out))) return st;
-  if ((st = get_string(ctx, &out, "dir", o->dir, sizeof o->dir, &node))) return st;
+  if ((st = adem_yaml_get_map(ctx, &root, "output", &out))) return st;
+  if ((st = adem_yaml_get_string(ctx, &out, "dir", o->dir, sizeof o->dir, &node))) return st;
   if (!node) snprintf(o->dir, sizeof o->dir, "out/%s", c->name);
   o->frame_interval = c->end_time / 100.0;
   o->csv_interval = c->end_time / 1000.0;
   o->checkpoint_interval = c->end_time / 10.0;
   bool plot;
-  if ((st = get_number(ctx, &out, "frame_interval", &o->frame_interval, NULL))) return st;
-  if ((st = get_number(ctx, &out, "csv_interval", &o->csv_interval, NULL))) return st;
-  if ((st = get_number(ctx, &out, "checkpoint_interval", &o->checkpoint_interval, NULL))) return st;
-  if ((st = get_bool(ctx, &out, "plot", &plot))) return st;
+  if ((st = adem_yaml_get_number(ctx, &out, "frame_interval", &o->frame_interval, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, &out, "csv_interval", &o->csv_interval, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, &out, "checkpoint_interval", &o->checkpoint_interval, NULL))) return st;
+  if ((st = adem_yaml_get_bool(ctx, &out, "plot", &plot))) return st;
   o->plot = plot;
-  if ((st = get_bool(ctx, &out, "plot_loads", &plot))) return st;
+  if ((st = adem_yaml_get_bool(ctx, &out, "plot_loads", &plot))) return st;
   o->plot_loads = plot;
   if ((st = read_track(ctx, &out))) return st;
   if ((st = build_stages(ctx, &root))) return st;
 
-  if ((st = get_map(ctx, &root, "domain", &domain))) return st;
+  if ((st = adem_yaml_get_map(ctx, &root, "domain", &domain))) return st;
   if (domain.node) {
     adem_vec3 lo, hi;
     yaml_node_t *hi_node;
-    if ((st = get_vec3(ctx, &domain, "min", &lo, NULL))) return st;
-    if ((st = get_vec3(ctx, &domain, "max", &hi, &hi_node))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &domain, "min", &lo, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, &domain, "max", &hi, &hi_node))) return st;
     if ((st = check_box(ctx, lo, hi, hi_node, &domain))) return st;
     adem_world_set_domain(ctx->w, lo, hi);
   } else if (ctx->has_box) {
@@ -2375,6 +1529,158 @@ static bool set_base_dir(adem_case *c, const char *dir) {
   return n > 0 && (size_t)n < sizeof c->base_dir;
 }
 
+/* Loads a case as adem_case_load_string does; with LOAD_STAGE it is a stage's configuration: its
+ * own stages are read but not prepared, and nothing is logged. */
+enum { LOAD_STAGE = 1 };
+static adem_status load_string_flags(const char *text, const char *name_for_messages,
+                                     const char *base_dir, const char *const *sets, int nsets,
+                                     unsigned flags, adem_case **out, adem_error *err);
+
+/* ---- stages: each stage's configuration is the case loaded again with the sets of the stages
+ * up to it; stages.c carries them into the running world ---- */
+
+static adem_status stage_config_extract(adem_stage_config *g, const adem_case *c, adem_error *err) {
+  const adem_world *w = c->world;
+  memset(g, 0, sizeof *g);
+  g->nmaterials = w->mat.n;
+  g->ninteractions = w->mat.ndefs;
+  g->ngroups = w->ngroups;
+  g->nplanes = w->walls.nplanes;
+  g->nmeshes = w->walls.mesh.ngroups;
+  g->materials = calloc((size_t)g->nmaterials + 1, sizeof *g->materials);
+  g->interactions = calloc((size_t)g->ninteractions + 1, sizeof *g->interactions);
+  g->group_force = calloc((size_t)g->ngroups + 1, sizeof *g->group_force);
+  g->planes = calloc((size_t)g->nplanes + 1, sizeof *g->planes);
+  g->meshes = calloc((size_t)g->nmeshes + 1, sizeof *g->meshes);
+  if (!g->materials || !g->interactions || !g->group_force || !g->planes || !g->meshes) {
+    adem_stage_config_free(g);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  for (int k = 0; k < g->nmaterials; ++k) g->materials[k] = w->mat.m[k].def;
+  for (int k = 0; k < g->ninteractions; ++k) g->interactions[k] = w->mat.defs[k];
+  for (int k = 0; k < g->ngroups; ++k) g->group_force[k] = w->groups[k].external_force;
+  adem_status st = adem_walls_get_settings(&w->walls, g->planes, g->meshes, err);
+  g->gravity = w->gravity;
+  g->frame_interval = c->output.frame_interval;
+  g->csv_interval = c->output.csv_interval;
+  g->checkpoint_interval = c->output.checkpoint_interval;
+  g->max_overlap_ratio = w->max_overlap_ratio;
+  g->skin_fraction = w->nb.skin_fraction;
+  g->dt_proposed = c->estimate.dt;
+  if (st) adem_stage_config_free(g);
+  return st;
+}
+
+/* The stage's configuration describes the same world: same materials, groups and walls. */
+static adem_status check_same_world(const adem_case *c, const adem_case *sc, const adem_stage *g,
+                                    adem_error *err) {
+  const adem_world *w = c->world, *v = sc->world;
+  const char *what = NULL;
+  if (v->mat.n != w->mat.n) what = "materials";
+  for (int k = 0; !what && k < w->mat.n; ++k)
+    if (strcmp(v->mat.m[k].def.name, w->mat.m[k].def.name)) what = "materials";
+  if (!what && v->ngroups != w->ngroups) what = "groups";
+  for (int k = 0; !what && k < w->ngroups; ++k)
+    if (strcmp(v->groups[k].name, w->groups[k].name)) what = "groups";
+  if (!what && v->walls.nplanes != w->walls.nplanes) what = "walls";
+  for (int k = 0; !what && k < w->walls.nplanes; ++k)
+    if (strcmp(v->walls.planes[k].def.name, w->walls.planes[k].def.name)) what = "walls";
+  if (!what && (v->walls.mesh.ngroups != w->walls.mesh.ngroups || v->walls.mesh.nverts != w->walls.mesh.nverts ||
+                v->walls.mesh.ntris != w->walls.mesh.ntris))
+    what = "walls";
+  if (!what && v->p.n != w->p.n) what = "particles";
+  if (what)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: stage `%s` changes which %s there are; a stage may change their "
+                          "properties, not add or remove them (switch a wall off with `active: "
+                          "false`)",
+                          g->where, g->name, what);
+  if (w->walls.mesh.nverts > 0 &&
+      memcmp(v->walls.mesh_vert0, w->walls.mesh_vert0, w->walls.mesh.nverts * sizeof *w->walls.mesh_vert0) != 0)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "%s: stage `%s` changes the shape or placement of a mesh wall; a stage "
+                          "may change a mesh wall's motion, material and `active` only",
+                          g->where, g->name);
+  for (int k = 0; k < w->walls.mesh.ngroups; ++k)
+    if (v->walls.mesh_motion[k].moving && !w->walls.mesh.groups[k].own_vertices)
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "%s: stage `%s` sets mesh wall `%s` moving, but it was loaded sharing "
+                            "its vertices with other walls; give it a motion (it may be at rest) "
+                            "in the case itself",
+                            g->where, g->name, w->walls.mesh.groups[k].name);
+  return ADEM_OK;
+}
+
+/* Re-labels an error of loading stage k's configuration: where the stage (or the set entry
+ * that caused it) is written. */
+static adem_status stage_error(const adem_stage *g, int k, adem_status st, adem_error *err) {
+  char inner[ADEM_MSG_MAX];
+  snprintf(inner, sizeof inner, "%s", err ? err->message : "");
+  const char *msg = inner;
+  if (!strncmp(msg, "--set ", 6)) msg += 6;
+  return adem_error_set(err, st, "%s: stages[%d] (`%s`).set: %s", g->where, k, g->name, msg);
+}
+
+static adem_status stages_prepare(adem_case *c, adem_error *err) {
+  adem_stages *s = c->stages;
+  if (!s || s->n == 0) return ADEM_OK;
+  adem_status st = stage_config_extract(&s->base, c, err);
+  if (st) return st;
+  int total = c->nsets;
+  for (int k = 0; k < s->n; ++k) total += s->s[k].nsets;
+  const char **sets = malloc((size_t)(total + 1) * sizeof *sets);
+  if (!sets) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  int nsets = 0;
+  for (int j = 0; j < c->nsets; ++j) sets[nsets++] = c->sets[j];
+  for (int k = 0; k < s->n && !st; ++k) {
+    adem_stage *g = &s->s[k];
+    for (int j = 0; j < g->nsets; ++j) sets[nsets++] = g->sets[j];
+    adem_case *sc = NULL;
+    adem_log_mute(1);
+    st = load_string_flags(c->source, c->path, c->base_dir, sets, nsets,
+                                     LOAD_STAGE, &sc, err);
+    adem_log_mute(0);
+    if (st) {
+      st = stage_error(g, k, st, err);
+      break;
+    }
+    st = check_same_world(c, sc, g, err);
+    if (!st) st = stage_config_extract(&g->config, sc, err);
+    adem_case_free(sc);
+    if (st) break;
+    double ratio = c->dt / g->config.dt_proposed;
+    if (c->dt_auto && ratio > 1.0 && g->config.dt_proposed > 0.0) { /* the smallest of all */
+      c->dt = g->config.dt_proposed;
+      adem_world_set_dt(c->world, c->dt);
+    } else if (ratio > 1.0 + 1e-12 && isfinite(ratio))
+      adem_log(ADEM_LOG_WARN,
+               "%s: stage `%s`: the time step %g s is %.2fx the step its materials propose (%g s)",
+               g->where, g->name, c->dt, ratio, g->config.dt_proposed);
+  }
+  free(sets);
+  if (st) return st;
+  /* Durations: every stage but the last needs one; the last may run until time.end. */
+  double t = 0.0;
+  for (int k = 0; k < s->n; ++k) {
+    adem_stage *g = &s->s[k];
+    if (g->duration < 0.0 && k + 1 < s->n)
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "%s: stages[%d] (`%s`): duration: required value is missing (every "
+                            "stage but the last needs one)",
+                            g->where, k, g->name);
+    if (t >= c->end_time * (1.0 - 1e-12) && k > 0)
+      adem_log(ADEM_LOG_WARN, "%s: stage `%s` begins at t = %g s, at or after time.end = %g s: it "
+               "will not run", g->where, g->name, t, c->end_time);
+    if (g->duration >= 0.0) t += g->duration;
+  }
+  const adem_stage *last = &s->s[s->n - 1];
+  if (last->duration >= 0.0 && t < c->end_time * (1.0 - 1e-12))
+    adem_log(ADEM_LOG_WARN, "%s: the stages end at t = %g s, before time.end = %g s: the last "
+             "stage (`%s`) goes on until time.end", last->where, t, c->end_time, last->name);
+  s->current = 0;
+  return adem_stages_enter(c, 0, false, err);
+}
+
 adem_status adem_case_load_string(const char *text, const char *name_for_messages,
                                   const char *const *sets, int nsets, adem_case **out,
                                   adem_error *err) {
@@ -2384,10 +1690,10 @@ adem_status adem_case_load_string(const char *text, const char *name_for_message
 adem_status adem_case_load_string_at(const char *text, const char *name_for_messages,
                                      const char *base_dir, const char *const *sets, int nsets,
                                      adem_case **out, adem_error *err) {
-  return adem_case_load_string_flags(text, name_for_messages, base_dir, sets, nsets, 0, out, err);
+  return load_string_flags(text, name_for_messages, base_dir, sets, nsets, 0, out, err);
 }
 
-adem_status adem_case_load_string_flags(const char *text, const char *name_for_messages,
+static adem_status load_string_flags(const char *text, const char *name_for_messages,
                                         const char *base_dir, const char *const *sets, int nsets,
                                         unsigned flags, adem_case **out, adem_error *err) {
   if (out) *out = NULL;
@@ -2404,39 +1710,39 @@ adem_status adem_case_load_string_flags(const char *text, const char *name_for_m
   ctx.c = c;
   adem_status st = ADEM_OK;
   char *dir = base_dir ? copy_text(base_dir) : adem_file_dirname(name_for_messages ? c->path : ".");
-  if (!dir) st = nomem(&ctx);
+  if (!dir) st = adem_yaml_nomem(&ctx);
   else if (!set_base_dir(c, dir))
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s: cannot tell the case's folder (%s): %s", c->path,
                         dir, strerror(errno ? errno : ENAMETOOLONG));
   ctx.base_dir = dir;
   if (!st) c->source = copy_text(text);
   c->sets = calloc((size_t)(nsets > 0 ? nsets : 1), sizeof *c->sets);
-  if (!st && (!c->source || !c->sets)) st = nomem(&ctx);
+  if (!st && (!c->source || !c->sets)) st = adem_yaml_nomem(&ctx);
   for (int k = 0; k < nsets && !st; ++k) {
     if (!sets[k]) {
       st = adem_error_set(err, ADEM_ERR_INPUT, "--set: missing key.path=value");
       break;
     }
     c->sets[k] = copy_text(sets[k]);
-    if (!c->sets[k]) st = nomem(&ctx);
+    if (!c->sets[k]) st = adem_yaml_nomem(&ctx);
     c->nsets = k + 1;
   }
   ctx.sets = (const char *const *)c->sets;
-  if (!st) st = load_yaml(text, strlen(text), &ctx.doc, c->path, false, err);
+  if (!st) st = adem_yaml_load_yaml(text, strlen(text), &ctx.doc, c->path, false, err);
   if (!st) {
     ctx.have_doc = true;
-    ctx.nbase = doc_size(&ctx.doc);
-    st = apply_sets(&ctx, nsets);
+    ctx.nbase = (int)(ctx.doc.nodes.top - ctx.doc.nodes.start);
+    st = adem_yaml_apply_sets(&ctx, nsets);
   }
   if (!st) {
     c->world = adem_world_create();
     ctx.w = c->world;
-    st = c->world ? build(&ctx) : nomem(&ctx);
+    st = c->world ? build(&ctx) : adem_yaml_nomem(&ctx);
   }
   ctx_free(&ctx);
   free(dir);
   /* Stage configurations are whole loads of the case: not for a stage's own load. */
-  if (!st && !(flags & ADEM_CASE_LOAD_STAGE)) st = adem_stages_prepare(c, err);
+  if (!st && !(flags & LOAD_STAGE)) st = stages_prepare(c, err);
   if (st) {
     adem_case_free(c);
     return st;

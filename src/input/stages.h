@@ -18,20 +18,9 @@
 
 #include "adem/adem.h"
 #include "motion.h"
+#include "walls.h"
 
 /* What a stage sets in the running world, taken from its configuration. */
-typedef struct adem_stage_wall {
-  adem_plane_def def;
-  adem_vec3 point0, normal0;
-  adem_motion motion;
-  bool inactive;
-} adem_stage_wall;
-
-typedef struct adem_stage_mesh {
-  adem_motion motion;
-  int material;
-  bool inactive;
-} adem_stage_mesh;
 
 typedef struct adem_stage_config {
   adem_material_def *materials;
@@ -41,9 +30,9 @@ typedef struct adem_stage_config {
   adem_vec3 *group_force;
   int ngroups;
   adem_vec3 gravity;
-  adem_stage_wall *planes;
+  adem_plane_setting *planes;
   int nplanes;
-  adem_stage_mesh *meshes;
+  adem_mesh_setting *meshes;
   int nmeshes;
   double frame_interval, csv_interval, checkpoint_interval;
   double max_overlap_ratio, skin_fraction;
@@ -74,17 +63,13 @@ adem_status adem_stages_add(adem_stages **s, const char *name, double duration, 
 adem_status adem_stages_add_set(adem_stages *s, const char *set, adem_error *err);
 /* NULL if a stage may set the key path; otherwise why not (a static string). */
 const char *adem_stages_check_path(const char *path);
-/* After the case is loaded: loads each stage's configuration (errors name the stage), checks it
- * changes only what may change, and puts stage 0 in force. */
-adem_status adem_stages_prepare(adem_case *c, adem_error *err);
 void adem_stages_free(adem_stages *s);
+void adem_stage_config_free(adem_stage_config *g);
+/* Puts stage k in force at its start. live: during a run (energy balance kept, neighbour lists
+ * rebuilt); otherwise the configuration only (at load, or replaying for a checkpoint). The case
+ * loader builds every stage's configuration (case.c) and puts stage 0 in force with this. */
+adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err);
 
-/* Loads a case as adem_case_load_string does; with ADEM_CASE_LOAD_STAGE it is a stage's
- * configuration: its own stages are read but not prepared, and nothing is logged. (case.c) */
-enum { ADEM_CASE_LOAD_STAGE = 1 };
-adem_status adem_case_load_string_flags(const char *text, const char *name_for_messages,
-                                        const char *base_dir, const char *const *sets, int nsets,
-                                        unsigned flags, adem_case **out, adem_error *err);
 
 /* ---- running (run.c, checkpoint.c) ---- */
 
