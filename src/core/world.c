@@ -170,6 +170,27 @@ void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force) {
 
 void adem_world_change_skin(adem_world *w, double skin_fraction) { w->nb.skin_fraction = skin_fraction; }
 
+adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *err) {
+  /* The new particles start with their body forces (nothing touches them), their energy joins
+   * the balance, and the neighbour lists take them in; the forces of the others stay those of
+   * the last force pass, whose history must not be advanced twice. */
+  adem_particles *p = &w->p;
+  double energy = 0.0;
+  for (size_t i = first; i < p->n; ++i) {
+    double m = 1.0 / p->inv_mass[i];
+    adem_vec3 f = v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force);
+    adem_particles_set_loads(p, i, f, v3_zero(), v3_zero(), 0);
+    energy += 0.5 * v3_norm2(p->vel[i]) * m + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i] -
+              v3_dot(f, p->pos[i]);
+  }
+  w->energy_initial += energy;
+  adem_status st = adem_world_build_neighbors(w, err);
+  if (!st) w->prepared = true;
+  return st;
+}
+
+void adem_world_add_external_work(adem_world *w, double work) { w->energy_initial += work; }
+
 int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
   int k = adem_world_find_group(w, name);
   if (k >= 0) {

@@ -108,6 +108,12 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
                                         adem_error *err);
 void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force);
 void adem_world_change_skin(adem_world *w, double skin_fraction);
+/* Energy put in from outside (a stage's change of gravity or group forces): kept out of the
+ * dissipated energy of the balance. */
+void adem_world_add_external_work(adem_world *w, double work);
+
+/* Takes particles first..n-1, added to a prepared world while it runs (pours), into the run. */
+adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *err);
 
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);

@@ -885,25 +885,7 @@ adem_status adem_pours_run(adem_pours *ps, adem_world *w, adem_error *err) {
     }
   }
   if (st || w->p.n == first || !prepared) return st;
-  /* The new particles start with their body forces (nothing touches them), their energy joins
-   * the balance, and the neighbour lists take them in; the forces of the others stay those of
-   * the last force pass, whose history must not be advanced twice. */
-  adem_particles *p = &w->p;
-  double energy = 0.0;
-  for (size_t i = first; i < p->n; ++i) {
-    double m = 1.0 / p->inv_mass[i];
-    adem_vec3 f = v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force);
-    p->force[i] = f;
-    p->torque[i] = v3_zero();
-    p->rolling_torque[i] = v3_zero();
-    p->held[i] = 0;
-    energy += 0.5 * v3_norm2(p->vel[i]) * m + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i] -
-              v3_dot(f, p->pos[i]);
-  }
-  w->energy_initial += energy;
-  st = adem_world_build_neighbors(w, err);
-  if (!st) w->prepared = true;
-  return st;
+  return adem_world_admit_particles(w, first, err);
 }
 
 unsigned char *adem_pours_pack(const adem_pours *ps, size_t *len) {

@@ -144,7 +144,7 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err) {
   s->current = k;
   if (!live) return ADEM_OK;
   /* Work done by the change (gravity, group forces) is not dissipation: shift the balance. */
-  w->energy_initial += total_energy(w) - before;
+  adem_world_add_external_work(w, total_energy(w) - before);
   adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
            (unsigned long long)w->step, s->s[k].name);
   /* Walls on or off, moved or with a new motion: the lists must see them from now on. */
