@@ -459,7 +459,7 @@ static void print_jkr(const adem_world *w, int a, int b, bool wall, const double
   const adem_interaction *it = adem_world_interaction(w, a, b);
   if (it->normal != ADEM_NORMAL_JKR) return;
   const char *pad = "";
-  if (!(it->gamma_real > 0.0)) {
+  if (!(it->pp.gamma_real > 0.0)) {
     printf("  %-26s jkr without surface energy: the contact is Hertz\n", pad);
     return;
   }
@@ -471,9 +471,9 @@ static void print_jkr(const adem_world *w, int a, int b, bool wall, const double
     mstar = ma * mb / (ma + mb);
   }
   adem_jkr_pair_summary s =
-      adem_jkr_pair_summarize(it->E_real, it->E, it->gamma_real, it->gamma, R, mstar, v_ref);
+      adem_jkr_pair_summarize(it->pp.E_real, it->pp.E, it->pp.gamma_real, it->pp.gamma, R, mstar, v_ref);
   char mod[64];
-  snprintf(mod, sizeof mod, "modified (E_mod/E = %.3g)", it->E / it->E_real);
+  snprintf(mod, sizeof mod, "modified (E_mod/E = %.3g)", it->pp.E / it->pp.E_real);
   printf("  %-26s simplified JKR (H7-H10) for the smallest spheres: R* = %.4g m, m* = %.4g kg\n",
          pad, R, mstar);
   printf("  %-26s   %-36s %-12s %s\n", pad, "", "real", mod);
@@ -524,11 +524,11 @@ static void print_pair(const adem_world *w, int a, int b, bool wall, const doubl
   char R[64];
   if (Rlo == Rhi) snprintf(R, sizeof R, "%.4g", Rlo);
   else snprintf(R, sizeof R, "%.4g..%.4g", Rlo, Rhi);
-  printf("  %-26s %-11.4g %-11.4g %-21s %-6.3g %-9.4g %-6.3g %-6s %s\n", name, it->E, it->G, R,
-         it->restitution, it->beta, it->friction, normal_name(it->normal), rolling_name(it->rolling));
-  if (it->E != it->E_real)
+  printf("  %-26s %-11.4g %-11.4g %-21s %-6.3g %-9.4g %-6.3g %-6s %s\n", name, it->pp.E, it->pp.G, R,
+         it->pp.restitution, it->pp.beta, it->pp.friction, normal_name(it->normal), rolling_name(it->rolling));
+  if (it->pp.E != it->pp.E_real)
     printf("  %-26s real material: E* = %.4g Pa, G* = %.4g Pa (stiffness reduced, H24)\n", "",
-           it->E_real, it->G_real);
+           it->pp.E_real, it->pp.G_real);
   print_jkr(w, a, b, wall, rmin, v_ref);
 }
 

@@ -3,25 +3,11 @@
 #define ADEM_WORLD_H
 
 #include "adem/adem.h"
+#include "adem/laws.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Normal force law of a material pair. */
-typedef enum adem_normal_model {
-  ADEM_NORMAL_HERTZ = 0, /* H8-H9 without adhesion, damping H11-H13 */
-  ADEM_NORMAL_JKR = 1    /* simplified JKR, H7-H10 */
-} adem_normal_model;
-
-/* Rolling resistance law of a material pair. */
-typedef enum adem_rolling_model {
-  ADEM_ROLLING_NONE = 0,
-  ADEM_ROLLING_DTK = 1,  /* H18-H22 */
-  ADEM_ROLLING_A = 2,    /* I7-I8 */
-  ADEM_ROLLING_C = 3,    /* Ai et al. 2011 */
-  ADEM_ROLLING_BROF = 4  /* I9-I10 */
-} adem_rolling_model;
 
 /* A material. Walls have one too; a rigid wall material has E = infinity. */
 typedef struct adem_material_def {
@@ -31,22 +17,26 @@ typedef struct adem_material_def {
   double poisson;          /* nu, in (-1, 0.5) */
   double restitution;      /* e, in (0, 1] */
   double friction;         /* sliding friction coefficient mu_s */
-  double surface_energy;   /* gamma, J/m^2, per surface (work of adhesion is 2 gamma) */
-  double hysteresis;       /* adhesion hysteresis delta_gamma/gamma (DTK) */
   double stiffness_factor; /* f = E_mod/E in (0, 1]; H24 */
-  double rolling_friction; /* eta_r (models A, C, BROF) */
-  double rolling_damping;  /* model C damping ratio delta_r */
   int rigid;               /* 1: E = infinity (walls only) */
+  /* The contact laws' parameters (adem/laws.h), by id: param[ADEM_PARAM_SURFACE_ENERGY] is
+   * gamma, J/m^2, per surface; ... Defaults from the parameter rows. */
+  double param[ADEM_PARAM_COUNT];
 } adem_material_def;
 adem_material_def adem_default_material_def(void);
 
-/* Optional override of how two materials interact. Values < 0 mean "derive from the materials". */
+/* How two materials interact: the law of each slot (adem/laws.h) and values that replace the
+ * materials' mixed ones. restitution and friction < 0 and param[k] NaN mean "derive from the
+ * materials". */
 typedef struct adem_interaction_def {
   int material_a, material_b;
   double restitution;
   double friction;
   adem_normal_model normal;
+  adem_damping_model damping;
+  adem_tangential_model tangential;
   adem_rolling_model rolling;
+  double param[ADEM_PARAM_COUNT];
   /* DTK under reduced stiffness: 1 (default) keeps F_C, a0 and xi_crit of the real material and
    * takes only (a/a0)^(3/2) from the modified one (H section 3.2); 0 takes all from the modified
    * material, for comparison. */

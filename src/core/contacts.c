@@ -6,125 +6,92 @@
 #include <math.h>
 #include <string.h>
 
-#include "hertz.h"
-#include "jkr.h"
-#include "rolling.h"
-#include "tangential.h"
+#include "laws_kernels.h"
 #include "adem/vec3.h"
 #include "parallel.h"
 #include "contacts.h"
 
-/* What a contact law needs about the two bodies at one contact. */
-typedef struct contact_geometry {
-  adem_vec3 n;     /* unit normal from i to j */
-  double delta;    /* overlap, > 0 */
-  double R;        /* effective radius (H2; wall: r_i) */
-  double mstar;    /* effective mass (wall: m_i) */
-  adem_vec3 w;     /* relative velocity of the contact points, i minus j */
-  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n */
-  double ri, rj;   /* radii; rj = 0 for a wall */
-  double inertia_r; /* model C rolling inertia I_r (Ai et al. 2011) */
-} contact_geometry;
+typedef adem_contact_geometry contact_geometry;
 
 typedef struct contact_result {
   adem_vec3 force;    /* on i */
   adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
-  double capacity;    /* BROF resistance this contact offers, e_c |F_n| */
+  double capacity;    /* per-particle rolling resistance this contact offers (BROF) */
   double elastic;     /* stored energy, J */
 } contact_result;
 
-/* Rolling resistance of one contact (notes section 4). f_load is the normal load |F_el + 2F_C|,
- * a_jkr the JKR contact radius (DTK only), Sn the normal stiffness (model C). */
-static inline void contact_rolling(const adem_interaction *it, const contact_geometry *g,
-                                   adem_contact_history *h, double dt, double f_load,
-                                   double a_jkr, double Sn, contact_result *r) {
-  bool wall = g->rj == 0.0;
-  double R_r = wall ? g->ri : g->ri * g->rj / (g->ri + g->rj);
-  /* A wall contact uses the particle's eta_r; a particle pair the mean of the two. */
-  double eta = wall ? it->rolling_friction_a : 0.5 * (it->rolling_friction_a + it->rolling_friction_b);
-  r->rolling = v3_zero();
-  r->capacity = 0.0;
-  switch (it->rolling) {
-    case ADEM_ROLLING_A: /* I7-I8 */
-      r->rolling = adem_rolling_model_a(g->omega_rel, eta * R_r, f_load);
-      break;
-    case ADEM_ROLLING_C: {
-      double k_r = 2.25 * Sn * eta * eta * R_r * R_r;
-      double c_r = it->rolling_damping * 2.0 * sqrt(g->inertia_r * k_r);
-      r->rolling = adem_rolling_model_c(&h->rolling, g->n, g->omega_rel, dt, k_r,
-                                        eta * R_r * f_load, c_r);
-      if (k_r > 0.0) r->elastic += 0.5 * v3_norm2(h->rolling) / k_r; /* spring: M^2/(2 k_r) */
-      break;
-    }
-    case ADEM_ROLLING_BROF: { /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
-      double e_c = it->rolling_friction_a * g->ri;
-      if (!wall) e_c = fmin(e_c, it->rolling_friction_b * g->rj);
-      r->capacity = e_c * f_load;
-      break;
-    }
-    case ADEM_ROLLING_DTK: {
-      /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2).
-       * Without that modification every quantity is the modified material's. */
-      bool keep_real = it->dtk_rolling_modification;
-      double f_c = adem_jkr_critical_force(keep_real ? it->gamma_real : it->gamma, g->R);
-      double a0_mod = adem_jkr_a0(it->gamma, g->R, it->E);
-      double a0_real = keep_real ? adem_jkr_a0(it->gamma_real, g->R, it->E_real) : a0_mod;
-      double ratio = a_jkr / a0_mod;
-      double k_r = 4.0 * f_c * ratio * sqrt(ratio);            /* H20 */
-      double xi_crit = a0_real / 12.0 * it->hysteresis;        /* H22 */
-      /* Rolling velocity without Marshall's slip term (as Wang et al. 2015, eq. 31, and LAMMPS):
-       * with it xi follows the translation while the couple acts on the spin alone, a
-       * circulatory law that feeds energy in when the tangential spring is soft (reduced
-       * stiffness). Pure rolling still gives |v_L| = the centre's speed. */
-      adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
-      r->rolling = adem_rolling_dtk(&h->rolling, g->n, v_l, dt, k_r, xi_crit);
-      /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
-      r->elastic += 0.5 * k_r * v3_norm2(h->rolling) / g->R;
-      break;
-    }
-    case ADEM_ROLLING_NONE:
-    default:
-      break;
-  }
-}
-
-/* Normal + tangential force of one contact (H9, H11-H17), updating its history. */
+/* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
+ * rolling, each dispatched by a switch generated from the rows, updating the history. */
 static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
                                            adem_contact_history *h, double dt) {
+  const adem_pair_params *pp = &it->pp;
   contact_result r;
   double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
   adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
 
   double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
-  double f_elastic, e_elastic, f_critical = 0.0, a_jkr = a;
+  adem_normal_result nr;
   switch (it->normal) {
-    case ADEM_NORMAL_JKR: {
-      a_jkr = adem_jkr_contact_radius(it->gamma, g->R, it->E, g->delta); /* H10 */
-      f_elastic = adem_jkr_force(it->gamma, g->R, it->E, a_jkr);                 /* H8-H9 */
-      e_elastic = adem_jkr_energy(it->gamma, g->R, it->E, a_jkr);
-      f_critical = adem_jkr_critical_force(it->gamma, g->R);
-      break;
-    }
-    case ADEM_NORMAL_HERTZ:
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+  case ID:                                                       \
+    nr = kernel(pp, g, a);                                       \
+    break;
+    ADEM_NORMAL_LAWS(ADEM_X)
+#undef ADEM_X
     default:
-      f_elastic = adem_hertz_force(it->E, a, g->delta);
-      e_elastic = adem_hertz_energy(it->E, a, g->delta);
+      nr = adem_normal_hertz_law(pp, g, a);
       break;
   }
-  double Sn = adem_hertz_normal_stiffness(it->E, a);
-  double cn = adem_damping_coefficient(it->beta, Sn, g->mstar);
-  double fn = f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
+  double Sn = adem_hertz_normal_stiffness(pp->E, a);
+  double St = adem_hertz_tangential_stiffness(pp->G, a);
+  double cn, ct;
+  switch (it->damping) {
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+  case ID:                                                       \
+    cn = kernel(pp, Sn, g->mstar);                               \
+    ct = kernel(pp, St, g->mstar);                               \
+    break;
+    ADEM_DAMPING_LAWS(ADEM_X)
+#undef ADEM_X
+    default:
+      cn = ct = 0.0;
+      break;
+  }
+  double fn = nr.f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
 
-  double St = adem_hertz_tangential_stiffness(it->G, a);
-  double ct = adem_damping_coefficient(it->beta, St, g->mstar);
-  double f_load = fabs(f_elastic + 2.0 * f_critical); /* the load the contact carries */
-  double f_limit = it->friction * f_load;               /* H17 */
-  bool sliding;
-  adem_vec3 ft = adem_tangential_force(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);
+  double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
+  double f_limit = pp->friction * f_load;                     /* H17 */
+  bool sliding = false;
+  adem_vec3 ft = v3_zero();
+  switch (it->tangential) {
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)           \
+  case ID:                                                                 \
+    ft = kernel(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);  \
+    break;
+    ADEM_TANGENTIAL_LAWS(ADEM_X)
+#undef ADEM_X
+    default:
+      break;
+  }
+  (void)sliding;
 
   r.force = v3_axpy(ft, -fn, g->n);
-  r.elastic = e_elastic + 0.5 * St * v3_norm2(h->tangential);
-  contact_rolling(it, g, h, dt, f_load, a_jkr, Sn, &r);
+  r.elastic = nr.e_elastic + 0.5 * St * v3_norm2(h->tangential);
+  adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
+  adem_rolling_output ro = {v3_zero(), 0.0, 0.0};
+  switch (it->rolling) {
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+  case ID:                                                       \
+    kernel(&in, &h->rolling, &ro);                               \
+    break;
+    ADEM_ROLLING_LAWS(ADEM_X)
+#undef ADEM_X
+    default:
+      break;
+  }
+  r.rolling = ro.torque;
+  r.capacity = ro.capacity;
+  r.elastic += ro.elastic; /* the elastic part is never -0: adding 0 changes nothing */
   return r;
 }
 

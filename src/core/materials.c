@@ -3,8 +3,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hertz.h"
-#include "jkr.h"
 #include "log.h"
 #include "materials.h"
 
@@ -17,6 +15,7 @@ adem_material_def adem_default_material_def(void) {
   d.restitution = 0.5;
   d.friction = 0.5;
   d.stiffness_factor = 1.0;
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) d.param[k] = adem_law_param_get((adem_law_param_id)k)->def;
   return d;
 }
 
@@ -26,7 +25,10 @@ adem_interaction_def adem_default_interaction_def(void) {
   d.restitution = -1.0;
   d.friction = -1.0;
   d.normal = ADEM_NORMAL_HERTZ;
+  d.damping = ADEM_DAMPING_VISCOELASTIC;
+  d.tangential = ADEM_TANGENTIAL_TOTAL;
   d.rolling = ADEM_ROLLING_NONE;
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) d.param[k] = NAN;
   d.dtk_rolling_modification = 1;
   return d;
 }
@@ -44,34 +46,74 @@ static double shear_compliance(const adem_material *m, bool modified) {
   return (2.0 - m->def.poisson) / G;
 }
 
+static double mix(adem_law_mixing rule, double a, double b) {
+  return rule == ADEM_MIX_GEOMETRIC ? sqrt(a * b) : 0.5 * (a + b);
+}
+
+/* The pair's values from its two materials (the mixing rules: the mean of the two unless a
+ * parameter's row says otherwise). */
 static adem_interaction derive_pair(const adem_material *a, const adem_material *b) {
   adem_interaction it;
   memset(&it, 0, sizeof it);
+  adem_pair_params *pp = &it.pp;
   double cE = young_compliance(a, true) + young_compliance(b, true); /* H2 */
   double cG = shear_compliance(a, true) + shear_compliance(b, true); /* H15 */
-  it.E = cE > 0.0 ? 1.0 / cE : INFINITY;
-  it.G = cG > 0.0 ? 1.0 / cG : INFINITY;
+  pp->E = cE > 0.0 ? 1.0 / cE : INFINITY;
+  pp->G = cG > 0.0 ? 1.0 / cG : INFINITY;
   double cEr = young_compliance(a, false) + young_compliance(b, false);
   double cGr = shear_compliance(a, false) + shear_compliance(b, false);
-  it.E_real = cEr > 0.0 ? 1.0 / cEr : INFINITY;
-  it.G_real = cGr > 0.0 ? 1.0 / cGr : INFINITY;
-  /* Mixing rules where the case gives no pair value: the mean of the two materials. */
-  it.restitution = 0.5 * (a->def.restitution + b->def.restitution);
-  it.friction = 0.5 * (a->def.friction + b->def.friction);
+  pp->E_real = cEr > 0.0 ? 1.0 / cEr : INFINITY;
+  pp->G_real = cGr > 0.0 ? 1.0 / cGr : INFINITY;
+  pp->restitution = 0.5 * (a->def.restitution + b->def.restitution);
+  pp->friction = 0.5 * (a->def.friction + b->def.friction);
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+    pp->param_a[k] = a->def.param[k];
+    pp->param_b[k] = b->def.param[k];
+    pp->param[k] = mix(adem_law_param_get((adem_law_param_id)k)->mixing, pp->param_a[k], pp->param_b[k]);
+  }
+  it.normal = ADEM_NORMAL_HERTZ;
+  it.damping = ADEM_DAMPING_VISCOELASTIC;
+  it.tangential = ADEM_TANGENTIAL_TOTAL;
+  it.rolling = ADEM_ROLLING_NONE;
+  pp->dtk_rolling_modification = true;
+  return it;
+}
+
+/* What follows from the pair's values once the entries have replaced some: beta (H12) and the
+ * surface energy of the real and the modified material. */
+static void finish_pair(adem_interaction *it) {
+  adem_pair_params *pp = &it->pp;
+  pp->beta = adem_damping_beta(pp->restitution);
   /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). H24 applies to
    * the pair's effective values, gamma_mod = gamma (E_mod/E)^(2/5), so the separation energy is
    * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give
    * E_mod/E = f, hence gamma f^(2/5)). */
-  it.gamma_real = sqrt(a->def.surface_energy * b->def.surface_energy);
-  it.gamma = isfinite(it.E_real) ? it.gamma_real * pow(it.E / it.E_real, 0.4) : it.gamma_real;
-  it.hysteresis = 0.5 * (a->def.hysteresis + b->def.hysteresis);
-  it.rolling_friction_a = a->def.rolling_friction;
-  it.rolling_friction_b = b->def.rolling_friction;
-  it.rolling_damping = 0.5 * (a->def.rolling_damping + b->def.rolling_damping);
-  it.normal = ADEM_NORMAL_HERTZ;
-  it.rolling = ADEM_ROLLING_NONE;
-  it.dtk_rolling_modification = true;
-  return it;
+  pp->gamma_real = pp->param[ADEM_PARAM_SURFACE_ENERGY];
+  pp->gamma = isfinite(pp->E_real) ? pp->gamma_real * pow(pp->E / pp->E_real, 0.4) : pp->gamma_real;
+}
+
+/* Whether the laws of an entry exist and fit together; NULL if so, else why not. */
+static const char *laws_conflict(const adem_interaction_def *d, char *buf, size_t n) {
+  const adem_law *law[4] = {adem_law_get(ADEM_SLOT_NORMAL, (int)d->normal),
+                            adem_law_get(ADEM_SLOT_DAMPING, (int)d->damping),
+                            adem_law_get(ADEM_SLOT_TANGENTIAL, (int)d->tangential),
+                            adem_law_get(ADEM_SLOT_ROLLING, (int)d->rolling)};
+  static const adem_law_slot slot[4] = {ADEM_SLOT_NORMAL, ADEM_SLOT_DAMPING, ADEM_SLOT_TANGENTIAL,
+                                        ADEM_SLOT_ROLLING};
+  for (int s = 0; s < 4; ++s)
+    if (!law[s]) {
+      snprintf(buf, n, "there is no %s law number %d (%s)", adem_law_slot_name(slot[s]),
+               s == 0 ? (int)d->normal : s == 1 ? (int)d->damping : s == 2 ? (int)d->tangential : (int)d->rolling,
+               adem_law_choices(slot[s]));
+      return buf;
+    }
+  for (int s = 1; s < 4; ++s)
+    if (law[s]->requires[0] && strcmp(law[s]->requires, law[0]->name) != 0) {
+      snprintf(buf, n, "the %s law `%s` needs the `%s` normal law, not `%s`",
+               adem_law_slot_name(slot[s]), law[s]->name, law[s]->requires, law[0]->name);
+      return buf;
+    }
+  return NULL;
 }
 
 adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
@@ -81,6 +123,13 @@ adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
     double f = m->def.stiffness_factor;
     m->young_mod = f * m->def.young; /* H24: E_mod = f E */
     m->shear_mod = m->young_mod / (2.0 * (1.0 + m->def.poisson));
+  }
+  for (int k = 0; k < mt->ndefs; ++k) { /* entries a stage replaced are checked again */
+    char why[256];
+    if (laws_conflict(&mt->defs[k], why, sizeof why))
+      return adem_error_set(err, ADEM_ERR_INPUT, "interaction of materials '%s' and '%s': %s",
+                            mt->m[mt->defs[k].material_a].def.name,
+                            mt->m[mt->defs[k].material_b].def.name, why);
   }
   free(mt->pairs);
   mt->pairs = calloc((size_t)nm * (size_t)nm, sizeof *mt->pairs);
@@ -94,20 +143,26 @@ adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
                               &mt->pairs[(size_t)d->material_b * nm + d->material_a]};
     for (int s = 0; s < 2; ++s) {
       if (d->restitution > 0.0) {
-        p[s]->restitution = d->restitution;
+        p[s]->pp.restitution = d->restitution;
         p[s]->set_restitution = true;
       }
       if (d->friction >= 0.0) {
-        p[s]->friction = d->friction;
+        p[s]->pp.friction = d->friction;
         p[s]->set_friction = true;
       }
+      for (int j = 0; j < ADEM_PARAM_COUNT; ++j) {
+        if (isnan(d->param[j])) continue;
+        p[s]->pp.param[j] = p[s]->pp.param_a[j] = p[s]->pp.param_b[j] = d->param[j];
+        p[s]->set_param[j] = true;
+      }
       p[s]->normal = d->normal;
+      p[s]->damping = d->damping;
+      p[s]->tangential = d->tangential;
       p[s]->rolling = d->rolling;
-      p[s]->dtk_rolling_modification = d->dtk_rolling_modification != 0;
+      p[s]->pp.dtk_rolling_modification = d->dtk_rolling_modification != 0;
     }
   }
-  for (size_t k = 0; k < (size_t)nm * nm; ++k)
-    mt->pairs[k].beta = adem_damping_beta(mt->pairs[k].restitution);
+  for (size_t k = 0; k < (size_t)nm * nm; ++k) finish_pair(&mt->pairs[k]);
   return ADEM_OK;
 }
 
@@ -135,12 +190,17 @@ int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_er
                    def->name, def->stiffness_factor);
     return -1;
   }
-  if (def->friction < 0.0 || def->surface_energy < 0.0 || def->hysteresis < 0.0 ||
-      def->rolling_friction < 0.0 || def->rolling_damping < 0.0) {
-    adem_error_set(err, ADEM_ERR_INPUT,
-                   "material '%s': friction, surface energy, hysteresis and rolling parameters "
-                   "must be >= 0", def->name);
+  if (def->friction < 0.0) {
+    adem_error_set(err, ADEM_ERR_INPUT, "material '%s': friction must be >= 0", def->name);
     return -1;
+  }
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+    const adem_law_param *p = adem_law_param_get((adem_law_param_id)k);
+    if (!(def->param[k] >= p->lo) || !isfinite(def->param[k])) {
+      adem_error_set(err, ADEM_ERR_INPUT, "material '%s': %s %g must be >= %g", def->name, p->key,
+                     def->param[k], p->lo);
+      return -1;
+    }
   }
   if (mt->n >= 65535) {
     adem_error_set(err, ADEM_ERR_INPUT, "too many materials");
@@ -174,6 +234,22 @@ int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_de
     adem_error_set(err, ADEM_ERR_INPUT, "interaction restitution %g is outside (0, 1]",
                    def->restitution);
     return -1;
+  }
+  char why[256];
+  if (laws_conflict(def, why, sizeof why)) {
+    adem_error_set(err, ADEM_ERR_INPUT, "interaction of materials '%s' and '%s': %s",
+                   mt->m[def->material_a].def.name, mt->m[def->material_b].def.name, why);
+    return -1;
+  }
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+    const adem_law_param *p = adem_law_param_get((adem_law_param_id)k);
+    if (!isnan(def->param[k]) && !(def->param[k] >= p->lo && isfinite(def->param[k]))) {
+      adem_error_set(err, ADEM_ERR_INPUT,
+                     "interaction of materials '%s' and '%s': %s %g must be >= %g",
+                     mt->m[def->material_a].def.name, mt->m[def->material_b].def.name, p->key,
+                     def->param[k], p->lo);
+      return -1;
+    }
   }
   adem_interaction_def *d =
       realloc(mt->defs, (size_t)(mt->ndefs + 1) * sizeof *d);

@@ -7,6 +7,8 @@
 #include <stddef.h>
 
 #include "adem/adem.h"
+#include "adem/laws.h"
+#include "laws_kernels.h"
 
 /* A material after derivation: the real values plus those the contact laws use. */
 typedef struct adem_material {
@@ -15,24 +17,16 @@ typedef struct adem_material {
   double shear_mod;   /* G_mod = E_mod / (2(1+nu)) */
 } adem_material;
 
-/* Everything about a pair of materials that does not depend on the particles (H2, H12, H15). */
+/* Everything about a pair of materials that does not depend on the particles (H2, H12, H15):
+ * the law of each slot and what the laws read. */
 typedef struct adem_interaction {
   adem_normal_model normal;
+  adem_damping_model damping;
+  adem_tangential_model tangential;
   adem_rolling_model rolling;
-  double E;       /* effective Young's modulus 1/E = sum (1-nu^2)/E_k, modified stiffness */
-  double G;       /* effective shear modulus, 1/G = sum (2-nu_k)/G_k (H15) */
-  double E_real;  /* effective modulus of the real material (f = 1) */
-  double G_real;
-  double restitution;
-  double beta;    /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
-  double friction;
-  double gamma;     /* effective surface energy for JKR, modified (H24) */
-  double gamma_real;
-  double hysteresis;
-  double rolling_friction_a, rolling_friction_b; /* eta_r of each side (BROF uses both) */
-  double rolling_damping;
-  bool set_restitution, set_friction; /* overridden by an interaction entry */
-  bool dtk_rolling_modification;      /* see adem_interaction_def */
+  adem_pair_params pp;
+  bool set_restitution, set_friction; /* given by an interaction entry */
+  bool set_param[ADEM_PARAM_COUNT];
 } adem_interaction;
 
 /* The materials of a world, the interaction entries given for some pairs, and the derived table
@@ -48,7 +42,8 @@ typedef struct adem_materials {
 /* Adds a material; returns its index, or -1 with err set. */
 int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_error *err);
 int adem_materials_find(const adem_materials *mt, const char *name);
-/* Records how two materials interact; returns the entry's index, or -1 with err set. */
+/* Records how two materials interact; returns the entry's index, or -1 with err set: the laws
+ * must exist and fit together (a law's `requires`, e.g. DTK needs the JKR normal law). */
 int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_def *def,
                                    adem_error *err);
 /* Derives the modified moduli and the pair table. */

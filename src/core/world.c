@@ -301,17 +301,17 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
       if (isfinite(rmin[b])) {
         double rb = rmin[b];
         double mb = w->mat.m[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
-        double tc = adem_hertz_collision_time(m * mb / (m + mb), r * rb / (r + rb), it->E, v_ref);
+        double tc = adem_hertz_collision_time(m * mb / (m + mb), r * rb / (r + rb), it->pp.E, v_ref);
         est.t_collision = fmin(est.t_collision, tc);
       }
     }
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.planes[k].def.material);
-      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
+      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->pp.E, v_ref));
     }
     for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.mesh.groups[k].material);
-      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->E, v_ref));
+      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->pp.E, v_ref));
     }
   }
   free(rmin);

@@ -175,11 +175,11 @@ static adem_status build_materials(case_ctx *ctx, const map_cursor *root) {
     }
     if ((st = adem_yaml_get_number(ctx, &m, "restitution", &d.restitution, NULL))) return st;
     if ((st = adem_yaml_get_number(ctx, &m, "friction", &d.friction, NULL))) return st;
-    if ((st = adem_yaml_get_number(ctx, &m, "surface_energy", &d.surface_energy, NULL))) return st;
-    if ((st = adem_yaml_get_number(ctx, &m, "adhesion_hysteresis", &d.hysteresis, NULL))) return st;
     if ((st = adem_yaml_get_number(ctx, &m, "stiffness_factor", &d.stiffness_factor, NULL))) return st;
-    if ((st = adem_yaml_get_number(ctx, &m, "rolling_friction", &d.rolling_friction, NULL))) return st;
-    if ((st = adem_yaml_get_number(ctx, &m, "rolling_damping", &d.rolling_damping, NULL))) return st;
+    for (int k = 0; k < ADEM_PARAM_COUNT; ++k) /* the contact laws' parameters (adem/laws.h) */
+      if ((st = adem_yaml_get_number(ctx, &m, adem_law_param_get((adem_law_param_id)k)->key,
+                                     &d.param[k], NULL)))
+        return st;
     adem_error werr = {ADEM_OK, ""};
     int index = adem_world_add_material(ctx->w, &d, &werr);
     if (index < 0) {
@@ -203,7 +203,7 @@ static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem
                                   char names[2][ADEM_NAME_MAX]) {
   const int mats[2] = {d->material_a, d->material_b};
   for (int s = 0; s < 2; ++s) {
-    if (ctx->w->mat.m[mats[s]].def.surface_energy > 0.0) continue;
+    if (ctx->w->mat.m[mats[s]].def.param[ADEM_PARAM_SURFACE_ENERGY] > 0.0) continue;
     char path[KEY_PATH_MAX], at[LOC_MAX];
     adem_yaml_join(path, sizeof path, m->path, "normal");
     adem_yaml_where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
@@ -233,7 +233,7 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     char names[2][ADEM_NAME_MAX], paths[2][KEY_PATH_MAX];
     yaml_node_t *name_nodes[2];
     adem_interaction_def d = adem_default_interaction_def();
-    int normal, rolling;
+    int law[4];
     yaml_node_t *e_node, *mu_node;
     double e, mu;
     if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
@@ -253,27 +253,42 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     if (st) break;
     if ((st = adem_yaml_get_number(ctx, &m, "restitution", &e, &e_node))) break;
     if ((st = adem_yaml_get_number(ctx, &m, "friction", &mu, &mu_node))) break;
-    if ((st = adem_yaml_get_enum(ctx, &m, "normal", &normal))) break;
-    if ((st = adem_yaml_get_enum(ctx, &m, "rolling", &rolling))) break;
+    /* The schema's choices are the laws' rows in the order of their ids (adem/laws.h). */
+    static const char *const slot_key[4] = {"normal", "damping", "tangential", "rolling"};
+    for (int s = 0; s < 4 && !st; ++s) st = adem_yaml_get_enum(ctx, &m, slot_key[s], &law[s]);
+    if (st) break;
+    for (int k = 0; k < ADEM_PARAM_COUNT && !st; ++k) {
+      yaml_node_t *node = NULL;
+      double x;
+      st = adem_yaml_get_number(ctx, &m, adem_law_param_get((adem_law_param_id)k)->key, &x, &node);
+      if (node) d.param[k] = x;
+    }
+    if (st) break;
     if (e_node) d.restitution = e;
     if (mu_node) d.friction = mu;
-    /* The schema's choices are listed in the order of the enums. */
-    d.normal = (adem_normal_model)normal;
-    d.rolling = (adem_rolling_model)rolling;
-    if (d.rolling == ADEM_ROLLING_DTK) {
-      /* DTK's stiffness and limit come from the JKR pull-off force and contact radius (H18-H22):
-       * without JKR adhesion they do not exist. */
-      char rpath[KEY_PATH_MAX];
-      adem_yaml_join(rpath, sizeof rpath, m.path, "rolling");
-      yaml_node_t *at = adem_yaml_map_get(ctx, m.node, "rolling");
-      if (d.normal != ADEM_NORMAL_JKR) {
-        st = adem_yaml_fail(ctx, at, rpath,
-                  "`dtk` rolling needs the JKR pull-off force and contact radius, which the "
-                  "`hertz` normal model does not provide; add `normal: jkr` to this interaction or "
-                  "choose another rolling model (model_a, model_c, brof)");
-        break;
+    d.normal = (adem_normal_model)law[0];
+    d.damping = (adem_damping_model)law[1];
+    d.tangential = (adem_tangential_model)law[2];
+    d.rolling = (adem_rolling_model)law[3];
+    /* A law may need a particular normal law (its row's `requires`): DTK's stiffness and limit
+     * come from the JKR pull-off force and contact radius (H18-H22). */
+    const adem_law *normal = adem_law_get(ADEM_SLOT_NORMAL, law[0]);
+    for (int s = 1; s < 4 && !st; ++s) {
+      const adem_law *lw = adem_law_get((adem_law_slot)s, law[s]);
+      if (!lw->requires[0] || !strcmp(lw->requires, normal->name)) continue;
+      char rpath[KEY_PATH_MAX], others[256] = "";
+      adem_yaml_join(rpath, sizeof rpath, m.path, slot_key[s]);
+      for (size_t j = 0; j < adem_law_count((adem_law_slot)s); ++j) {
+        const adem_law *o = adem_law_get((adem_law_slot)s, (int)j);
+        if (!o->requires[0] || !strcmp(o->requires, normal->name)) adem_yaml_list_append(others, sizeof others, o->name);
       }
+      st = adem_yaml_fail(ctx, adem_yaml_map_get(ctx, m.node, slot_key[s]), rpath,
+                          "`%s` %s needs the `%s` normal law (%s), which `%s` is not; add `normal: "
+                          "%s` to this interaction or choose another %s law (%s)",
+                          lw->name, slot_key[s], lw->requires, lw->equations, normal->name,
+                          lw->requires, slot_key[s], others);
     }
+    if (st) break;
     if (d.normal == ADEM_NORMAL_JKR && (st = check_jkr_pair(ctx, &m, &d, names))) break;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_set_interaction(ctx->w, &d, &werr) < 0)
@@ -1347,14 +1362,14 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
       if (!isfinite(ra)) continue;
       for (size_t b = 0; b < nm; ++b) {
         const adem_interaction *it = adem_world_interaction(w, (int)a, (int)b);
-        if (it->normal != ADEM_NORMAL_JKR || !(it->gamma > 0.0)) continue;
+        if (it->normal != ADEM_NORMAL_JKR || !(it->pp.gamma > 0.0)) continue;
         double rb = rmin[ng * nm + b];
         for (int side = 0; side < 2; ++side) { /* 0: a sphere of b, 1: a wall of b */
           if (side == 0 && !isfinite(rb)) continue;
           if (side == 1 && !wall[b]) continue;
           double R = side ? ra : ra * rb / (ra + rb);
-          double pull = 8.0 / 9.0 * adem_jkr_pair_summarize(it->E_real, it->E, it->gamma_real,
-                                                            it->gamma, R, 1.0, 1.0).f_c_mod;
+          double pull = 8.0 / 9.0 * adem_jkr_pair_summarize(it->pp.E_real, it->pp.E, it->pp.gamma_real,
+                                                            it->pp.gamma, R, 1.0, 1.0).f_c_mod;
           if (force / pull > worst) {
             worst = force / pull;
             worst_pull = pull;
@@ -1379,9 +1394,9 @@ static adem_status warn_pulling_forces(case_ctx *ctx) {
              "them below %.0f%% of it (%.3g N)%s (Haervig et al. section 6.2)",
              loc, w->groups[g].name, force, 100.0 * worst, w->mat.m[wa].def.name,
              w->mat.m[wb].def.name, worst_wall ? " (wall)" : "", worst_pull, worst_R,
-             it->gamma, it->E < it->E_real ? ", reduced with the stiffness by H24" : "",
+             it->pp.gamma, it->pp.E < it->pp.E_real ? ", reduced with the stiffness by H24" : "",
              100.0 * ADEM_PULLOFF_SAFETY, ADEM_PULLOFF_SAFETY * worst_pull,
-             it->E < it->E_real ? " or reduce the stiffness less" : "");
+             it->pp.E < it->pp.E_real ? " or reduce the stiffness less" : "");
   }
   free(rmin);
   free(wall);

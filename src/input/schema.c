@@ -3,7 +3,13 @@
 #include "schema.h"
 
 #include <math.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "adem/laws.h"
 
 #define NUM ADEM_SCHEMA_NUMBER
 #define INT ADEM_SCHEMA_INT
@@ -27,7 +33,7 @@
 #define GT_LT(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX_OPEN
 
 /* Every key of a case file. Order: as the reference lists them. */
-static const adem_schema_entry schema[] = {
+static const adem_schema_entry base_schema[] = {
     {"name", NULL, STR, "", NULL, "file name without directory and extension", .doc = "Case name; the default output directory is `out/<name>`."},
     {"seed", NULL, INT, "", "1", NULL, GE(0), .doc = "Seed of the random fills; the same seed gives the same positions on every platform."},
 
@@ -38,19 +44,19 @@ static const adem_schema_entry schema[] = {
     {"materials[].poisson_ratio", NULL, NUM, "", NULL, NULL, GT_LT(-1, 0.5), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `rigid: true`", .doc = "Poisson's ratio nu."},
     {"materials[].restitution", NULL, NUM, "", "0.5", NULL, GT_LE(0, 1), .doc = "Coefficient of restitution e of a collision between two spheres of this material."},
     {"materials[].friction", NULL, NUM, "", "0.5", NULL, GE(0), .doc = "Sliding friction coefficient mu_s."},
-    {"materials[].surface_energy", NULL, NUM, "J/m^2", "0", NULL, GE(0), .doc = "Surface energy gamma per surface (work of adhesion 2 gamma); used by the `jkr` normal model."},
-    {"materials[].adhesion_hysteresis", NULL, NUM, "", "0", NULL, GE(0), .doc = "Adhesion hysteresis delta_gamma/gamma (DTK rolling)."},
     {"materials[].stiffness_factor", NULL, NUM, "", "1", NULL, GT_LE(0, 1), .doc = "Stiffness reduction f = E_mod/E; surface energy is scaled by f^(2/5) to keep the pull-off force."},
-    {"materials[].rolling_friction", NULL, NUM, "", "0", NULL, GE(0), .doc = "Rolling friction coefficient eta_r (rolling models `model_a`, `model_c`, `brof`)."},
-    {"materials[].rolling_damping", NULL, NUM, "", "0", NULL, GE(0), .doc = "Rolling damping ratio delta_r (rolling model `model_c`)."},
+    {"materials[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
     {"materials[].rigid", NULL, BOOL, "", "false", NULL, .doc = "`true`: infinite Young's modulus; for wall materials only."},
 
     {"interactions", NULL, LIST, "", NULL, NULL, .doc = "Per-pair overrides of how two materials interact; pairs not listed use the defaults."},
     {"interactions[].materials", NULL, PAIR, "", NULL, NULL, REQ, .doc = "The two materials (may be the same one twice). Each pair may appear once."},
     {"interactions[].restitution", NULL, NUM, "", NULL, "derived from the two materials", GT_LE(0, 1), .doc = "Coefficient of restitution of this pair."},
     {"interactions[].friction", NULL, NUM, "", NULL, "derived from the two materials", GE(0), .doc = "Sliding friction coefficient of this pair."},
-    {"interactions[].normal", NULL, ENUM, "", "hertz", NULL, .choices = "hertz|jkr", .doc = "Normal force law: Hertz with damping, or simplified JKR adhesion."},
-    {"interactions[].rolling", NULL, ENUM, "", "none", NULL, .choices = "none|dtk|model_a|model_c|brof", .doc = "Rolling resistance law."},
+    {"interactions[].normal", NULL, ENUM, "", "hertz", NULL, .choices = "@normal", .doc = "Normal force law (see Contact laws)."},
+    {"interactions[].damping", NULL, ENUM, "", "viscoelastic", NULL, .choices = "@damping", .doc = "Damping law of the normal and tangential dashpots."},
+    {"interactions[].tangential", NULL, ENUM, "", "total", NULL, .choices = "@tangential", .doc = "Tangential force law."},
+    {"interactions[].rolling", NULL, ENUM, "", "none", NULL, .choices = "@rolling", .doc = "Rolling resistance law."},
+    {"interactions[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
 
     {"groups", NULL, LIST, "", NULL, NULL, .doc = "Named groups of particles with a constant external force; group `default` always exists (no force unless listed)."},
     {"groups[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; `default` sets the force of the particles without a `group`."},
@@ -186,7 +192,71 @@ static const adem_schema_entry schema[] = {
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
 
-size_t adem_schema_count(void) { return sizeof schema / sizeof schema[0]; }
+/* The table: base_schema with its ADEM_SCHEMA_LAW_PARAMS markers replaced by one entry per
+ * contact-law parameter and its law choices ("@rolling") by the names of the laws' rows
+ * (adem/laws.h), built once. */
+static adem_schema_entry *built;
+static size_t nbuilt;
+
+static char *dup_printf(const char *fmt, ...) ADEM_SCHEMA_PRINTF(1, 2);
+static char *dup_printf(const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  int n = vsnprintf(NULL, 0, fmt, ap);
+  va_end(ap);
+  char *s = malloc((size_t)(n > 0 ? n : 0) + 1);
+  if (!s) abort(); /* a few hundred bytes at start-up */
+  va_start(ap, fmt);
+  vsnprintf(s, (size_t)n + 1, fmt, ap);
+  va_end(ap);
+  return s;
+}
+
+static void build_table(void) {
+  size_t nbase = sizeof base_schema / sizeof base_schema[0];
+  adem_schema_entry *t = calloc(nbase + 2 * ADEM_PARAM_COUNT + 1, sizeof *t);
+  if (!t) abort();
+  size_t n = 0;
+  for (size_t i = 0; i < nbase; ++i) {
+    const adem_schema_entry *e = &base_schema[i];
+    if (e->type != ADEM_SCHEMA_LAW_PARAMS) {
+      t[n] = *e;
+      if (e->choices && e->choices[0] == '@') {
+        static const char *const slots[] = {"@normal", "@damping", "@tangential", "@rolling"};
+        for (int s = 0; s < 4; ++s)
+          if (!strcmp(e->choices, slots[s])) t[n].choices = adem_law_choices((adem_law_slot)s);
+      }
+      ++n;
+      continue;
+    }
+    bool material = !strcmp(e->path, "materials[]");
+    for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+      const adem_law_param *p = adem_law_param_get((adem_law_param_id)k);
+      adem_schema_entry *x = &t[n++];
+      x->path = dup_printf("%s.%s", e->path, p->key);
+      x->type = ADEM_SCHEMA_NUMBER;
+      x->unit = p->unit;
+      x->lo = p->lo;
+      x->range = ADEM_RANGE_MIN;
+      if (material) {
+        x->def = dup_printf("%g", p->def);
+        x->doc = p->doc;
+      } else {
+        x->def_doc = "the two materials' values";
+        x->doc = dup_printf("This pair's value, replacing the materials': %s", p->doc);
+      }
+    }
+  }
+  nbuilt = n;
+  built = t;
+}
+
+#define schema (built ? built : (build_table(), built))
+
+size_t adem_schema_count(void) {
+  if (!built) build_table();
+  return nbuilt;
+}
 const adem_schema_entry *adem_schema_at(size_t i) { return i < adem_schema_count() ? &schema[i] : NULL; }
 
 const char *adem_schema_key(const adem_schema_entry *e) {
@@ -326,6 +396,7 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
     snprintf(buf, n, "a list [a, b, ...] of numbers%s%s%s", sp, range, unit);
     break;
   case ADEM_SCHEMA_SETTINGS: snprintf(buf, n, "a mapping of key paths to values (key.path: value)"); break;
+  case ADEM_SCHEMA_LAW_PARAMS: snprintf(buf, n, "contact-law parameters"); break;
   }
 }
 
@@ -357,6 +428,7 @@ static void md_type(FILE *f, const adem_schema_entry *e) {
   case ADEM_SCHEMA_TABLE: fputs("[[t, x, y, z], ...]", f); break;
   case ADEM_SCHEMA_NUMBER_LIST: fputs("[number, ...]", f); break;
   case ADEM_SCHEMA_SETTINGS: fputs("{key.path: value, ...}", f); break;
+  default: break;
   }
 }
 
@@ -494,6 +566,24 @@ void adem_schema_write_markdown(FILE *f) {
         "Overlaps between spheres of different sets, and spheres behind a wall, are reported when "
         "the run starts.\n\n",
         f);
+
+  fputs("## Contact laws\n\n"
+        "Each material pair composes its contact from one law per slot, chosen in `interactions` "
+        "(pairs not listed: the first law of each slot). The table is the engine's own registry "
+        "(include/adem/laws.h). Parameters come from the materials (mixed per pair) or from the "
+        "interaction entry.\n\n"
+        "| slot | law | equations | parameters | needs | acts | what it is |\n"
+        "|---|---|---|---|---|---|---|\n",
+        f);
+  for (int sl = 0; sl < ADEM_SLOT_COUNT; ++sl)
+    for (size_t k = 0; k < adem_law_count((adem_law_slot)sl); ++k) {
+      const adem_law *lw = adem_law_get((adem_law_slot)sl, (int)k);
+      fprintf(f, "| %s | `%s` | %s | %s | %s | %s | %s |\n", adem_law_slot_name((adem_law_slot)sl),
+              lw->name, lw->equations[0] ? lw->equations : "-", lw->params[0] ? lw->params : "-",
+              lw->requires[0] ? lw->requires : "-", lw->per_particle ? "per particle" : "per contact",
+              lw->doc);
+    }
+  fputs("\n", f);
 
   fputs("## Top-level keys\n\n", f);
   md_header(f);

@@ -7,6 +7,12 @@
 #include <stddef.h>
 #include <stdio.h>
 
+#if defined(__GNUC__)
+#define ADEM_SCHEMA_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define ADEM_SCHEMA_PRINTF(a, b)
+#endif
+
 typedef enum adem_schema_type {
   ADEM_SCHEMA_NUMBER,    /* finite real number */
   ADEM_SCHEMA_INT,       /* non-negative integer */
@@ -22,7 +28,8 @@ typedef enum adem_schema_type {
   ADEM_SCHEMA_ID_LIST,   /* list of particle ids [0, 5, ...]; range bounds the item count */
   ADEM_SCHEMA_TABLE,     /* list of rows [t, x, y, z] of 4 numbers; range bounds the row count */
   ADEM_SCHEMA_NUMBER_LIST, /* [a, b, ...] of numbers; range bounds each number */
-  ADEM_SCHEMA_SETTINGS   /* mapping of case-file key paths to values (stages[].set) */
+  ADEM_SCHEMA_SETTINGS,  /* mapping of case-file key paths to values (stages[].set) */
+  ADEM_SCHEMA_LAW_PARAMS /* in the source table only: one NUMBER per contact-law parameter */
 } adem_schema_type;
 
 /* Bounds of a number (for lists: of the item count). */

@@ -155,8 +155,8 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   m.poisson = nu;
   m.restitution = s->restitution;
   m.friction = s->friction;
-  m.surface_energy = s->surface_energy;
-  m.hysteresis = s->hysteresis; /* on the wall too: the pair takes the mean */
+  m.param[ADEM_PARAM_SURFACE_ENERGY] = s->surface_energy;
+  m.param[ADEM_PARAM_ADHESION_HYSTERESIS] = s->hysteresis; /* on the wall too: the pair takes the mean */
   m.young = s->keep_gamma ? E_sphere * s->stiffness_factor : E_sphere;
   m.stiffness_factor = s->keep_gamma ? 1.0 : s->stiffness_factor;
   int ms = adem_world_add_material(w, &m, err);

@@ -91,8 +91,8 @@ static adem_status sphere_run(const sphere_setup *s, double duration, sphere_tra
   m.poisson = T1_POISSON;
   m.restitution = T1_RESTITUTION;
   m.friction = T1_FRICTION;
-  m.rolling_friction = s->eta;
-  m.rolling_damping = s->damping;
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = s->eta;
+  m.param[ADEM_PARAM_ROLLING_DAMPING] = s->damping;
   int sphere = adem_world_add_material(w, &m, err);
   adem_material_def f = m; /* the rigid surface: same e, mu, eta_r, delta_r */
   snprintf(f.name, sizeof f.name, "surface");

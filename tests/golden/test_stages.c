@@ -73,7 +73,7 @@ static void test_friction_stages(void **state) {
   adem_case *c = load(slide_case, NULL, 0);
   adem_world *w = c->world;
   const adem_interaction *it = adem_world_interaction(w, 0, 1);
-  assert_true(it->friction == 0.0); /* stage 0 is in force from the start */
+  assert_true(it->pp.friction == 0.0); /* stage 0 is in force from the start */
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   double v1 = vx_at(c, 0.005), v2 = vx_at(c, 0.015);
   double a_pack = (v1 - v2) / 0.01;
@@ -83,8 +83,8 @@ static void test_friction_stages(void **state) {
   assert_int_equal(adem_stages_current(c), 1);
   it = adem_world_interaction(w, 0, 1);
   printf("# deceleration %.3g m/s^2 with friction 0, %.5g m/s^2 with 0.5 (mu g = 4.905); pair "
-         "friction now %g\n", a_pack, a_test, it->friction);
-  assert_true(it->friction == 0.5);
+         "friction now %g\n", a_pack, a_test, it->pp.friction);
+  assert_true(it->pp.friction == 0.5);
   assert_float_equal(a_pack, 0.0, 1e-9);
   assert_float_equal(a_test, 0.5 * 9.81, 0.02 * 0.5 * 9.81);
   assert_true(v4 > 5.0 / 7.0); /* still sliding: rolling without slip starts at 5/7 v0 */
@@ -246,7 +246,7 @@ static void test_staged_restart(void **state) {
     adem_case *r = NULL;
     if (adem_checkpoint_read(path, &r, &err)) fail_msg("%s", err.message);
     assert_int_equal(adem_stages_current(r), stage);
-    assert_true(adem_world_interaction(r->world, 0, 1)->friction == (stage ? 0.45 : 0.0));
+    assert_true(adem_world_interaction(r->world, 0, 1)->pp.friction == (stage ? 0.45 : 0.0));
     if (staged_advance(r, total, 100, &err)) fail_msg("%s", err.message);
     printf("# resumed from step %llu (stage %d, %llu poured)\n", (unsigned long long)stops[k],
            stage + 1, (unsigned long long)poured);

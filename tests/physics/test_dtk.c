@@ -32,8 +32,8 @@ static void add_materials(adem_world *w, double f, double hysteresis, double fri
   m.poisson = NU;
   m.restitution = 0.5;
   m.friction = friction;
-  m.surface_energy = GAMMA;
-  m.hysteresis = hysteresis;
+  m.param[ADEM_PARAM_SURFACE_ENERGY] = GAMMA;
+  m.param[ADEM_PARAM_ADHESION_HYSTERESIS] = hysteresis;
   m.young = (pair ? 2.0 : 1.0) * (1.0 - NU * NU) * YOUNG;
   m.stiffness_factor = f;
   adem_error err;
@@ -240,8 +240,8 @@ static double couple_energy_balance(adem_world *w, const adem_pair_list *l, doub
     }
     double delta = l == &w->pw ? RADIUS - w->p.pos[0].z
                                : 2.0 * RADIUS - v3_norm(v3_sub(w->p.pos[1], w->p.pos[0]));
-    double a = adem_jkr_contact_radius(it->gamma, R, it->E, delta) /
-               adem_jkr_a0(it->gamma, R, it->E);
+    double a = adem_jkr_contact_radius(it->pp.gamma, R, it->pp.E, delta) /
+               adem_jkr_a0(it->pp.gamma, R, it->pp.E);
     double k_r = 4.0 * f_c * a * sqrt(a); /* H20, real F_C */
     double u = 0.5 * k_r / R * v3_norm2(touching_history(l)->rolling);
     u_max = fmax(u_max, u);

@@ -29,12 +29,12 @@ static adem_world *sphere_on_plane(adem_rolling_model model, double eta, double 
   m.poisson = POISSON;
   m.restitution = 0.2;
   m.friction = 0.8;
-  m.rolling_friction = eta;
-  m.rolling_damping = 0.3;
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = eta;
+  m.param[ADEM_PARAM_ROLLING_DAMPING] = 0.3;
   adem_error err;
   int s = adem_world_add_material(w, &m, &err);
   m.rigid = 1;
-  m.rolling_friction = 3.0 * eta; /* a wall contact uses the particle's eta_r, not the wall's */
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = 3.0 * eta; /* a wall contact uses the particle's eta_r, not the wall's */
   snprintf(m.name, sizeof m.name, "surface");
   int f = adem_world_add_material(w, &m, &err);
   adem_interaction_def it = adem_default_interaction_def();
@@ -180,10 +180,10 @@ static adem_world *spinning_pair(adem_rolling_model model, int count, adem_vec3 
   m.poisson = POISSON;
   m.restitution = 0.5;
   m.friction = 0.5;
-  m.rolling_friction = 0.3;
-  m.rolling_damping = 0.3;
-  m.surface_energy = model == ADEM_ROLLING_DTK ? 0.5 : 0.0;
-  m.hysteresis = 0.5;
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = 0.3;
+  m.param[ADEM_PARAM_ROLLING_DAMPING] = 0.3;
+  m.param[ADEM_PARAM_SURFACE_ENERGY] = model == ADEM_ROLLING_DTK ? 0.5 : 0.0;
+  m.param[ADEM_PARAM_ADHESION_HYSTERESIS] = 0.5;
   adem_error err;
   int g = adem_world_add_material(w, &m, &err);
   adem_interaction_def it = adem_default_interaction_def();
@@ -269,7 +269,7 @@ static void test_pair_rules(void **state) {
       m.density = RHO;
       m.young = YOUNG;
       m.poisson = POISSON;
-      m.rolling_friction = eta[k];
+      m.param[ADEM_PARAM_ROLLING_FRICTION] = eta[k];
       mat[k] = adem_world_add_material(w, &m, &err);
     }
     adem_interaction_def it = adem_default_interaction_def();
@@ -297,7 +297,7 @@ static void test_pair_rules(void **state) {
       if (w->pp.n != 1 || !w->pp.touching[0]) continue;
       adem_vec3 d = v3_sub(w->p.pos[1], w->p.pos[0]);
       double delta = r[0] + r[1] - v3_norm(d);
-      double f_el = 4.0 / 3.0 * pair->E * sqrt(Rr) * pow(delta, 1.5); /* R = R_r for a pair */
+      double f_el = 4.0 / 3.0 * pair->pp.E * sqrt(Rr) * pow(delta, 1.5); /* R = R_r for a pair */
       double got = pass ? w->pp.rolling_capacity[0] : v3_norm(w->pp.rolling_a[0]);
       double want = pass ? fmin(eta[0] * r[0], eta[1] * r[1]) * f_el
                          : 0.5 * (eta[0] + eta[1]) * Rr * f_el;
@@ -348,7 +348,7 @@ static void test_brof_symmetry(void **state) {
   snprintf(m.name, sizeof m.name, "grain");
   m.young = YOUNG;
   m.poisson = POISSON;
-  m.rolling_friction = 0.3;
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = 0.3;
   int g = adem_world_add_material(w, &m, &err);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = it.material_b = g;

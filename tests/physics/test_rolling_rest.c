@@ -22,7 +22,7 @@ static adem_world *rolling_sphere(adem_rolling_model model) {
   m.poisson = 0.49;
   m.restitution = 0.2;
   m.friction = 0.8;
-  m.rolling_friction = 0.2;
+  m.param[ADEM_PARAM_ROLLING_FRICTION] = 0.2;
   adem_error err;
   int s = adem_world_add_material(w, &m, &err);
   m.rigid = 1;

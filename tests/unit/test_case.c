@@ -166,11 +166,11 @@ static void test_full_case(void **state) {
   const adem_material_def *g = &w->mat.m[0].def;
   assert_float_equal(g->restitution, 0.9, 0);
   assert_float_equal(g->friction, 0.3, 0);
-  assert_float_equal(g->surface_energy, 0.1, 0);
-  assert_float_equal(g->hysteresis, 0.2, 0);
+  assert_float_equal(g->param[ADEM_PARAM_SURFACE_ENERGY], 0.1, 0);
+  assert_float_equal(g->param[ADEM_PARAM_ADHESION_HYSTERESIS], 0.2, 0);
   assert_float_equal(g->stiffness_factor, 0.5, 0);
-  assert_float_equal(g->rolling_friction, 0.01, 0);
-  assert_float_equal(g->rolling_damping, 0.3, 0);
+  assert_float_equal(g->param[ADEM_PARAM_ROLLING_FRICTION], 0.01, 0);
+  assert_float_equal(g->param[ADEM_PARAM_ROLLING_DAMPING], 0.3, 0);
   assert_float_equal(w->mat.m[1].def.young, 2e11, 0);
   assert_int_equal(w->mat.ndefs, 2);
   const adem_interaction_def *i0 = &w->mat.defs[0], *i1 = &w->mat.defs[1];

@@ -18,7 +18,7 @@ static void test_reduced_stiffness_on_rigid_wall(void **state) {
   snprintf(m.name, sizeof m.name, "psl");
   m.young = 271e6;
   m.poisson = 0.0;
-  m.surface_energy = 0.11;
+  m.param[ADEM_PARAM_SURFACE_ENERGY] = 0.11;
   m.stiffness_factor = 0.01;
   adem_error err;
   int psl = adem_world_add_material(w, &m, &err);
@@ -28,13 +28,13 @@ static void test_reduced_stiffness_on_rigid_wall(void **state) {
   int quartz = adem_world_add_material(w, &m, &err);
   assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   const adem_interaction *it = adem_world_interaction(w, psl, quartz);
-  printf("# E = %.6g Pa (real %.6g), gamma = %.6g J/m^2 (real %.6g)\n", it->E, it->E_real,
-         it->gamma, it->gamma_real);
-  assert_true(fabs(it->E / it->E_real - 0.01) < 1e-14);
-  assert_true(fabs(it->gamma / (0.11 * pow(0.01, 0.4)) - 1.0) < 1e-14);
+  printf("# E = %.6g Pa (real %.6g), gamma = %.6g J/m^2 (real %.6g)\n", it->pp.E, it->pp.E_real,
+         it->pp.gamma, it->pp.gamma_real);
+  assert_true(fabs(it->pp.E / it->pp.E_real - 0.01) < 1e-14);
+  assert_true(fabs(it->pp.gamma / (0.11 * pow(0.01, 0.4)) - 1.0) < 1e-14);
   /* two spheres of the same reduced material: the same rule */
   const adem_interaction *pp = adem_world_interaction(w, psl, psl);
-  assert_true(fabs(pp->gamma / (0.11 * pow(0.01, 0.4)) - 1.0) < 1e-14);
+  assert_true(fabs(pp->pp.gamma / (0.11 * pow(0.01, 0.4)) - 1.0) < 1e-14);
   adem_world_free(w);
 }
 
@@ -52,11 +52,11 @@ static void test_effective_moduli(void **state) {
   assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   double G = 1e7 / (2.0 * 1.25);
   const adem_interaction *pp = adem_world_interaction(w, a, a);
-  assert_true(fabs(pp->E / (1e7 / (2.0 * (1.0 - 0.0625))) - 1.0) < 1e-14);
-  assert_true(fabs(pp->G / (G / (2.0 * 1.75)) - 1.0) < 1e-14);
+  assert_true(fabs(pp->pp.E / (1e7 / (2.0 * (1.0 - 0.0625))) - 1.0) < 1e-14);
+  assert_true(fabs(pp->pp.G / (G / (2.0 * 1.75)) - 1.0) < 1e-14);
   const adem_interaction *pw = adem_world_interaction(w, a, wall);
-  assert_true(fabs(pw->E / (1e7 / (1.0 - 0.0625)) - 1.0) < 1e-14);
-  assert_true(fabs(pw->G / (G / 1.75) - 1.0) < 1e-14);
+  assert_true(fabs(pw->pp.E / (1e7 / (1.0 - 0.0625)) - 1.0) < 1e-14);
+  assert_true(fabs(pw->pp.G / (G / 1.75) - 1.0) < 1e-14);
   adem_world_free(w);
 }
 

@@ -1,0 +1,186 @@
+/* The kernels behind the rows of include/adem/laws.h: one function per law with its slot's
+ * signature, pure (inputs in, force out, history updated in place). The force pass
+ * (src/core/contacts.c) calls them through a switch generated from the rows, so a law costs no
+ * function pointer per contact. Conventions (physics notes 2-3): n points from i to j (or from the
+ * particle into the wall), the overlap is positive in contact, positive normal force is
+ * repulsive, w = v_i,c - v_j,c is the velocity of i's contact point relative to j's. */
+#ifndef ADEM_LAWS_KERNELS_H
+#define ADEM_LAWS_KERNELS_H
+
+#include <math.h>
+#include <stdbool.h>
+
+#include "adem/laws.h"
+#include "adem/vec3.h"
+#include "hertz.h"
+#include "jkr.h"
+#include "rolling.h"
+#include "tangential.h"
+
+/* What the laws know about a pair of materials: derived once per pair (core/materials.c). */
+typedef struct adem_pair_params {
+  double E;      /* effective Young's modulus 1/E = sum (1-nu^2)/E_k, modified stiffness (H2) */
+  double G;      /* effective shear modulus, 1/G = sum (2-nu_k)/G_k (H15) */
+  double E_real; /* the same for the real material (f = 1) */
+  double G_real;
+  double restitution;
+  double beta;   /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double friction;
+  double gamma;      /* effective surface energy, modified (H24) */
+  double gamma_real; /* of the real material */
+  double param[ADEM_PARAM_COUNT];   /* the pair's value of each law parameter (its mixing rule) */
+  double param_a[ADEM_PARAM_COUNT]; /* side a's (the first material's) value */
+  double param_b[ADEM_PARAM_COUNT]; /* side b's value */
+  /* DTK under reduced stiffness: keep F_C, a0 and xi_crit of the real material (H section 3.2) */
+  bool dtk_rolling_modification;
+} adem_pair_params;
+
+/* One contact as the laws see it. */
+typedef struct adem_contact_geometry {
+  adem_vec3 n;         /* unit normal from i to j */
+  double delta;        /* overlap, > 0 */
+  double R;            /* effective radius (H2; wall: r_i) */
+  double mstar;        /* effective mass (wall: m_i) */
+  adem_vec3 w;         /* relative velocity of the contact points, i minus j */
+  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n */
+  double ri, rj;       /* radii; rj = 0 for a wall */
+  double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
+} adem_contact_geometry;
+
+/* ---------------------------------------------------------------- normal slot */
+
+typedef struct adem_normal_result {
+  double f_elastic;  /* elastic normal force, > 0 repulsive */
+  double e_elastic;  /* energy stored, J */
+  double f_critical; /* F_C of an adhesive law (the Coulomb load is |F + 2 F_C|), else 0 */
+  double a;          /* contact radius the rolling laws see */
+} adem_normal_result;
+
+/* a_hertz = sqrt(R delta), computed once per contact. */
+static inline adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
+                                                       const adem_contact_geometry *g,
+                                                       double a_hertz) {
+  adem_normal_result r;
+  r.f_elastic = adem_hertz_force(pp->E, a_hertz, g->delta);  /* H9 without adhesion */
+  r.e_elastic = adem_hertz_energy(pp->E, a_hertz, g->delta);
+  r.f_critical = 0.0;
+  r.a = a_hertz;
+  return r;
+}
+
+static inline adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
+                                                     const adem_contact_geometry *g,
+                                                     double a_hertz) {
+  (void)a_hertz;
+  adem_normal_result r;
+  r.a = adem_jkr_contact_radius(pp->gamma, g->R, pp->E, g->delta); /* H10 */
+  r.f_elastic = adem_jkr_force(pp->gamma, g->R, pp->E, r.a);       /* H8-H9 */
+  r.e_elastic = adem_jkr_energy(pp->gamma, g->R, pp->E, r.a);
+  r.f_critical = adem_jkr_critical_force(pp->gamma, g->R);
+  return r;
+}
+
+/* ---------------------------------------------------------------- damping slot */
+
+/* The viscous coefficient c >= 0 of a dashpot beside a spring of stiffness S (force -c v). */
+static inline double adem_damping_viscoelastic_law(const adem_pair_params *pp, double S,
+                                                   double mstar) {
+  return adem_damping_coefficient(pp->beta, S, mstar); /* H11 with H16's square root */
+}
+
+/* ---------------------------------------------------------------- tangential slot */
+
+/* Advances the history by the slip vt dt and returns the tangential force on i (H14-H17). */
+static inline adem_vec3 adem_tangential_total_law(adem_vec3 *xi, adem_vec3 n, adem_vec3 vt,
+                                                  double dt, double stiffness, double damping,
+                                                  double f_limit, bool *sliding) {
+  return adem_tangential_force(xi, n, vt, dt, stiffness, damping, f_limit, sliding);
+}
+
+/* ---------------------------------------------------------------- rolling slot */
+
+typedef struct adem_rolling_input {
+  const adem_contact_geometry *g;
+  const adem_pair_params *pp;
+  double dt;
+  double f_load; /* normal load |F_el + 2 F_C| */
+  double a;      /* contact radius of the normal law */
+  double Sn;     /* normal stiffness 2 E sqrt(R delta) */
+} adem_rolling_input;
+
+typedef struct adem_rolling_output {
+  adem_vec3 torque; /* couple on i (j takes the opposite) */
+  double capacity;  /* per-particle laws: resistance this contact offers (BROF's e_c |F_n|) */
+  double elastic;   /* energy stored in a rolling spring, J */
+} adem_rolling_output;
+
+/* Rolling radius R_r (wall: r_i) and the eta_r of models A and C: the mean of a particle pair's,
+ * the particle's on a wall (notes section 4). */
+static inline double adem_rolling_radius(const adem_contact_geometry *g) {
+  return g->rj == 0.0 ? g->ri : g->ri * g->rj / (g->ri + g->rj);
+}
+static inline double adem_rolling_eta(const adem_rolling_input *in) {
+  const double *a = in->pp->param_a, *b = in->pp->param_b;
+  int k = ADEM_PARAM_ROLLING_FRICTION;
+  return in->g->rj == 0.0 ? a[k] : 0.5 * (a[k] + b[k]);
+}
+
+static inline void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                         adem_rolling_output *out) {
+  (void)in;
+  (void)hist;
+  (void)out;
+}
+
+static inline void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                            adem_rolling_output *out) {
+  (void)hist; /* I7-I8 */
+  out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
+                                     in->f_load);
+}
+
+static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                            adem_rolling_output *out) {
+  const adem_contact_geometry *g = in->g;
+  double R_r = adem_rolling_radius(g);
+  double eta = adem_rolling_eta(in);
+  double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
+  double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
+  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load, c_r);
+  if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
+}
+
+static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                         adem_rolling_output *out) {
+  (void)hist; /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
+  const adem_contact_geometry *g = in->g;
+  int k = ADEM_PARAM_ROLLING_FRICTION;
+  double e_c = in->pp->param_a[k] * g->ri;
+  if (g->rj != 0.0) e_c = fmin(e_c, in->pp->param_b[k] * g->rj);
+  out->capacity = e_c * in->f_load;
+}
+
+static inline void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                        adem_rolling_output *out) {
+  const adem_contact_geometry *g = in->g;
+  const adem_pair_params *pp = in->pp;
+  /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2). Without that
+   * modification every quantity is the modified material's. */
+  bool keep_real = pp->dtk_rolling_modification;
+  double f_c = adem_jkr_critical_force(keep_real ? pp->gamma_real : pp->gamma, g->R);
+  double a0_mod = adem_jkr_a0(pp->gamma, g->R, pp->E);
+  double a0_real = keep_real ? adem_jkr_a0(pp->gamma_real, g->R, pp->E_real) : a0_mod;
+  double ratio = in->a / a0_mod;
+  double k_r = 4.0 * f_c * ratio * sqrt(ratio);                                   /* H20 */
+  double xi_crit = a0_real / 12.0 * pp->param[ADEM_PARAM_ADHESION_HYSTERESIS];   /* H22 */
+  /* Rolling velocity without Marshall's slip term (as Wang et al. 2015, eq. 31, and LAMMPS):
+   * with it xi follows the translation while the couple acts on the spin alone, a circulatory
+   * law that feeds energy in when the tangential spring is soft (reduced stiffness). Pure rolling
+   * still gives |v_L| = the centre's speed. */
+  adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
+  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit);
+  /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
+  out->elastic = 0.5 * k_r * v3_norm2(*hist) / g->R;
+}
+
+#endif
