@@ -8,8 +8,9 @@
  * Adding a law: write its kernel in src/contact/ (the signature of its slot, see
  * src/contact/laws_kernels.h), add one row to its slot's list here, and unit-test the kernel.
  * A build may add rows without editing this file: define ADEM_EXTRA_LAWS_HEADER to a header that
- * defines ADEM_EXTRA_ROLLING_LAWS(X) (and ADEM_EXTRA_LAW_PARAMS(P) for new parameters) and
- * declares the kernels (tests/laws/ does this for a test-only rolling law). */
+ * defines ADEM_EXTRA_ROLLING_LAWS(X) (or ADEM_EXTRA_NORMAL_LAWS, and ADEM_EXTRA_LAW_PARAMS(P) for
+ * new parameters), and ADEM_EXTRA_KERNELS_HEADER to one with the kernels (tests/laws/ does this
+ * for a test-only rolling law). */
 #ifndef ADEM_LAWS_H
 #define ADEM_LAWS_H
 

@@ -183,4 +183,9 @@ static inline void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 
   out->elastic = 0.5 * k_r * v3_norm2(*hist) / g->R;
 }
 
+/* Kernels of rows a build adds (see include/adem/laws.h). */
+#ifdef ADEM_EXTRA_KERNELS_HEADER
+#include ADEM_EXTRA_KERNELS_HEADER
+#endif
+
 #endif
