@@ -12,13 +12,13 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
-#include "collide.h"
+#include "adem/adem.h"
 #include "fileio.h"
 #include "insert.h"
 #include "parallel.h"
 #include "schedule.h"
 #include "stages.h"
-#include "validate.h"
+#include "adem/adem.h"
 #include "world.h"
 
 enum {

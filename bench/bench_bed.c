@@ -10,8 +10,16 @@
 #include <time.h>
 
 #include "adem/adem.h"
-#include "rng.h"
-#include "world.h"
+#include "adem/vec3.h"
+
+/* A uniform number in [0, 1) (splitmix64): the bed's jitter, the same on every platform. */
+static double uniform(uint64_t *s) {
+  uint64_t z = (*s += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
 
 static double now(void) {
   struct timespec t;
@@ -30,20 +38,21 @@ static adem_world *settled_bed(int n, double *settle_seconds) {
   m.restitution = 0.3;
   m.friction = 0.5;
   adem_error err;
-  int glass = adem_world_add_material(w, &m, &err);
+  int glass = 0;
+  adem_world_add_material(w, &m, &glass, &err);
   double r = 2.5e-3, h = 2.2 * r;
   int side = (int)ceil(sqrt(n / 20.0)); /* about 20 layers high */
   double L = side * h;
-  adem_world_add_box(w, "box", v3(0, 0, 0), v3(L, L, 100.0 * L), glass, &err);
-  adem_rng rng = adem_rng_seed(1);
+  adem_world_add_box(w, "box", v3(0, 0, 0), v3(L, L, 100.0 * L), glass, NULL, &err);
+  uint64_t rng = 1;
   for (int k = 0; k < n; ++k) {
     int ix = k % side, iy = (k / side) % side, iz = k / (side * side);
     adem_particle_def p = adem_default_particle_def();
     p.material = glass;
     p.radius = r;
-    p.position = v3((ix + 0.5) * h + 0.1 * r * (adem_rng_uniform(&rng) - 0.5),
-                    (iy + 0.5) * h + 0.1 * r * (adem_rng_uniform(&rng) - 0.5), (iz + 0.5) * h);
-    adem_world_add_particle(w, &p, &err);
+    p.position = v3((ix + 0.5) * h + 0.1 * r * (uniform(&rng) - 0.5),
+                    (iy + 0.5) * h + 0.1 * r * (uniform(&rng) - 0.5), (iz + 0.5) * h);
+    adem_world_add_particle(w, &p, NULL, &err);
   }
   adem_step_estimate est = adem_world_estimate_step(w, 1.0);
   adem_world_set_dt(w, est.dt);

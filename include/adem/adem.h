@@ -35,6 +35,17 @@ typedef enum adem_log_level { ADEM_LOG_INFO = 0, ADEM_LOG_WARN = 1 } adem_log_le
 typedef void adem_log_fn(adem_log_level level, const char *message, void *user);
 void adem_log_set_hook(adem_log_fn *fn, void *user);
 
+#if defined(__GNUC__)
+#define ADEM_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define ADEM_PRINTF(a, b)
+#endif
+/* A message through the hook (studies and programs built on the library speak this way too). */
+void adem_log(adem_log_level level, const char *fmt, ...) ADEM_PRINTF(2, 3);
+/* Fills err (if not NULL) with status and the message, and returns status. */
+adem_status adem_error_set(adem_error *err, adem_status status, const char *fmt, ...)
+    ADEM_PRINTF(3, 4);
+
 typedef struct adem_vec3 {
   double x, y, z;
 } adem_vec3;
@@ -47,6 +58,8 @@ typedef struct adem_world adem_world;
 
 #include "adem/world.h"
 #include "adem/case.h"
+#include "adem/output.h"
 #include "adem/run.h"
+#include "adem/studies.h"
 
 #endif

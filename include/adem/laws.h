@@ -181,6 +181,15 @@ const adem_law_param *adem_law_param_get(adem_law_param_id id);
 /* The parameter with that key, or NULL. */
 const adem_law_param *adem_law_param_find(const char *key);
 
+/* Closed forms of the laws, for studies and checks (the same kernels the force pass calls):
+ * simplified JKR (H7-H10) with effective E and gamma, and Hertz. SI units. */
+double adem_law_jkr_critical_force(double gamma, double R);          /* F_C = 3 pi gamma R */
+double adem_law_jkr_a0(double gamma, double R, double E);            /* (9 pi gamma R^2/E)^(1/3) */
+double adem_law_jkr_contact_radius(double gamma, double R, double E, double delta); /* H10 */
+double adem_law_jkr_force(double gamma, double R, double E, double a);  /* H8-H9, > 0 repulsive */
+double adem_law_jkr_energy(double gamma, double R, double E, double a); /* relative to delta = 0 */
+double adem_law_hertz_force(double E, double R, double delta);       /* (4/3) E sqrt(R) delta^1.5 */
+
 #ifdef __cplusplus
 }
 #endif

@@ -61,6 +61,36 @@ typedef struct adem_plane_def {
 } adem_plane_def;
 adem_plane_def adem_default_plane_def(void);
 
+/* Prescribed motion of a wall: a piecewise-linear translation velocity in time and a constant
+ * rotation about an axis through a centre that travels with the translation. Positions are a
+ * function of time alone, so a restarted run places the walls exactly. */
+typedef struct adem_motion_def {
+  size_t n;                  /* knots of the velocity table; 0: no translation */
+  const double *time;        /* s, strictly increasing */
+  const adem_vec3 *velocity; /* m/s at each knot; constant before the first and after the last */
+  adem_vec3 axis;            /* rotation axis (any length > 0 when angular_speed != 0) */
+  double angular_speed;      /* rad/s, right-handed about axis */
+  adem_vec3 center;          /* a point of the axis at t = 0, m */
+} adem_motion_def;
+
+/* What loading a mesh does to its coordinates, x' = R (s x) + t, and what its triangles are made
+ * of. Fill from adem_default_mesh_transform(). */
+typedef struct adem_mesh_transform {
+  double scale;          /* s > 0: file units to metres (0.001 for a file in mm) */
+  double rotation[3][3]; /* R, a proper rotation (orthonormal, det +1), row-major: x'_i = R_ij x_j */
+  adem_vec3 translation; /* t, m */
+  int material;          /* world material index of every triangle */
+  int own_vertices;      /* 1: share no vertex with other groups, so that the group can move on
+                            its own (a pushed sleeper); 0: join equal vertices of other groups */
+} adem_mesh_transform;
+/* s = 1, R = identity, t = 0, material 0, shared vertices. */
+adem_mesh_transform adem_default_mesh_transform(void);
+/* Turns the transform's rotation by angle_deg degrees about axis (any length > 0), after the
+ * rotation it already has: R <- Rot(axis, angle) R. Multiples of 90 degrees about a coordinate
+ * axis are exact (cos and sin are taken as 0 and +-1), so axis-aligned faces stay axis-aligned. */
+adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, double angle_deg,
+                                       adem_error *err);
+
 /* Summed state of the world, computed on demand. Energies in J. */
 typedef struct adem_diagnostics {
   double time;
@@ -70,27 +100,61 @@ typedef struct adem_diagnostics {
   double max_overlap_ratio; /* max over contacts of overlap / smaller radius */
 } adem_diagnostics;
 
+/* Every function that can fail returns an adem_status (ADEM_OK = 0) and fills err (may be NULL)
+ * with a message that says what was wrong; what it creates comes back through an out parameter
+ * (may be NULL). */
 adem_world *adem_world_create(void);
 void adem_world_free(adem_world *w);
 
-int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err);
-int adem_world_find_material(const adem_world *w, const char *name);
-int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err);
-int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force);
+/* ---- set-up ---- */
+adem_status adem_world_add_material(adem_world *w, const adem_material_def *def, int *index,
+                                    adem_error *err);
+int adem_world_find_material(const adem_world *w, const char *name); /* -1: none */
+int adem_world_material_count(const adem_world *w);
+const adem_material_def *adem_world_material(const adem_world *w, int index);
+adem_status adem_world_set_interaction(adem_world *w, const adem_interaction_def *def,
+                                       adem_error *err);
+/* A group of particles with a constant external force; naming an existing group sets its force.
+ * Group 0, "default", always exists. */
+adem_status adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force,
+                                 int *index, adem_error *err);
 int adem_world_find_group(const adem_world *w, const char *name);
-/* Returns the new particle's stable id, or -1 with err set. */
-int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, adem_error *err);
-int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err);
-/* Six planes facing inwards, named NAME.xmin, NAME.xmax, ... */
-int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
-                       adem_error *err);
+/* *id: the particle's stable id, 0, 1, ... in order of creation. */
+adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def, uint64_t *id,
+                                    adem_error *err);
+adem_status adem_world_add_plane(adem_world *w, const adem_plane_def *def, int *index,
+                                 adem_error *err);
+/* Six planes facing inwards, named NAME.xmin, NAME.xmax, ...; *first: the index of the first. */
+adem_status adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi,
+                               int material, int *first, adem_error *err);
+/* A mesh wall of ntri triangles given as 3 corners each (before the transform), one group named
+ * name (STL files: adem_world_add_stl in adem/case.h). */
+adem_status adem_world_add_mesh(adem_world *w, const adem_vec3 *corners, size_t ntri,
+                                const char *name, const adem_mesh_transform *tf, adem_error *err);
+int adem_world_plane_count(const adem_world *w);
+/* The plane where it is now. */
+const adem_plane_def *adem_world_plane(const adem_world *w, int index);
+int adem_world_mesh_group_count(const adem_world *w);
+const char *adem_world_mesh_group_name(const adem_world *w, int group);
+int adem_world_find_mesh_group(const adem_world *w, const char *name); /* -1: none */
+/* Prescribed motion of a plane, or of a mesh group (loaded with its own vertices). */
+adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
+                                        adem_error *err);
+adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
+                                       adem_error *err);
+/* A wall switched off has no contacts (it stays in the world). */
+adem_status adem_world_set_plane_active(adem_world *w, int plane, int active, adem_error *err);
+adem_status adem_world_set_mesh_active(adem_world *w, int group, int active, adem_error *err);
 
 void adem_world_set_gravity(adem_world *w, adem_vec3 g);
 void adem_world_set_threads(adem_world *w, int nthreads);
 void adem_world_set_skin(adem_world *w, double skin_fraction); /* skin as a fraction of max diameter */
 void adem_world_set_max_overlap_ratio(adem_world *w, double ratio);
 void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape check */
-void adem_world_use_brute_force(adem_world *w, int on);
+/* Neighbour search: a cell grid (default), or every pair (O(N^2): a two-body study is faster
+ * without a grid). Results are the same. */
+typedef enum adem_neighbor_search { ADEM_SEARCH_GRID = 0, ADEM_SEARCH_ALL_PAIRS = 1 } adem_neighbor_search;
+void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how);
 
 /* Time step from the Hertz collision time and the Rayleigh time (notes section 6). */
 typedef struct adem_step_estimate {
@@ -139,10 +203,93 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err);
 /* Advances n steps. Stops early with ADEM_ERR_RUNTIME on NaN, runaway overlap or escape. */
 adem_status adem_world_step(adem_world *w, uint64_t n, adem_error *err);
 
+/* One force pass at the current positions and velocities, without moving anything (the world
+ * must be prepared): forces, torques and contacts can then be read. */
+void adem_world_compute_forces(adem_world *w);
+
+/* ---- reading the state ---- */
 double adem_world_time(const adem_world *w);
 uint64_t adem_world_step_count(const adem_world *w);
 size_t adem_world_particle_count(const adem_world *w);
 adem_diagnostics adem_world_diagnostics(const adem_world *w);
+
+/* Per-particle quantities, read into arrays in order of particle id (id k at out[k * components],
+ * components 3 for vectors, 1 for scalars). */
+typedef enum adem_particle_field {
+  ADEM_FIELD_POSITION = 0,         /* m */
+  ADEM_FIELD_VELOCITY = 1,         /* m/s */
+  ADEM_FIELD_ANGULAR_VELOCITY = 2, /* rad/s */
+  ADEM_FIELD_FORCE = 3,            /* total force of the last force pass, N */
+  ADEM_FIELD_TORQUE = 4,           /* total torque, N m */
+  ADEM_FIELD_ROLLING_TORQUE = 5,   /* rolling resistance torque, N m */
+  ADEM_FIELD_RADIUS = 6,           /* m */
+  ADEM_FIELD_MASS = 7,             /* kg */
+  ADEM_FIELD_MATERIAL = 8,         /* material index */
+  ADEM_FIELD_CONTACTS = 9,         /* contacts touching now (particles and walls) */
+  ADEM_FIELD_PATH_LENGTH = 10,     /* distance the centre has travelled, m */
+  ADEM_FIELD_INVERSE_MASS = 11,    /* 1/kg, as the integrator uses it */
+  ADEM_FIELD_INVERSE_INERTIA = 12  /* 1/(kg m^2), as the integrator uses it */
+} adem_particle_field;
+int adem_particle_field_components(adem_particle_field field);
+/* out holds capacity doubles, at least count x components. */
+adem_status adem_world_get_particles(const adem_world *w, adem_particle_field field, double *out,
+                                     size_t capacity, adem_error *err);
+/* Places particle id, or sets its velocity or spin (NULL: keep). Between steps. */
+adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 *position,
+                                    const adem_vec3 *velocity, const adem_vec3 *angular_velocity,
+                                    adem_error *err);
+
+/* A contact of the last force pass. */
+typedef enum adem_contact_kind {
+  ADEM_CONTACT_PARTICLE = 0, /* b is a particle id */
+  ADEM_CONTACT_PLANE = 1,    /* b is a plane index */
+  ADEM_CONTACT_MESH = 2      /* b is a mesh group */
+} adem_contact_kind;
+typedef struct adem_contact_info {
+  adem_contact_kind kind;
+  uint64_t a, b;                /* particle id a (the lower id of a pair), and b */
+  adem_vec3 force;              /* force on a, N */
+  double overlap_ratio;         /* overlap / smaller radius */
+  double elastic;               /* energy stored, J */
+  adem_vec3 tangential_history; /* the tangential law's history, m */
+  adem_vec3 rolling_history;    /* the rolling law's (DTK: xi in m; model C: spring torque) */
+} adem_contact_info;
+/* Writes up to capacity touching contacts into out (particle pairs, then planes, then meshes, each
+ * in a fixed order) and returns how many touch. */
+size_t adem_world_contacts(const adem_world *w, adem_contact_info *out, size_t capacity);
+/* Forgets every contact's history (a fresh start of the same positions). */
+void adem_world_clear_history(adem_world *w);
+
+/* What the laws of a material pair see (derived at prepare, or now if needed). */
+typedef struct adem_pair_info {
+  adem_normal_model normal;
+  adem_damping_model damping;
+  adem_tangential_model tangential;
+  adem_rolling_model rolling;
+  double E, G;           /* effective moduli, modified stiffness (H2, H15, H24), Pa */
+  double E_real, G_real; /* of the real material */
+  double restitution, beta, friction;
+  double gamma, gamma_real; /* surface energy, modified (H24) and real, J/m^2 */
+  double param[ADEM_PARAM_COUNT];   /* the pair's value of each law parameter */
+  double param_a[ADEM_PARAM_COUNT]; /* material a's (or the interaction's) value */
+  double param_b[ADEM_PARAM_COUNT];
+  int set_restitution, set_friction, set_param[ADEM_PARAM_COUNT]; /* from an interaction entry */
+} adem_pair_info;
+adem_status adem_world_pair_info(adem_world *w, int material_a, int material_b,
+                                 adem_pair_info *out, adem_error *err);
+
+/* Force of the particles on each plane (plane_count entries), summed in a fixed order. */
+void adem_world_plane_forces(const adem_world *w, adem_vec3 *out);
+/* Force and torque of the particles on each mesh group (mesh_group_count entries each) and on
+ * each mesh wall (one per file or adem_world_add_mesh; mesh_wall_count entries); any pointer may
+ * be NULL. Torques about the groups' reference points where their motion has them now. */
+int adem_world_mesh_wall_count(const adem_world *w);
+void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
+                           adem_vec3 *wall_force, adem_vec3 *wall_torque);
+
+/* Memory: bytes per particle and per candidate pair of the world's arrays. */
+size_t adem_world_bytes_per_particle(void);
+size_t adem_world_bytes_per_pair(void);
 
 #ifdef __cplusplus
 }

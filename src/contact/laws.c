@@ -3,6 +3,9 @@
 
 #include <string.h>
 
+#include "hertz.h"
+#include "jkr.h"
+
 static const adem_law normal_laws[] = {
 #define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) {ADEM_SLOT_NORMAL, ID, nm, hist, req, pp, prm, eq, dc},
     ADEM_NORMAL_LAWS(ADEM_X)
@@ -110,4 +113,19 @@ const adem_law_param *adem_law_param_find(const char *key) {
   for (size_t k = 0; k < ADEM_PARAM_COUNT; ++k)
     if (!strcmp(params[k].key, key)) return &params[k];
   return NULL;
+}
+
+double adem_law_jkr_critical_force(double gamma, double R) { return adem_jkr_critical_force(gamma, R); }
+double adem_law_jkr_a0(double gamma, double R, double E) { return adem_jkr_a0(gamma, R, E); }
+double adem_law_jkr_contact_radius(double gamma, double R, double E, double delta) {
+  return adem_jkr_contact_radius(gamma, R, E, delta);
+}
+double adem_law_jkr_force(double gamma, double R, double E, double a) {
+  return adem_jkr_force(gamma, R, E, a);
+}
+double adem_law_jkr_energy(double gamma, double R, double E, double a) {
+  return adem_jkr_energy(gamma, R, E, a);
+}
+double adem_law_hertz_force(double E, double R, double delta) {
+  return adem_hertz_force(E, adem_hertz_radius(R, delta), delta);
 }

@@ -9,32 +9,13 @@
 #include <stdint.h>
 
 #include "adem/adem.h"
+#include "adem/world.h"
 
 /* Largest deviation from coplanar (radians) for an edge to count as flat. STL stores float32
  * coordinates (6e-8 relative): a tilted flat surface of triangles 100 times smaller than their
  * distance from the origin shows normals wobbling by a few 1e-6 rad; 1e-5 absorbs that and is far
  * below any facet angle a CAD export uses for a curved surface (degrees). */
 #define ADEM_MESH_FLAT_ANGLE 1e-5
-
-/* What loading does to the file's coordinates, x' = R (s x) + t, and what the triangles are made
- * of. Fill from adem_default_mesh_transform(). */
-typedef struct adem_mesh_transform {
-  double scale;          /* s > 0: file units to metres (0.001 for a file in mm) */
-  double rotation[3][3]; /* R, a proper rotation (orthonormal, det +1), row-major: x'_i = R_ij x_j */
-  adem_vec3 translation; /* t, m */
-  int material;          /* world material index of every triangle loaded */
-  int own_vertices;      /* 1: share no vertex with other groups, so that the group can move on
-                            its own (a pushed sleeper); 0: join equal vertices of other groups */
-} adem_mesh_transform;
-
-/* s = 1, R = identity, t = 0, material 0, shared vertices. */
-adem_mesh_transform adem_default_mesh_transform(void);
-
-/* Turns the transform's rotation by angle_deg degrees about axis (any length > 0), after the
- * rotation it already has: R <- Rot(axis, angle) R. Multiples of 90 degrees about a coordinate
- * axis are exact (cos and sin are taken as 0 and +-1), so axis-aligned faces stay axis-aligned. */
-adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, double angle_deg,
-                                       adem_error *err);
 
 /* Kind of a triangle edge, seen from the side the triangle's normal points to. */
 typedef enum adem_mesh_edge_kind {

@@ -7,15 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include "adem/adem.h"
-
-typedef struct adem_motion_def {
-  size_t n;                  /* knots of the velocity table; 0: no translation */
-  const double *time;        /* s, strictly increasing */
-  const adem_vec3 *velocity; /* m/s at each knot; constant before the first and after the last */
-  adem_vec3 axis;            /* rotation axis (any length > 0 when angular_speed != 0) */
-  double angular_speed;      /* rad/s, right-handed about axis */
-  adem_vec3 center;          /* a point of the axis at t = 0, m */
-} adem_motion_def;
+#include "adem/world.h"
 
 typedef struct adem_motion {
   size_t n;

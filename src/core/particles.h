@@ -75,6 +75,14 @@ static inline void adem_particles_set_loads(adem_particles *p, size_t i, adem_ve
   p->rolling_torque[i] = rolling;
 }
 
+/* Places particle i or sets its velocity or spin (NULL: keep). */
+static inline void adem_particles_set_state(adem_particles *p, size_t i, const adem_vec3 *pos,
+                                            const adem_vec3 *vel, const adem_vec3 *omega) {
+  if (pos) p->pos[i] = *pos;
+  if (vel) p->vel[i] = *vel;
+  if (omega) p->omega[i] = *omega;
+}
+
 void adem_particles_save(adem_writer *wr, const adem_particles *p);
 /* Replaces the particles with those saved. */
 adem_status adem_particles_load(adem_reader *rd, adem_particles *p, adem_error *err);

@@ -18,7 +18,7 @@ adem_world *adem_world_create(void) {
   w->nb.skin_fraction = 0.2;
   w->max_overlap_ratio = 0.2;
   w->next_id = 0;
-  adem_world_add_group(w, "default", v3_zero());
+  adem_world_add_group(w, "default", v3_zero(), NULL, NULL);
   return w;
 }
 
@@ -43,34 +43,96 @@ adem_particle_def adem_default_particle_def(void) {
   return d;
 }
 
-int adem_world_add_material(adem_world *w, const adem_material_def *def, adem_error *err) {
+/* The index convention of the modules (-1 with err set) as the API's status. */
+static adem_status indexed(int k, int *out, adem_error *err) {
+  if (k < 0) return err && err->status != ADEM_OK ? err->status : ADEM_ERR_INPUT;
+  if (out) *out = k;
+  return ADEM_OK;
+}
+
+adem_status adem_world_add_material(adem_world *w, const adem_material_def *def, int *index,
+                                    adem_error *err) {
+  if (err) err->status = ADEM_OK;
   int k = adem_materials_add(&w->mat, def, err);
   if (k >= 0) w->prepared = false;
-  return k;
+  return indexed(k, index, err);
+}
+
+int adem_world_material_count(const adem_world *w) { return w->mat.n; }
+
+const adem_material_def *adem_world_material(const adem_world *w, int index) {
+  return index >= 0 && index < w->mat.n ? &w->mat.m[index].def : NULL;
 }
 
 int adem_world_find_material(const adem_world *w, const char *name) {
   return adem_materials_find(&w->mat, name);
 }
 
-int adem_world_set_interaction(adem_world *w, const adem_interaction_def *def, adem_error *err) {
+adem_status adem_world_set_interaction(adem_world *w, const adem_interaction_def *def,
+                                       adem_error *err) {
+  if (err) err->status = ADEM_OK;
   int k = adem_materials_set_interaction(&w->mat, def, err);
   if (k >= 0) w->prepared = false;
-  return k;
+  return indexed(k, NULL, err);
 }
 
-int adem_world_add_plane(adem_world *w, const adem_plane_def *def, adem_error *err) {
+adem_status adem_world_add_plane(adem_world *w, const adem_plane_def *def, int *index,
+                                 adem_error *err) {
+  if (err) err->status = ADEM_OK;
   int k = adem_walls_add_plane(&w->walls, def, w->mat.n, err);
   if (k >= 0) w->prepared = false;
-  return k;
+  return indexed(k, index, err);
 }
 
-int adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi, int material,
-                       adem_error *err) {
+adem_status adem_world_add_box(adem_world *w, const char *name, adem_vec3 lo, adem_vec3 hi,
+                               int material, int *first, adem_error *err) {
+  if (err) err->status = ADEM_OK;
   int k = adem_walls_add_box(&w->walls, name, lo, hi, material, w->mat.n, err);
   if (k >= 0) w->prepared = false;
-  return k;
+  return indexed(k, first, err);
 }
+
+adem_status adem_world_add_mesh(adem_world *w, const adem_vec3 *corners, size_t ntri,
+                                const char *name, const adem_mesh_transform *tf, adem_error *err) {
+  adem_mesh_transform def = adem_default_mesh_transform();
+  if (!tf) tf = &def;
+  const char *nm = name && *name ? name : "mesh";
+  adem_status st = adem_walls_check_mesh(w->mat.n, nm, tf, v3_zero(), err);
+  if (!st) st = adem_mesh_check_transform(tf, nm, err);
+  if (st) return st;
+  if (adem_mesh_find_group(&w->walls.mesh, nm) >= 0)
+    return adem_error_set(err, ADEM_ERR_INPUT, "mesh group name '%s' is already used", nm);
+  adem_mesh_soup s;
+  memset(&s, 0, sizeof s);
+  if (!adem_mesh_soup_block_open(&s, nm, 0)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  for (size_t t = 0; t < ntri && !st; ++t) {
+    if (!adem_mesh_soup_push(&s, &corners[3 * t], v3_zero(), t))
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    else
+      s.blocks[0].count++;
+  }
+  if (!st) st = adem_world_add_mesh_soup(w, &s, tf, nm, 0, nm, v3_zero(), err);
+  adem_mesh_soup_free(&s);
+  return st;
+}
+
+int adem_world_plane_count(const adem_world *w) { return w->walls.nplanes; }
+
+const adem_plane_def *adem_world_plane(const adem_world *w, int index) {
+  return index >= 0 && index < w->walls.nplanes ? &w->walls.planes[index].def : NULL;
+}
+
+int adem_world_mesh_group_count(const adem_world *w) { return w->walls.mesh.ngroups; }
+
+const char *adem_world_mesh_group_name(const adem_world *w, int group) {
+  return group >= 0 && group < w->walls.mesh.ngroups ? w->walls.mesh.groups[group].name : NULL;
+}
+
+int adem_world_find_mesh_group(const adem_world *w, const char *name) {
+  return adem_mesh_find_group(&w->walls.mesh, name);
+}
+
+int adem_world_mesh_wall_count(const adem_world *w) { return w->walls.nmesh_walls; }
 
 adem_status adem_world_check_mesh(const adem_world *w, const char *path,
                                   const adem_mesh_transform *tf, adem_vec3 velocity,
@@ -107,12 +169,12 @@ adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_mot
   return adem_walls_set_plane_motion(&w->walls, plane, def, err);
 }
 
-adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err) {
-  return adem_walls_set_plane_active(&w->walls, plane, active, err);
+adem_status adem_world_set_plane_active(adem_world *w, int plane, int active, adem_error *err) {
+  return adem_walls_set_plane_active(&w->walls, plane, active != 0, err);
 }
 
-adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err) {
-  return adem_walls_set_mesh_active(&w->walls, group, active, err);
+adem_status adem_world_set_mesh_active(adem_world *w, int group, int active, adem_error *err) {
+  return adem_walls_set_mesh_active(&w->walls, group, active != 0, err);
 }
 
 void adem_world_place_walls(adem_world *w, double t) { adem_walls_place(&w->walls, t); }
@@ -191,19 +253,24 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
 
 void adem_world_add_external_work(adem_world *w, double work) { w->energy_initial += work; }
 
-int adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force) {
+adem_status adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force,
+                                 int *index, adem_error *err) {
   int k = adem_world_find_group(w, name);
   if (k >= 0) {
     w->groups[k].external_force = external_force;
-    return k;
+    if (index) *index = k;
+    return ADEM_OK;
   }
+  if (w->ngroups >= 65535) return adem_error_set(err, ADEM_ERR_INPUT, "too many groups");
   adem_group *g = realloc(w->groups, (size_t)(w->ngroups + 1) * sizeof *g);
-  if (!g) return -1;
+  if (!g) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   w->groups = g;
   memset(&g[w->ngroups], 0, sizeof *g);
   snprintf(g[w->ngroups].name, sizeof g->name, "%s", name);
   g[w->ngroups].external_force = external_force;
-  return w->ngroups++;
+  if (index) *index = w->ngroups;
+  w->ngroups++;
+  return ADEM_OK;
 }
 
 int adem_world_find_group(const adem_world *w, const char *name) {
@@ -212,42 +279,38 @@ int adem_world_find_group(const adem_world *w, const char *name) {
   return -1;
 }
 
-int64_t adem_world_add_particle(adem_world *w, const adem_particle_def *def, adem_error *err) {
+adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def, uint64_t *id,
+                                    adem_error *err) {
   if (!(def->radius > 0.0) || !isfinite(def->radius)) {
-    adem_error_set(err, ADEM_ERR_INPUT, "particle radius %g must be > 0", def->radius);
-    return -1;
+    return adem_error_set(err, ADEM_ERR_INPUT, "particle radius %g must be > 0", def->radius);
   }
   if (def->material < 0 || def->material >= w->mat.n) {
-    adem_error_set(err, ADEM_ERR_INPUT, "particle material %d does not exist", def->material);
-    return -1;
+    return adem_error_set(err, ADEM_ERR_INPUT, "particle material %d does not exist", def->material);
   }
   const adem_material_def *m = &w->mat.m[def->material].def;
   if (!(m->density > 0.0) || m->rigid) {
-    adem_error_set(err, ADEM_ERR_INPUT,
+    return adem_error_set(err, ADEM_ERR_INPUT,
                    "material '%s' cannot make particles: it needs a density > 0 and must not be "
                    "rigid", m->name);
-    return -1;
   }
   if (def->group < 0 || def->group >= w->ngroups) {
-    adem_error_set(err, ADEM_ERR_INPUT, "particle group %d does not exist", def->group);
-    return -1;
+    return adem_error_set(err, ADEM_ERR_INPUT, "particle group %d does not exist", def->group);
   }
   if (!v3_isfinite(def->position) || !v3_isfinite(def->velocity) ||
       !v3_isfinite(def->angular_velocity)) {
-    adem_error_set(err, ADEM_ERR_INPUT, "particle position and velocities must be finite");
-    return -1;
+    return adem_error_set(err, ADEM_ERR_INPUT, "particle position and velocities must be finite");
   }
   adem_particles *p = &w->p;
   size_t i = adem_particles_append(p, w->next_id, def->position, def->velocity,
                                    def->angular_velocity, def->radius, m->density, def->material,
                                    def->group);
   if (i == SIZE_MAX) {
-    adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding particles");
-    return -1;
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding particles");
   }
   w->next_id++;
   w->prepared = false;
-  return (int64_t)p->id[i];
+  if (id) *id = p->id[i];
+  return ADEM_OK;
 }
 
 void adem_world_set_gravity(adem_world *w, adem_vec3 g) { w->gravity = g; }
@@ -263,6 +326,9 @@ void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi) {
   w->has_domain = true;
   w->domain_lo = lo;
   w->domain_hi = hi;
+}
+void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how) {
+  adem_world_use_brute_force(w, how == ADEM_SEARCH_ALL_PAIRS);
 }
 void adem_world_use_brute_force(adem_world *w, int on) {
   w->nb.brute_force = on != 0;
@@ -685,4 +751,176 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     if (p->material[i] >= w->mat.n || (w->ngroups > 0 && p->group[i] >= w->ngroups))
       return damaged(err, bad);
   return ADEM_OK;
+}
+
+/* ---------------------------------------------------------------- reading the state */
+
+int adem_particle_field_components(adem_particle_field field) {
+  return field <= ADEM_FIELD_ROLLING_TORQUE ? 3 : 1;
+}
+
+/* Number of touching contacts of each particle index (particles and walls). */
+static void count_contacts(const adem_world *w, double *count) {
+  const adem_particles *p = &w->p;
+  memset(count, 0, p->n * sizeof *count);
+  for (size_t k = 0; k < w->pp.n; ++k)
+    if (w->pp.touching[k]) {
+      count[w->pp.a[k]] += 1.0;
+      count[w->pp.b[k]] += 1.0;
+    }
+  for (size_t k = 0; k < w->pw.n; ++k)
+    if (w->pw.touching[k]) count[w->pw.a[k]] += 1.0;
+  for (size_t k = 0; k < w->pm.l.n; ++k)
+    if (w->pm.l.touching[k]) count[w->pm.l.a[k]] += 1.0;
+}
+
+adem_status adem_world_get_particles(const adem_world *w, adem_particle_field field, double *out,
+                                     size_t capacity, adem_error *err) {
+  const adem_particles *p = &w->p;
+  size_t n = p->n;
+  int nc = adem_particle_field_components(field);
+  if ((unsigned)field > ADEM_FIELD_INVERSE_INERTIA)
+    return adem_error_set(err, ADEM_ERR_INPUT, "unknown particle field %d", (int)field);
+  if (capacity < n * (size_t)nc)
+    return adem_error_set(err, ADEM_ERR_INPUT, "%zu particles need %zu doubles, the array has %zu",
+                          n, n * (size_t)nc, capacity);
+  double *count = NULL;
+  if (field == ADEM_FIELD_CONTACTS) {
+    count = malloc((n + 1) * sizeof *count);
+    if (!count) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    count_contacts(w, count);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t id = p->id[i]; /* ids are 0 .. n-1: particles are never removed */
+    const adem_vec3 *v = NULL;
+    double s = 0.0;
+    switch (field) {
+      case ADEM_FIELD_POSITION: v = &p->pos[i]; break;
+      case ADEM_FIELD_VELOCITY: v = &p->vel[i]; break;
+      case ADEM_FIELD_ANGULAR_VELOCITY: v = &p->omega[i]; break;
+      case ADEM_FIELD_FORCE: v = &p->force[i]; break;
+      case ADEM_FIELD_TORQUE: v = &p->torque[i]; break;
+      case ADEM_FIELD_ROLLING_TORQUE: v = &p->rolling_torque[i]; break;
+      case ADEM_FIELD_RADIUS: s = p->radius[i]; break;
+      case ADEM_FIELD_MASS: s = 1.0 / p->inv_mass[i]; break;
+      case ADEM_FIELD_MATERIAL: s = p->material[i]; break;
+      case ADEM_FIELD_CONTACTS: s = count[i]; break;
+      case ADEM_FIELD_PATH_LENGTH: s = p->path_length[i]; break;
+      case ADEM_FIELD_INVERSE_MASS: s = p->inv_mass[i]; break;
+      case ADEM_FIELD_INVERSE_INERTIA: s = p->inv_inertia[i]; break;
+    }
+    if (v) {
+      out[3 * id] = v->x;
+      out[3 * id + 1] = v->y;
+      out[3 * id + 2] = v->z;
+    } else {
+      out[id] = s;
+    }
+  }
+  free(count);
+  return ADEM_OK;
+}
+
+adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 *position,
+                                    const adem_vec3 *velocity, const adem_vec3 *angular_velocity,
+                                    adem_error *err) {
+  adem_particles *p = &w->p;
+  size_t i = 0;
+  while (i < p->n && p->id[i] != id) ++i;
+  if (i == p->n)
+    return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
+  if ((position && !v3_isfinite(*position)) || (velocity && !v3_isfinite(*velocity)) ||
+      (angular_velocity && !v3_isfinite(*angular_velocity)))
+    return adem_error_set(err, ADEM_ERR_INPUT, "particle position and velocities must be finite");
+  adem_particles_set_state(p, i, position, velocity, angular_velocity);
+  return ADEM_OK;
+}
+
+static void contact_from(adem_contact_info *c, adem_contact_kind kind, uint64_t a, uint64_t b,
+                         const adem_pair_list *l, size_t k) {
+  c->kind = kind;
+  c->a = a;
+  c->b = b;
+  c->force = l->force_a[k];
+  c->overlap_ratio = l->overlap_ratio[k];
+  c->elastic = l->elastic[k];
+  c->tangential_history = l->hist[k].tangential;
+  c->rolling_history = l->hist[k].rolling;
+}
+
+size_t adem_world_contacts(const adem_world *w, adem_contact_info *out, size_t capacity) {
+  size_t n = 0;
+  const uint64_t *id = w->p.id;
+  for (size_t k = 0; k < w->pp.n; ++k)
+    if (w->pp.touching[k] && n++ < capacity)
+      contact_from(&out[n - 1], ADEM_CONTACT_PARTICLE, id[w->pp.a[k]], id[w->pp.b[k]], &w->pp, k);
+  for (size_t k = 0; k < w->pw.n; ++k)
+    if (w->pw.touching[k] && n++ < capacity)
+      contact_from(&out[n - 1], ADEM_CONTACT_PLANE, id[w->pw.a[k]], w->pw.b[k], &w->pw, k);
+  const adem_mesh_pairs *pm = &w->pm;
+  for (size_t k = 0; k < pm->l.n; ++k)
+    if (pm->l.touching[k] && n++ < capacity)
+      contact_from(&out[n - 1], ADEM_CONTACT_MESH, id[pm->l.a[k]],
+                   w->walls.mesh.group[pm->owner[k]], &pm->l, k);
+  return n;
+}
+
+void adem_world_clear_history(adem_world *w) {
+  adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
+  for (int s = 0; s < 3; ++s)
+    for (size_t k = 0; k < lists[s]->n; ++k) memset(&lists[s]->hist[k], 0, sizeof lists[s]->hist[k]);
+}
+
+adem_status adem_world_pair_info(adem_world *w, int a, int b, adem_pair_info *out,
+                                 adem_error *err) {
+  if (a < 0 || b < 0 || a >= w->mat.n || b >= w->mat.n)
+    return adem_error_set(err, ADEM_ERR_INPUT, "material %d or %d does not exist", a, b);
+  if (!w->mat.pairs) {
+    adem_status st = adem_materials_derive(&w->mat, err);
+    if (st) return st;
+  }
+  const adem_interaction *it = adem_world_interaction(w, a, b);
+  const adem_pair_params *pp = &it->pp;
+  memset(out, 0, sizeof *out);
+  out->normal = it->normal;
+  out->damping = it->damping;
+  out->tangential = it->tangential;
+  out->rolling = it->rolling;
+  out->E = pp->E;
+  out->G = pp->G;
+  out->E_real = pp->E_real;
+  out->G_real = pp->G_real;
+  out->restitution = pp->restitution;
+  out->beta = pp->beta;
+  out->friction = pp->friction;
+  out->gamma = pp->gamma;
+  out->gamma_real = pp->gamma_real;
+  for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+    out->param[k] = pp->param[k];
+    out->param_a[k] = pp->param_a[k];
+    out->param_b[k] = pp->param_b[k];
+    out->set_param[k] = it->set_param[k];
+  }
+  out->set_restitution = it->set_restitution;
+  out->set_friction = it->set_friction;
+  return ADEM_OK;
+}
+
+void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
+  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
+  const adem_pair_list *l = &w->pw;
+  for (size_t k = 0; k < l->n; ++k) {
+    uint32_t wall = l->b[k];
+    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
+  }
+}
+
+size_t adem_world_bytes_per_particle(void) {
+  /* the particle table and the per-particle entries of the neighbour and mesh-slot ranges */
+  return adem_soa_item_bytes(adem_particles_layout()) + 2 * sizeof(size_t) + sizeof(size_t);
+}
+
+size_t adem_world_bytes_per_pair(void) {
+  /* the pair table and the gather entries (two for a particle pair) */
+  return adem_pairs_item_bytes() + 2 * sizeof(uint32_t);
 }

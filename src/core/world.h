@@ -53,6 +53,9 @@ struct adem_world {
   bool prepared;
 };
 
+/* All-pairs search instead of the grid (tests compare the two). */
+void adem_world_use_brute_force(adem_world *w, int on);
+
 /* Threads for the per-step loops; the results do not depend on it. */
 static inline int adem_world_threads(const adem_world *w) {
   return w->p.n < w->parallel_min ? 1 : w->nthreads;
@@ -76,19 +79,8 @@ adem_status adem_world_add_mesh_soup(adem_world *w, const adem_mesh_soup *s,
  * by default each group's area centroid and the file's. */
 adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 point,
                                              adem_error *err);
-/* Force and torque on each mesh group and mesh wall (walls.h). */
-void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
-                           adem_vec3 *wall_force, adem_vec3 *wall_torque);
-/* Prescribed motion of a mesh group (loaded with own vertices) or of a plane. */
-adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
-                                       adem_error *err);
-adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_motion_def *def,
-                                        adem_error *err);
 /* Puts planes and mesh groups where their motion has them at time t. */
 void adem_world_place_walls(adem_world *w, double t);
-/* Switches a plane or a mesh group on or off; the neighbour lists need a rebuild. */
-adem_status adem_world_set_plane_active(adem_world *w, int plane, bool active, adem_error *err);
-adem_status adem_world_set_mesh_active(adem_world *w, int group, bool active, adem_error *err);
 static inline bool adem_world_mesh_active(const adem_world *w, uint32_t group) {
   return adem_walls_mesh_active(&w->walls, group);
 }
@@ -119,8 +111,6 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 /* The gather lists after a checkpoint load. */
 adem_status adem_world_gather(adem_world *w);
-/* One force pass over the whole world (contacts.h). */
-void adem_world_compute_forces(adem_world *w);
 
 /* Checkpoints: the world's dynamic state, each module saving and loading its own part. The
  * static set-up (materials, walls, meshes) comes from the case and must match. A damaged or

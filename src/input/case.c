@@ -71,7 +71,7 @@ static adem_status flush_spheres(case_ctx *ctx, size_t first, int material, int 
     d.material = material;
     d.group = group;
     adem_error werr = {ADEM_OK, ""};
-    if (adem_world_add_particle(ctx->w, &d, &werr) < 0) {
+    if (adem_world_add_particle(ctx->w, &d, NULL, &werr)) {
       if (werr.status == ADEM_ERR_NOMEM) return adem_yaml_nomem(ctx);
       return adem_yaml_fail(ctx, at, path, "%s", werr.message);
     }
@@ -181,8 +181,8 @@ static adem_status build_materials(case_ctx *ctx, const map_cursor *root) {
                                      &d.param[k], NULL)))
         return st;
     adem_error werr = {ADEM_OK, ""};
-    int index = adem_world_add_material(ctx->w, &d, &werr);
-    if (index < 0) {
+    int index = -1;
+    if (adem_world_add_material(ctx->w, &d, &index, &werr)) {
       if (werr.status == ADEM_ERR_NOMEM) return adem_yaml_nomem(ctx);
       return adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
     }
@@ -291,7 +291,7 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     if (st) break;
     if (d.normal == ADEM_NORMAL_JKR && (st = check_jkr_pair(ctx, &m, &d, names))) break;
     adem_error werr = {ADEM_OK, ""};
-    if (adem_world_set_interaction(ctx->w, &d, &werr) < 0)
+    if (adem_world_set_interaction(ctx->w, &d, &werr))
       st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
   }
   free(pairs);
@@ -323,7 +323,7 @@ static adem_status build_groups(case_ctx *ctx, const map_cursor *root) {
       }
     if ((st = adem_yaml_get_vec3(ctx, &m, "external_force", &force, NULL))) return st;
     /* Naming `default` sets the force of the group particles without `group` belong to. */
-    if (adem_world_add_group(ctx->w, name, force) < 0) return adem_yaml_nomem(ctx);
+    if (adem_world_add_group(ctx->w, name, force, NULL, NULL)) return adem_yaml_nomem(ctx);
     snprintf(ctx->group_name[ctx->ngroup], ADEM_NAME_MAX, "%s", name);
     ctx->group_node[ctx->ngroup++] = name_node;
   }
@@ -640,7 +640,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
         break;
       }
       d.normal = v3_scale(d.normal, 1.0 / len);
-      if (adem_world_add_plane(ctx->w, &d, &werr) < 0) {
+      if (adem_world_add_plane(ctx->w, &d, NULL, &werr)) {
         st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
         break;
       }
@@ -655,7 +655,7 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       if ((st = adem_yaml_get_vec3(ctx, &m, "min", &lo, NULL))) break;
       if ((st = adem_yaml_get_vec3(ctx, &m, "max", &hi, &hi_node))) break;
       if ((st = check_box(ctx, lo, hi, hi_node, &m))) break;
-      if (adem_world_add_box(ctx->w, names[i], lo, hi, mat, &werr) < 0) {
+      if (adem_world_add_box(ctx->w, names[i], lo, hi, mat, NULL, &werr)) {
         st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);
         break;
       }

@@ -841,8 +841,8 @@ static adem_status pour_batch(adem_pour *p, adem_world *w, const pour_steps *s, 
     d.angular_velocity = p->def.angular_velocity;
     d.material = p->def.material;
     d.group = p->def.group;
-    if (adem_world_add_particle(w, &d, err) < 0) st = err ? err->status : ADEM_ERR_INPUT;
-    else p->mass += pour_mass(p, rad[k]);
+    st = adem_world_add_particle(w, &d, NULL, err);
+    if (!st) p->mass += pour_mass(p, rad[k]);
   }
   p->inserted += placed;
   if (placed < n) p->short_batches++;

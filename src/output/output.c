@@ -203,15 +203,6 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
 
 /* ---------------------------------------------------------------- CSV */
 
-void adem_output_wall_forces(const adem_world *w, adem_vec3 *out) {
-  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
-  const adem_pair_list *l = &w->pw;
-  for (size_t k = 0; k < l->n; ++k) {
-    uint32_t wall = l->b[k];
-    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
-  }
-}
-
 /* Growing string for rows and headers. */
 typedef struct strbuf {
   char *s;
@@ -330,7 +321,7 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
     free(b.s);
     return NULL;
   }
-  adem_output_wall_forces(w, f);
+  adem_world_plane_forces(w, f);
   for (int k = 0; k < w->walls.nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
   free(f);
   mesh_csv_row(&b, w);

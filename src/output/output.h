@@ -29,10 +29,6 @@ adem_status adem_output_pvd_add(adem_pvd *pvd, double time, const char *file, ad
 adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_error *err);
 void adem_output_pvd_free(adem_pvd *pvd);
 
-/* Per-plane force that the particles exert on it (sum of -force_a over the wall pairs, in
- * pair-list order). out has w->walls.nplanes entries. */
-void adem_output_wall_forces(const adem_world *w, adem_vec3 *out);
-
 /* Particles that get their own CSV columns (output.track): for each, p<id>_rolling_torque_x_Nm,
  * _y_, _z_ (rolling resistance torque), p<id>_omega_x_rad_s, _y_, _z_ (angular velocity) and
  * p<id>_distance_m, the path length its centre has travelled (sum of |v| dt). */

@@ -1,15 +1,13 @@
 /* Single collisions in bulk (notes section 7). Each collision is a world of one or two spheres
  * built through the public API and stepped by the engine itself, so what is measured is what a
  * run computes. */
-#include "collide.h"
+#include "adem/adem.h"
+#include "adem/vec3.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "jkr.h"
-#include "log.h"
-#include "world.h"
 
 #ifdef ADEM_HAVE_OPENMP
 #include <omp.h>
@@ -81,8 +79,8 @@ void adem_collide_set_ad(adem_collision_spec *s, double ad) {
 double adem_collide_yield_force(const adem_collision_spec *s) {
   if (s->kind != ADEM_COLLISION_WALL || !s->dtk || !(s->surface_energy > 0.0)) return 0.0;
   double r = s->radius;
-  double f_c = adem_jkr_critical_force(s->surface_energy, r);
-  double xi_crit = adem_jkr_a0(s->surface_energy, r, s->young) / 12.0 * s->hysteresis; /* H18 */
+  double f_c = adem_law_jkr_critical_force(s->surface_energy, r);
+  double xi_crit = adem_law_jkr_a0(s->surface_energy, r, s->young) / 12.0 * s->hysteresis; /* H18 */
   return 4.0 * f_c * xi_crit / r; /* k_r xi_crit / R at a = a0 (H20-H21, notes section 4) */
 }
 
@@ -111,8 +109,8 @@ adem_collision_params adem_collide_params(const adem_collision_spec *s) {
   p.v_n = s->speed * sqrt(sin2_angle(s));
   double v_in = p.v_n;
   if (p.gamma_mod > 0.0) {
-    double a0 = adem_jkr_a0(p.gamma_mod, p.R, p.E_mod);
-    p.u_min = adem_jkr_energy(p.gamma_mod, p.R, p.E_mod, a0);
+    double a0 = adem_law_jkr_a0(p.gamma_mod, p.R, p.E_mod);
+    p.u_min = adem_law_jkr_energy(p.gamma_mod, p.R, p.E_mod, a0);
     /* Adhesion speeds the spheres up in contact: the step follows the fastest approach. */
     v_in = sqrt(p.v_n * p.v_n - 2.0 * p.u_min / p.mstar);
     /* Stiffness at equilibrium dF/ddelta = 6 E a0 / 5 (from H8-H10 at a = a0). */
@@ -126,8 +124,8 @@ adem_collision_params adem_collide_params(const adem_collision_spec *s) {
  * kinetic energy of the normal relative motion plus the JKR energy. Damping only lowers it and
  * the simplified contact breaks at delta = 0, so once it is below zero the spheres cannot part. */
 static double normal_energy(const adem_collision_params *p, double delta, double v_n) {
-  double a = adem_jkr_contact_radius(p->gamma_mod, p->R, p->E_mod, delta); /* H10 */
-  return 0.5 * p->mstar * v_n * v_n + adem_jkr_energy(p->gamma_mod, p->R, p->E_mod, a);
+  double a = adem_law_jkr_contact_radius(p->gamma_mod, p->R, p->E_mod, delta); /* H10 */
+  return 0.5 * p->mstar * v_n * v_n + adem_law_jkr_energy(p->gamma_mod, p->R, p->E_mod, a);
 }
 
 static adem_collision_result failed(adem_collision_result r, adem_status st, const char *msg) {
@@ -142,7 +140,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
                                double dt, adem_world *w, adem_error *err) {
   adem_world_set_threads(w, 1);
   adem_world_set_gravity(w, v3_zero());
-  adem_world_use_brute_force(w, 1);
+  adem_world_set_neighbor_search(w, ADEM_SEARCH_ALL_PAIRS);
   adem_world_set_max_overlap_ratio(w, 1.0); /* soft spheres overlap a lot; H makes no limit */
   adem_world_set_dt(w, dt);
   bool wall = s->kind == ADEM_COLLISION_WALL;
@@ -159,15 +157,15 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   m.param[ADEM_PARAM_ADHESION_HYSTERESIS] = s->hysteresis; /* on the wall too: the pair takes the mean */
   m.young = s->keep_gamma ? E_sphere * s->stiffness_factor : E_sphere;
   m.stiffness_factor = s->keep_gamma ? 1.0 : s->stiffness_factor;
-  int ms = adem_world_add_material(w, &m, err);
-  if (ms < 0) return err->status;
-  int mw = ms;
+  int ms = 0, mw = 0;
+  adem_status st = adem_world_add_material(w, &m, &ms, err);
+  if (st) return st;
+  mw = ms;
   if (wall) {
     /* Same f on the wall so that the pair's surface energy (geometric mean) is gamma f^(2/5). */
     snprintf(m.name, sizeof m.name, "wall");
     m.rigid = 1;
-    mw = adem_world_add_material(w, &m, err);
-    if (mw < 0) return err->status;
+    if ((st = adem_world_add_material(w, &m, &mw, err))) return st;
   }
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = ms;
@@ -177,7 +175,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   it.normal = s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
   it.rolling = s->dtk ? ADEM_ROLLING_DTK : ADEM_ROLLING_NONE;
   it.dtk_rolling_modification = s->dtk_modification ? 1 : 0;
-  if (adem_world_set_interaction(w, &it, err) < 0) return err->status;
+  if ((st = adem_world_set_interaction(w, &it, err))) return st;
 
   double gap = 1.5 * p->v_n * dt;
   double ri = s->radius;
@@ -188,19 +186,20 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
     adem_plane_def pl = adem_default_plane_def();
     snprintf(pl.name, sizeof pl.name, "wall");
     pl.material = mw;
-    if (adem_world_add_plane(w, &pl, err) < 0) return err->status;
+    if ((st = adem_world_add_plane(w, &pl, NULL, err))) return st;
     /* F_ext through the centre along the wall, in the direction of the tangential velocity */
     double force = adem_collide_force(s);
-    if (force != 0.0) a.group = adem_world_add_group(w, "pushed", v3(force, 0.0, 0.0));
+    if (force != 0.0 && (st = adem_world_add_group(w, "pushed", v3(force, 0.0, 0.0), &a.group, err)))
+      return st;
     if (s->at_rest) {
       /* JKR equilibrium: a = a0, delta = a0^2/(3R) (notes section 2) */
-      double a0 = adem_jkr_a0(p->gamma_mod, p->R, p->E_mod);
+      double a0 = adem_law_jkr_a0(p->gamma_mod, p->R, p->E_mod);
       a.position = v3(0.0, 0.0, ri - a0 * a0 / (3.0 * p->R));
     } else {
       a.position = v3(0.0, 0.0, ri + gap);
       a.velocity = v3(s->speed * cos(s->angle), 0.0, -p->v_n);
     }
-    if (adem_world_add_particle(w, &a, err) < 0) return err->status;
+    if ((st = adem_world_add_particle(w, &a, NULL, err))) return st;
     /* a rolling sphere may travel far along the wall */
     adem_world_set_domain(w, v3(-1e7 * ri, -1e7 * ri, -1e3 * ri), v3(1e7 * ri, 1e7 * ri, 1e7 * ri));
   } else {
@@ -209,88 +208,97 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
     /* Centre-of-mass frame: zero total momentum. */
     a.position = v3(-ri - 0.5 * gap, 0.0, 0.0);
     a.velocity = v3(s->speed * mj / (mi + mj), 0.0, 0.0);
-    if (adem_world_add_particle(w, &a, err) < 0) return err->status;
+    if ((st = adem_world_add_particle(w, &a, NULL, err))) return st;
     adem_particle_def b = a;
     b.radius = rj;
     b.position = v3(rj + 0.5 * gap, 0.0, 0.0);
     b.velocity = v3(-s->speed * mi / (mi + mj), 0.0, 0.0);
-    if (adem_world_add_particle(w, &b, err) < 0) return err->status;
+    if ((st = adem_world_add_particle(w, &b, NULL, err))) return st;
   }
   return adem_world_prepare(w, err);
 }
 
-/* Overlap, normal approach speed and normal contact force of the current state. Particles may be
- * reordered by the neighbour search, so they are found by id. */
+/* The state of the one or two spheres, read through the public API in order of id. */
+typedef struct bodies {
+  size_t n;
+  adem_vec3 x[2], v[2], om[2], f[2], t[2], roll[2];
+  double r[2], inv_m[2], inv_i[2];
+} bodies;
+
+static void read_vectors(const adem_world *w, adem_particle_field field, size_t n, adem_vec3 *out) {
+  double buf[6];
+  adem_world_get_particles(w, field, buf, 6, NULL);
+  for (size_t k = 0; k < n; ++k) out[k] = v3(buf[3 * k], buf[3 * k + 1], buf[3 * k + 2]);
+}
+
+static void read_scalars(const adem_world *w, adem_particle_field field, size_t n, double *out) {
+  double buf[2];
+  adem_world_get_particles(w, field, buf, 2, NULL);
+  for (size_t k = 0; k < n; ++k) out[k] = buf[k];
+}
+
+static void read_bodies(const adem_world *w, bodies *b) {
+  b->n = adem_world_particle_count(w);
+  read_vectors(w, ADEM_FIELD_POSITION, b->n, b->x);
+  read_vectors(w, ADEM_FIELD_VELOCITY, b->n, b->v);
+  read_vectors(w, ADEM_FIELD_ANGULAR_VELOCITY, b->n, b->om);
+  read_vectors(w, ADEM_FIELD_FORCE, b->n, b->f);
+  read_vectors(w, ADEM_FIELD_TORQUE, b->n, b->t);
+  read_vectors(w, ADEM_FIELD_ROLLING_TORQUE, b->n, b->roll);
+  read_scalars(w, ADEM_FIELD_RADIUS, b->n, b->r);
+  read_scalars(w, ADEM_FIELD_INVERSE_MASS, b->n, b->inv_m);
+  read_scalars(w, ADEM_FIELD_INVERSE_INERTIA, b->n, b->inv_i);
+}
+
+/* Overlap, normal approach speed and normal contact force of the current state. */
 typedef struct normal_state {
   double delta, v_n, f_n;
 } normal_state;
 
-static normal_state read_normal(const adem_world *w, bool wall) {
-  const adem_particles *pp = &w->p;
+static normal_state read_normal(const bodies *b, bool wall) {
   normal_state s;
   if (wall) {
-    s.delta = pp->radius[0] - pp->pos[0].z;
-    s.v_n = -pp->vel[0].z;
-    s.f_n = pp->force[0].z; /* force on the sphere = F_N along the wall normal */
+    s.delta = b->r[0] - b->x[0].z;
+    s.v_n = -b->v[0].z;
+    s.f_n = b->f[0].z; /* force on the sphere = F_N along the wall normal */
     return s;
   }
-  size_t i = pp->id[0] == 0 ? 0 : 1, j = 1 - i;
-  adem_vec3 d = v3_sub(pp->pos[j], pp->pos[i]);
+  adem_vec3 d = v3_sub(b->x[1], b->x[0]);
   double dist = v3_norm(d);
   adem_vec3 n = v3_scale(d, 1.0 / dist);
-  s.delta = pp->radius[i] + pp->radius[j] - dist;
-  s.v_n = v3_dot(v3_sub(pp->vel[i], pp->vel[j]), n);
-  s.f_n = -v3_dot(pp->force[i], n); /* force on i = -F_N n */
+  s.delta = b->r[0] + b->r[1] - dist;
+  s.v_n = v3_dot(v3_sub(b->v[0], b->v[1]), n);
+  s.f_n = -v3_dot(b->f[0], n); /* force on i = -F_N n */
   return s;
 }
 
-static double kinetic_energy(const adem_world *w) {
-  const adem_particles *p = &w->p;
+static double kinetic_energy(const bodies *b) {
   double e = 0.0;
-  for (size_t i = 0; i < p->n; ++i)
-    e += 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i] + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
+  for (size_t i = 0; i < b->n; ++i)
+    e += 0.5 * v3_norm2(b->v[i]) / b->inv_m[i] + 0.5 * v3_norm2(b->om[i]) / b->inv_i[i];
   return e;
 }
 
-/* The state at the start of a step, by particle id, for the work of the step. */
-typedef struct step_start {
-  adem_vec3 x[2], f[2], t[2], roll[2];
-} step_start;
-
-static void step_start_save(const adem_world *w, step_start *b) {
-  const adem_particles *pa = &w->p;
-  for (size_t i = 0; i < pa->n; ++i) {
-    uint64_t id = pa->id[i];
-    b->x[id] = pa->pos[i];
-    b->f[id] = pa->force[i];
-    b->t[id] = pa->torque[i];
-    b->roll[id] = pa->rolling_torque[i];
-  }
-}
-
-/* Work of the step just made, trapezoid rule: with velocity Verlet its sum equals the change of
- * kinetic energy up to terms in F^2 that cancel between a force-free start and end. The rolling
- * couples' share is summed apart (its sign says whether they ever add energy). */
-static void step_work(const adem_world *w, const step_start *b, double dt, double *work,
+/* Work of the step from state a to state b, trapezoid rule: with velocity Verlet its sum equals
+ * the change of kinetic energy up to terms in F^2 that cancel between a force-free start and end.
+ * The rolling couples' share is summed apart (its sign says whether they ever add energy). */
+static void step_work(const bodies *a, const bodies *b, double dt, double *work,
                       double *rolling_work) {
-  const adem_particles *pa = &w->p;
   double h = 0.5 * dt;
-  for (size_t i = 0; i < pa->n; ++i) {
-    uint64_t id = pa->id[i];
-    adem_vec3 dx = v3_sub(pa->pos[i], b->x[id]);
-    adem_vec3 om_half = v3_axpy(pa->omega[i], -h * pa->inv_inertia[i], pa->torque[i]);
-    *work += 0.5 * v3_dot(v3_add(b->f[id], pa->force[i]), dx) +
-             0.5 * dt * v3_dot(v3_add(b->t[id], pa->torque[i]), om_half);
-    *rolling_work += 0.5 * dt * v3_dot(v3_add(b->roll[id], pa->rolling_torque[i]), om_half);
+  for (size_t i = 0; i < b->n; ++i) {
+    adem_vec3 dx = v3_sub(b->x[i], a->x[i]);
+    adem_vec3 om_half = v3_axpy(b->om[i], -h * b->inv_i[i], b->t[i]);
+    *work += 0.5 * v3_dot(v3_add(a->f[i], b->f[i]), dx) +
+             0.5 * dt * v3_dot(v3_add(a->t[i], b->t[i]), om_half);
+    *rolling_work += 0.5 * dt * v3_dot(v3_add(a->roll[i], b->roll[i]), om_half);
   }
 }
 
 /* |xi| of the wall contact (0 when it does not touch). */
 static double wall_rolling_distance(const adem_world *w) {
-  const adem_pair_list *l = &w->pw;
-  for (size_t k = 0; k < l->n; ++k)
-    if (l->touching[k]) return v3_norm(l->hist[k].rolling);
-  return 0.0;
+  adem_contact_info c;
+  if (adem_world_contacts(w, &c, 1) == 0) return 0.0;
+  return v3_norm(c.rolling_history);
 }
 
 /* Scales of the DTK contact at a = a0, with the F_C and a0 the contact uses (real ones under the
@@ -308,9 +316,9 @@ static rolling_scales rolling_scales_of(const adem_collision_spec *s,
   /* with keep_gamma the world's real material is the softened one: (E_mod, gamma) */
   bool real = s->dtk_modification && !s->keep_gamma;
   double g = real ? s->surface_energy : p->gamma_mod, E = real ? s->young : p->E_mod;
-  double f_c = adem_jkr_critical_force(g, p->R);
+  double f_c = adem_law_jkr_critical_force(g, p->R);
   rolling_scales rs;
-  rs.xi_crit = adem_jkr_a0(g, p->R, E) / 12.0 * s->hysteresis; /* H18 */
+  rs.xi_crit = adem_law_jkr_a0(g, p->R, E) / 12.0 * s->hysteresis; /* H18 */
   double omega = sqrt(4.0 * f_c / (1.4 * p->mstar * s->radius));
   rs.t_roll = 2.0 * ADEM_PI / omega;
   rs.v_rest = 2.0 * omega * rs.xi_crit;
@@ -372,43 +380,44 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
     adem_world_free(w);
     return failed(r, st, err.message);
   }
-  r.ke_in = kinetic_energy(w);
+  bodies now, start;
+  read_bodies(w, &now);
+  r.ke_in = kinetic_energy(&now);
 
   /* Energy below which a capture is sure: a margin well above the step's energy error. */
   double stuck_below = -1e-3 * fabs(p.u_min);
   double t_limit = s->max_periods * fmax(p.t_c, p.t_osc);
-  adem_particles *pa = &w->p;
-  step_start start;
-  normal_state prev = read_normal(w, wall);
+  normal_state prev = read_normal(&now, wall);
   bool touched = s->at_rest, done = s->at_rest;
   double t_in = 0.0;
-  adem_vec3 x_touch = pa->pos[0], x_sep = pa->pos[0];
+  adem_vec3 x_touch = now.x[0], x_sep = now.x[0];
   r.stuck = s->at_rest;
   uint64_t max_steps = (uint64_t)(t_limit / dt) + (uint64_t)(20.0 * s->steps_per_tc) + 100;
   for (uint64_t k = 0; k < max_steps && !done; ++k) {
-    step_start_save(w, &start);
+    start = now;
     st = adem_world_step(w, 1, &err);
     if (st) break;
     r.steps++;
-    step_work(w, &start, dt, &r.work, &r.rolling_work);
+    read_bodies(w, &now);
+    step_work(&start, &now, dt, &r.work, &r.rolling_work);
     double t = adem_world_time(w);
-    normal_state cur = read_normal(w, wall);
+    normal_state cur = read_normal(&now, wall);
     if (s->sample) s->sample(t, cur.delta, cur.v_n, cur.f_n, s->sample_user);
     if (!touched && cur.delta > 0.0) {
       touched = true;
       t_in = t - dt * cur.delta / (cur.delta - prev.delta); /* where the overlap crossed 0 */
-      x_touch = pa->pos[0];
+      x_touch = now.x[0];
     }
     if (wall && s->track)
-      s->track(t, touched ? along_wall(x_touch, pa->pos[0]) : 0.0,
-               hypot(pa->vel[0].x, pa->vel[0].y), wall_rolling_distance(w), s->track_user);
+      s->track(t, touched ? along_wall(x_touch, now.x[0]) : 0.0,
+               hypot(now.v[0].x, now.v[0].y), wall_rolling_distance(w), s->track_user);
     if (touched) {
       r.max_overlap = fmax(r.max_overlap, cur.delta);
       if (cur.delta <= 0.0) { /* separated: no force acts any more */
         double t_out = t - dt * cur.delta / (cur.delta - prev.delta);
         r.duration = t_out - t_in;
         r.v_n_out = -cur.v_n;
-        x_sep = pa->pos[0];
+        x_sep = now.x[0];
         done = true;
       } else if (adhesive && normal_energy(&p, cur.delta, cur.v_n) < stuck_below) {
         r.stuck = true;
@@ -433,16 +442,17 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
     double t_end = adem_world_time(w) + s->max_roll_periods * rs.t_roll;
     double settled_below = p.u_min + 0.01 * fabs(p.u_min);
     double calm_since = NAN, sat_since = NAN, v_sat_start = 0.0;
-    adem_vec3 x_calm = pa->pos[0];
+    adem_vec3 x_calm = now.x[0];
     bool decided = false, sat = false;
     while (!decided) {
-      step_start_save(w, &start);
+      start = now;
       st = adem_world_step(w, 1, &err);
       if (st) break;
       r.steps++;
-      step_work(w, &start, dt, &r.work, &r.rolling_work);
+      read_bodies(w, &now);
+      step_work(&start, &now, dt, &r.work, &r.rolling_work);
       double t = adem_world_time(w);
-      normal_state cur = read_normal(w, wall);
+      normal_state cur = read_normal(&now, wall);
       if (s->sample) s->sample(t, cur.delta, cur.v_n, cur.f_n, s->sample_user);
       r.max_overlap = fmax(r.max_overlap, cur.delta);
       if (cur.delta <= 0.0) { /* cannot happen after a sure capture; reported if it does */
@@ -450,19 +460,19 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
         r.outcome = ADEM_OUTCOME_REBOUND;
         r.v_n_out = -cur.v_n;
         r.duration = t - t_in;
-        x_sep = pa->pos[0];
+        x_sep = now.x[0];
         break;
       }
       double xi = wall_rolling_distance(w);
-      double v = hypot(pa->vel[0].x, pa->vel[0].y);
-      if (s->track) s->track(t, along_wall(x_touch, pa->pos[0]), v, xi, s->track_user);
+      double v = hypot(now.v[0].x, now.v[0].y);
+      if (s->track) s->track(t, along_wall(x_touch, now.x[0]), v, xi, s->track_user);
       sat = xi >= rs.xi_crit * (1.0 - 1e-9);
       bool settled = normal_energy(&p, cur.delta, cur.v_n) <= settled_below;
       /* stuck: elastic rolling spring and a slow centre for a whole window */
       if (!sat && v < rs.v_rest) {
         if (isnan(calm_since)) {
           calm_since = t;
-          x_calm = pa->pos[0];
+          x_calm = now.x[0];
         } else if (t - calm_since >= window) {
           r.outcome = ADEM_OUTCOME_STUCK;
           r.t_rest = calm_since - t_in;
@@ -494,7 +504,7 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
         r.outcome = sat ? ADEM_OUTCOME_ROLLING : ADEM_OUTCOME_STUCK;
         if (!sat) {
           r.t_rest = (isnan(calm_since) ? t : calm_since) - t_in;
-          r.roll_distance = along_wall(x_touch, isnan(calm_since) ? pa->pos[0] : x_calm);
+          r.roll_distance = along_wall(x_touch, isnan(calm_since) ? now.x[0] : x_calm);
         }
         decided = true;
       }
@@ -502,9 +512,10 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
     if (!st) r.duration = adem_world_time(w) - t_in;
   }
   if (st) {
-    normal_state now = read_normal(w, wall);
+    read_bodies(w, &now);
+    normal_state last = read_normal(&now, wall);
     double rmin = wall ? s->radius : s->radius * fmin(1.0, s->size_ratio);
-    if (st == ADEM_ERR_RUNTIME && !(now.delta < 0.99 * rmin))
+    if (st == ADEM_ERR_RUNTIME && !(last.delta < 0.99 * rmin))
       snprintf(err.message, sizeof err.message,
                "the overlap reached the radius of the sphere at t = %.4g s: it is too soft for "
                "this impact (E_mod/(rho v_n^2) = %.3g), where the contact laws do not apply",
@@ -520,13 +531,13 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
   r.e_eff = r.stuck || s->at_rest ? 0.0 : r.v_n_out / r.v_n_in;
   if (r.stuck) r.v_n_out = 0.0;
   if (wall) {
-    r.v_t_out = hypot(pa->vel[0].x, pa->vel[0].y);
-    r.omega_out = v3_norm(pa->omega[0]);
+    r.v_t_out = hypot(now.v[0].x, now.v[0].y);
+    r.omega_out = v3_norm(now.om[0]);
     r.v_end = r.v_t_out;
     if (r.outcome == ADEM_OUTCOME_REBOUND) r.roll_distance = along_wall(x_touch, x_sep);
-    else if (r.outcome != ADEM_OUTCOME_STUCK) r.roll_distance = along_wall(x_touch, pa->pos[0]);
+    else if (r.outcome != ADEM_OUTCOME_STUCK) r.roll_distance = along_wall(x_touch, now.x[0]);
   }
-  r.ke_out = kinetic_energy(w);
+  r.ke_out = kinetic_energy(&now);
   adem_world_free(w);
   return r;
 }
@@ -548,13 +559,14 @@ adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, 
   adem_status st = build_world(&s, &p, dt, w, err);
   if (!st) {
     /* Rolling without slip along x at v = xi/dt: one force pass adds xi to the empty history. */
-    adem_particles *pa = &w->p;
     double v = xi / dt;
-    pa->vel[0] = v3(v, 0.0, 0.0);
-    pa->omega[0] = v3(0.0, v / s.radius, 0.0);
-    for (size_t k = 0; k < w->pw.n; ++k) memset(&w->pw.hist[k], 0, sizeof w->pw.hist[k]);
+    adem_vec3 vel = v3(v, 0.0, 0.0), spin = v3(0.0, v / s.radius, 0.0);
+    st = adem_world_set_particle(w, 0, NULL, &vel, &spin, err);
+    adem_world_clear_history(w);
     adem_world_compute_forces(w);
-    *torque = v3_norm(pa->rolling_torque[0]);
+    bodies b;
+    read_bodies(w, &b);
+    *torque = v3_norm(b.roll[0]);
   }
   adem_world_free(w);
   return st;

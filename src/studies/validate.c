@@ -1,15 +1,12 @@
 /* The registry of paper reproductions, their summaries, and CSV tables. */
-#include "validate.h"
+#include "adem/adem.h"
+#include "adem/vec3.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "files.h"
-#include "fileio.h"
-#include "log.h"
-#include "plot.h"
 
 size_t adem_validation_count(void) {
   return adem_validations_haervig_count + adem_validations_irazabal_count;

@@ -7,11 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "collide.h"
-#include "jkr.h"
-#include "log.h"
-#include "plot.h"
-#include "validate.h"
+#include "adem/adem.h"
+#include "adem/vec3.h"
 
 #define NF 3
 static const double stiffness[NF] = {1.0, 0.1, 0.01}; /* E_mod/E of Figs. 5 and 13 */
@@ -81,12 +78,12 @@ static adem_status write_outputs(const adem_validation_context *ctx, const char 
 /* Work of adhesion: the area between the attractive part of the curve and the axis,
  * integral of -F over [0, delta_eq] by the trapezoid rule on n intervals (H23). */
 static double attractive_area(double gamma, double R, double E, int n) {
-  double a0 = adem_jkr_a0(gamma, R, E);
+  double a0 = adem_law_jkr_a0(gamma, R, E);
   double d_eq = a0 * a0 / (3.0 * R);
   double sum = 0.0, prev = 0.0;
   for (int k = 0; k <= n; ++k) {
     double d = d_eq * k / n;
-    double f = -adem_jkr_force(gamma, R, E, adem_jkr_contact_radius(gamma, R, E, d));
+    double f = -adem_law_jkr_force(gamma, R, E, adem_law_jkr_contact_radius(gamma, R, E, d));
     if (k) sum += 0.5 * (f + prev) * d_eq / n;
     prev = f;
   }
@@ -103,22 +100,22 @@ static adem_status fig3(const adem_validation_context *ctx, const char *name,
   adem_table t;
   if (adem_table_init(&t, "overlap_m,F_original_N,F_E_reduced_N,F_E_gamma_reduced_H24_N"))
     return nomem(err);
-  double a0_soft = adem_jkr_a0(g, R, f * E);
+  double a0_soft = adem_law_jkr_a0(g, R, f * E);
   double d_max = 1.3 * a0_soft * a0_soft / (3.0 * R); /* past the softest curve's equilibrium */
   int n = ctx->quick ? 200 : 600;
   adem_status st = ADEM_OK;
   for (int k = 0; k <= n && !st; ++k) {
     double d = d_max * k / n, row[4] = {d};
     for (int c = 0; c < 3; ++c)
-      row[c + 1] = adem_jkr_force(gs[c], R, Es[c], adem_jkr_contact_radius(gs[c], R, Es[c], d));
+      row[c + 1] = adem_law_jkr_force(gs[c], R, Es[c], adem_law_jkr_contact_radius(gs[c], R, Es[c], d));
     if (adem_table_add(&t, row)) st = nomem(err);
   }
   double area[3], area_exact[3], pull[3];
   int nint = ctx->quick ? 2000 : 20000;
   for (int c = 0; c < 3; ++c) {
     area[c] = attractive_area(gs[c], R, Es[c], nint);
-    area_exact[c] = -adem_jkr_energy(gs[c], R, Es[c], adem_jkr_a0(gs[c], R, Es[c]));
-    pull[c] = 8.0 / 9.0 * adem_jkr_critical_force(gs[c], R); /* -F at delta = 0 */
+    area_exact[c] = -adem_law_jkr_energy(gs[c], R, Es[c], adem_law_jkr_a0(gs[c], R, Es[c]));
+    pull[c] = 8.0 / 9.0 * adem_law_jkr_critical_force(gs[c], R); /* -F at delta = 0 */
   }
   if (!st)
     st = write_outputs(ctx, name, &t,
@@ -682,8 +679,8 @@ static adem_status fig4(const adem_validation_context *ctx, const char *name,
     law[k].dtk_modification = k == 3; /* 1: E only; 2: H24 without; 3: H24 with (section 3.2) */
   }
   const double r = law[0].radius, g = law[0].surface_energy;
-  const double f_c = adem_jkr_critical_force(g, r);
-  const double xi_c = adem_jkr_a0(g, r, law[0].young) / 12.0 * HYSTERESIS; /* H18 */
+  const double f_c = adem_law_jkr_critical_force(g, r);
+  const double xi_c = adem_law_jkr_a0(g, r, law[0].young) / 12.0 * HYSTERESIS; /* H18 */
   /* expected initial slope / 4F_C, xi_crit / xi_c of the original (notes sections 4-5) */
   const double slope_th[FIG4_LAWS] = {1.0, 1.0, pow(f, 0.4), 1.0};
   const double xic_th[FIG4_LAWS] = {1.0, pow(f, -1.0 / 3.0), pow(f, -0.2), 1.0};

@@ -11,11 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "log.h"
-#include "plot.h"
-#include "validate.h"
+#include "adem/adem.h"
 #include "adem/vec3.h"
-#include "world.h"
 
 /* I Table 1 (test cases 1 and 2). */
 #define T1_DENSITY 1056.0     /* kg/m^3 */
@@ -93,11 +90,12 @@ static adem_status sphere_run(const sphere_setup *s, double duration, sphere_tra
   m.friction = T1_FRICTION;
   m.param[ADEM_PARAM_ROLLING_FRICTION] = s->eta;
   m.param[ADEM_PARAM_ROLLING_DAMPING] = s->damping;
-  int sphere = adem_world_add_material(w, &m, err);
+  int sphere = -1, surface = -1;
+  adem_status st = adem_world_add_material(w, &m, &sphere, err);
   adem_material_def f = m; /* the rigid surface: same e, mu, eta_r, delta_r */
   snprintf(f.name, sizeof f.name, "surface");
   f.rigid = 1;
-  int surface = adem_world_add_material(w, &f, err);
+  if (!st) st = adem_world_add_material(w, &f, &surface, err);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = sphere;
   it.material_b = surface;
@@ -117,10 +115,9 @@ static adem_status sphere_run(const sphere_setup *s, double duration, sphere_tra
   p.material = sphere;
   p.radius = r;
   p.position = v3(0.0, 0.0, r - delta);
-  adem_status st = ADEM_OK;
-  if (sphere < 0 || surface < 0 || adem_world_set_interaction(w, &it, err) < 0 ||
-      adem_world_add_plane(w, &pl, err) < 0 || adem_world_add_particle(w, &p, err) < 0)
-    st = err->status ? err->status : ADEM_ERR_INPUT;
+  if (!st) st = adem_world_set_interaction(w, &it, err);
+  if (!st) st = adem_world_add_plane(w, &pl, NULL, err);
+  if (!st) st = adem_world_add_particle(w, &p, NULL, err);
   adem_world_set_gravity(w, v3(0.0, 0.0, -g * cos(s->slope)));
   adem_world_set_dt(w, T1_DT);
   if (!st) st = adem_world_prepare(w, err);
@@ -134,17 +131,23 @@ static adem_status sphere_run(const sphere_setup *s, double duration, sphere_tra
   tr->mass = mass;
   tr->fn = fn;
   adem_world_set_gravity(w, v3(-g * sin(s->slope), 0.0, -g * cos(s->slope)));
-  adem_particles *pa = &w->p;
-  pa->vel[0] = v3(LAUNCH_SPEED, 0.0, 0.0);
-  double x0 = pa->pos[0].x;
+  adem_vec3 launch = v3(LAUNCH_SPEED, 0.0, 0.0);
+  st = adem_world_set_particle(w, 0, NULL, &launch, NULL, err);
+  double pos[3], vel[3], omega[3], torque[3];
+  adem_world_get_particles(w, ADEM_FIELD_POSITION, pos, 3, NULL);
+  double x0 = pos[0];
   for (size_t k = 0; k < n && !st; ++k) {
     st = adem_world_step(w, 1, err);
+    adem_world_get_particles(w, ADEM_FIELD_POSITION, pos, 3, NULL);
+    adem_world_get_particles(w, ADEM_FIELD_VELOCITY, vel, 3, NULL);
+    adem_world_get_particles(w, ADEM_FIELD_ANGULAR_VELOCITY, omega, 3, NULL);
+    adem_world_get_particles(w, ADEM_FIELD_ROLLING_TORQUE, torque, 3, NULL);
     tr->t[k] = (double)(k + 1) * T1_DT;
-    tr->torque[k] = pa->rolling_torque[0].y;
-    tr->omega[k] = pa->omega[0].y;
-    tr->x[k] = pa->pos[0].x - x0;
-    tr->v[k] = pa->vel[0].x;
-    tr->slip[k] = pa->vel[0].x - r * pa->omega[0].y; /* contact-point speed: 0 when rolling */
+    tr->torque[k] = torque[1];
+    tr->omega[k] = omega[1];
+    tr->x[k] = pos[0] - x0;
+    tr->v[k] = vel[0];
+    tr->slip[k] = vel[0] - r * omega[1]; /* contact-point speed: 0 when rolling */
     tr->n = k + 1;
   }
   adem_world_free(w);
@@ -669,15 +672,22 @@ static adem_status pile_run(const adem_validation_context *ctx, const char *mode
   adem_world *w = c->world;
   adem_world_set_threads(w, ctx->nthreads);
   st = adem_world_prepare(w, err);
-  uint64_t total = (uint64_t)llround(end / c->dt);
+  uint64_t total = (uint64_t)llround(end / adem_world_dt(w));
   size_t n = (size_t)(total / every) + 1;
   out->t = malloc(n * sizeof *out->t);
   out->kinetic = malloc(n * sizeof *out->kinetic);
   out->rotational = malloc(n * sizeof *out->rotational);
   if (!st && (!out->t || !out->kinetic || !out->rotational))
     st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  for (size_t i = 0; i < w->p.n; ++i) /* sum of m g r: lifting every sphere by its radius */
-    out->lift += T1_GRAVITY * w->p.radius[i] / w->p.inv_mass[i];
+  size_t np = adem_world_particle_count(w);
+  double *radius = malloc((np + 1) * sizeof *radius), *inv_m = malloc((np + 1) * sizeof *inv_m);
+  if (!st && (!radius || !inv_m)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_RADIUS, radius, np, err);
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_INVERSE_MASS, inv_m, np, err);
+  for (size_t i = 0; i < np && !st; ++i) /* sum of m g r: lifting every sphere by its radius */
+    out->lift += T1_GRAVITY * radius[i] / inv_m[i];
+  free(radius);
+  free(inv_m);
   for (size_t k = 0; k < n && !st; ++k) {
     if (k > 0) st = adem_world_step(w, every, err);
     adem_diagnostics d = adem_world_diagnostics(w);

@@ -18,7 +18,9 @@ static inline int test_material(adem_world *w, const char *name, double E, doubl
   m.restitution = e;
   m.friction = mu;
   adem_error err;
-  return adem_world_add_material(w, &m, &err);
+  int index = -1;
+  if (adem_world_add_material(w, &m, &index, &err)) return -1;
+  return index;
 }
 
 static inline int64_t test_particle(adem_world *w, int mat, adem_vec3 x, adem_vec3 v, double r) {
@@ -28,7 +30,9 @@ static inline int64_t test_particle(adem_world *w, int mat, adem_vec3 x, adem_ve
   p.velocity = v;
   p.radius = r;
   adem_error err;
-  return adem_world_add_particle(w, &p, &err);
+  uint64_t id = 0;
+  if (adem_world_add_particle(w, &p, &id, &err)) return -1;
+  return (int64_t)id;
 }
 
 static inline double test_sphere_mass(double r, double rho) {

@@ -19,7 +19,7 @@ static void test_sliding_to_rolling(void **state) {
   snprintf(floor.name, sizeof floor.name, "floor");
   floor.material = glass;
   adem_error err;
-  adem_world_add_plane(w, &floor, &err);
+  adem_world_add_plane(w, &floor, NULL, &err);
   double r = 5e-3, v0 = 1.0;
   /* start at the static overlap so it does not bounce: delta = (3 m g / (4 E sqrt(r)))^(2/3) */
   double m = test_sphere_mass(r, 2500.0);
@@ -46,7 +46,7 @@ static adem_world *gas(int n, uint64_t seed, double steps_per_collision, double 
   int mat = test_material(w, "gas", 1e8, 0.3, 1.0, 0.0);
   adem_error err;
   double L = 0.05, r = 1e-3;
-  adem_world_add_box(w, "box", v3(0, 0, 0), v3(L, L, L), mat, &err);
+  adem_world_add_box(w, "box", v3(0, 0, 0), v3(L, L, L), mat, NULL, &err);
   adem_rng rng = adem_rng_seed(seed);
   int side = (int)ceil(cbrt((double)n));
   double h = L / side;
@@ -111,7 +111,8 @@ static void test_floor_carries_weight(void **state) {
   adem_plane_def pl = adem_default_plane_def();
   snprintf(pl.name, sizeof pl.name, "floor");
   pl.material = glass;
-  int floor = adem_world_add_plane(w, &pl, &err);
+  int floor = -1;
+  adem_world_add_plane(w, &pl, &floor, &err);
   adem_vec3 normals[4] = {v3(1, 0, 0), v3(-1, 0, 0), v3(0, 1, 0), v3(0, -1, 0)};
   adem_vec3 points[4] = {v3(0, 0, 0), v3(L, 0, 0), v3(0, 0, 0), v3(0, L, 0)};
   for (int k = 0; k < 4; ++k) {
@@ -119,7 +120,7 @@ static void test_floor_carries_weight(void **state) {
     pl.point = points[k];
     pl.material = side;
     snprintf(pl.name, sizeof pl.name, "side%d", k);
-    adem_world_add_plane(w, &pl, &err);
+    adem_world_add_plane(w, &pl, NULL, &err);
   }
   adem_rng rng = adem_rng_seed(3);
   double weight = 0.0;

@@ -12,7 +12,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "collide.h"
+#include "adem/studies.h"
 #include "jkr.h"
 #include "world.h"
 
@@ -37,17 +37,17 @@ static void add_materials(adem_world *w, double f, double hysteresis, double fri
   m.young = (pair ? 2.0 : 1.0) * (1.0 - NU * NU) * YOUNG;
   m.stiffness_factor = f;
   adem_error err;
-  *ms = adem_world_add_material(w, &m, &err);
+  assert_int_equal(adem_world_add_material(w, &m, ms, &err), ADEM_OK);
   snprintf(m.name, sizeof m.name, "wall");
   m.rigid = 1;
-  *mw = adem_world_add_material(w, &m, &err);
+  assert_int_equal(adem_world_add_material(w, &m, mw, &err), ADEM_OK);
   assert_true(*ms >= 0 && *mw >= 0);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = *ms;
   it.material_b = pair ? *ms : *mw;
   it.normal = ADEM_NORMAL_JKR;
   it.rolling = ADEM_ROLLING_DTK;
-  assert_true(adem_world_set_interaction(w, &it, &err) >= 0);
+  assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
 }
 
 static adem_world *new_world(void) {
@@ -75,14 +75,14 @@ static adem_world *sphere_on_wall(double f, double hysteresis, double friction, 
   adem_error err;
   adem_plane_def pl = adem_default_plane_def();
   pl.material = mw;
-  assert_true(adem_world_add_plane(w, &pl, &err) >= 0);
+  assert_int_equal(adem_world_add_plane(w, &pl, NULL, &err), ADEM_OK);
   adem_particle_def p = adem_default_particle_def();
   p.material = ms;
   p.radius = RADIUS;
   p.position = v3(0.0, 0.0, RADIUS - equilibrium_overlap(f, RADIUS, YOUNG));
   p.velocity = v;
   p.angular_velocity = omega;
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   double mass = RHO * 4.0 / 3.0 * ADEM_PI * pow(RADIUS, 3);
   double a0 = adem_jkr_a0(GAMMA * pow(f, 0.4), RADIUS, f * YOUNG);
   *dt = 2.0 * ADEM_PI * sqrt(mass / (1.2 * f * YOUNG * a0)) / 400.0;
@@ -137,10 +137,10 @@ static adem_world *settled_pair(double friction, double *dt) {
   p.material = ms;
   p.radius = RADIUS;
   p.velocity = v3(0.5e-3, 0.0, 0.0);
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   p.position = v3(2.0 * RADIUS + 1e-3 * *dt, 0.0, 0.0);
   p.velocity = v3(-0.5e-3, 0.0, 0.0);
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   adem_world_set_dt(w, *dt);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   assert_int_equal(adem_world_step(w, 40 * 400, &err), ADEM_OK);

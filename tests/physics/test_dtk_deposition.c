@@ -9,7 +9,7 @@
 
 #include <math.h>
 
-#include "collide.h"
+#include "adem/studies.h"
 
 /* r = 1 um, rho = 1000 kg/m^3, v = 1 m/s at 45 degrees, mu = 0.3, delta_gamma/gamma = 0.5,
  * 200 steps per collision time. */

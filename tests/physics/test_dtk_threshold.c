@@ -11,7 +11,7 @@
 
 #include <math.h>
 
-#include "collide.h"
+#include "adem/studies.h"
 
 static const double stiffness[3] = {1.0, 0.1, 0.01};
 

@@ -9,7 +9,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "collide.h"
+#include "adem/studies.h"
 #include "hertz.h"
 #include "jkr.h"
 

@@ -31,7 +31,8 @@ static adem_world *bouncing_world(int use_mesh, const char *plate) {
   steel.friction = 0.4;
   steel.restitution = 0.5;
   adem_error err;
-  int st = adem_world_add_material(w, &steel, &err);
+  int st = -1;
+  assert_int_equal(adem_world_add_material(w, &steel, &st, &err), ADEM_OK);
   assert_true(st >= 0);
   if (use_mesh) {
     adem_mesh_transform tf = adem_default_mesh_transform();
@@ -41,7 +42,7 @@ static adem_world *bouncing_world(int use_mesh, const char *plate) {
     adem_plane_def pl = adem_default_plane_def();
     snprintf(pl.name, sizeof pl.name, "floor");
     pl.material = st;
-    assert_true(adem_world_add_plane(w, &pl, &err) >= 0);
+    assert_int_equal(adem_world_add_plane(w, &pl, NULL, &err), ADEM_OK);
   }
   /* three spheres thrown at the floor with spin: they bounce, slide and roll over triangles */
   adem_particle_def d = adem_default_particle_def();
@@ -50,15 +51,15 @@ static adem_world *bouncing_world(int use_mesh, const char *plate) {
   d.position = v3(-0.03, 0.01, 0.006);
   d.velocity = v3(0.4, 0.1, -0.3);
   d.angular_velocity = v3(20, -30, 5);
-  assert_true(adem_world_add_particle(w, &d, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &d, NULL, &err), ADEM_OK);
   d.position = v3(0.02, -0.02, 0.0045);
   d.velocity = v3(-0.2, 0.35, 0.0);
   d.angular_velocity = v3(0, 0, 0);
-  assert_true(adem_world_add_particle(w, &d, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &d, NULL, &err), ADEM_OK);
   d.position = v3(0.0, 0.04, 0.0100);
   d.velocity = v3(0.05, -0.3, -0.1);
   d.radius = 0.003;
-  assert_true(adem_world_add_particle(w, &d, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &d, NULL, &err), ADEM_OK);
   adem_world_set_dt(w, 2e-6);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   return w;

@@ -32,20 +32,22 @@ static adem_world *sphere_on_plane(adem_rolling_model model, double eta, double 
   m.param[ADEM_PARAM_ROLLING_FRICTION] = eta;
   m.param[ADEM_PARAM_ROLLING_DAMPING] = 0.3;
   adem_error err;
-  int s = adem_world_add_material(w, &m, &err);
+  int s = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &s, &err), ADEM_OK);
   m.rigid = 1;
   m.param[ADEM_PARAM_ROLLING_FRICTION] = 3.0 * eta; /* a wall contact uses the particle's eta_r, not the wall's */
   snprintf(m.name, sizeof m.name, "surface");
-  int f = adem_world_add_material(w, &m, &err);
+  int f = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &f, &err), ADEM_OK);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = s;
   it.material_b = f;
   it.rolling = model;
-  assert_true(adem_world_set_interaction(w, &it, &err) >= 0);
+  assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
   adem_plane_def pl = adem_default_plane_def();
   snprintf(pl.name, sizeof pl.name, "surface");
   pl.material = f;
-  assert_true(adem_world_add_plane(w, &pl, &err) >= 0);
+  assert_int_equal(adem_world_add_plane(w, &pl, NULL, &err), ADEM_OK);
   double beta = slope_deg * 3.14159265358979323846 / 180.0;
   double mass = test_sphere_mass(RADIUS, RHO);
   double estar = YOUNG / (1.0 - POISSON * POISSON);
@@ -56,7 +58,7 @@ static adem_world *sphere_on_plane(adem_rolling_model model, double eta, double 
   p.position = v3(0, 0, RADIUS - delta);
   p.velocity = v;
   p.angular_velocity = omega;
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   adem_world_set_gravity(w, v3(-GRAV * sin(beta), 0, -GRAV * cos(beta)));
   adem_world_set_dt(w, DT);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
@@ -185,12 +187,13 @@ static adem_world *spinning_pair(adem_rolling_model model, int count, adem_vec3 
   m.param[ADEM_PARAM_SURFACE_ENERGY] = model == ADEM_ROLLING_DTK ? 0.5 : 0.0;
   m.param[ADEM_PARAM_ADHESION_HYSTERESIS] = 0.5;
   adem_error err;
-  int g = adem_world_add_material(w, &m, &err);
+  int g = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &g, &err), ADEM_OK);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = it.material_b = g;
   it.rolling = model;
   it.normal = model == ADEM_ROLLING_DTK ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
-  assert_true(adem_world_set_interaction(w, &it, &err) >= 0);
+  assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
   for (int k = 0; k < count; ++k) {
     adem_particle_def p = adem_default_particle_def();
     p.material = g;
@@ -199,7 +202,7 @@ static adem_world *spinning_pair(adem_rolling_model model, int count, adem_vec3 
     p.position = v3(x, 0, 0);
     p.velocity = v3(k == 0 ? 0.05 : k == 1 ? -0.05 : -0.15, 0, 0);
     p.angular_velocity = k == 0 ? omega_a : k == 1 ? omega_b : v3(0, -omega_a.y, 2.0);
-    assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+    assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   }
   adem_world_set_dt(w, 1e-6);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
@@ -270,13 +273,13 @@ static void test_pair_rules(void **state) {
       m.young = YOUNG;
       m.poisson = POISSON;
       m.param[ADEM_PARAM_ROLLING_FRICTION] = eta[k];
-      mat[k] = adem_world_add_material(w, &m, &err);
+      assert_int_equal(adem_world_add_material(w, &m, &mat[k], &err), ADEM_OK);
     }
     adem_interaction_def it = adem_default_interaction_def();
     it.material_a = mat[0];
     it.material_b = mat[1];
     it.rolling = model;
-    assert_true(adem_world_set_interaction(w, &it, &err) >= 0);
+    assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
     double r[2] = {RADIUS, 1.1 * RADIUS};
     for (int k = 0; k < 2; ++k) {
       adem_particle_def p = adem_default_particle_def();
@@ -285,7 +288,7 @@ static void test_pair_rules(void **state) {
       p.position = v3(k ? r[1] + 1e-6 : -r[0], 0, 0);
       p.velocity = v3(k ? -0.05 : 0.05, 0, 0);
       p.angular_velocity = k ? v3(0, -30, 5) : v3(0, 40, 0);
-      assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+      assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
     }
     adem_world_set_dt(w, 1e-6);
     assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
@@ -349,22 +352,23 @@ static void test_brof_symmetry(void **state) {
   m.young = YOUNG;
   m.poisson = POISSON;
   m.param[ADEM_PARAM_ROLLING_FRICTION] = 0.3;
-  int g = adem_world_add_material(w, &m, &err);
+  int g = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &g, &err), ADEM_OK);
   adem_interaction_def it = adem_default_interaction_def();
   it.material_a = it.material_b = g;
   it.rolling = ADEM_ROLLING_BROF;
-  assert_true(adem_world_set_interaction(w, &it, &err) >= 0);
+  assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
   adem_particle_def p = adem_default_particle_def();
   p.material = g;
   p.radius = RADIUS;
   p.position = v3(-RADIUS - 1e-6, 0, 0);
   p.velocity = v3(0.05, 0, 0);
   p.angular_velocity = v3(3, 40, -7);
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   p.position = v3(RADIUS + 1e-6, 0, 0);
   p.velocity = v3(-0.05, 0, 0);
   p.angular_velocity = v3(-3, -40, -7);
-  assert_true(adem_world_add_particle(w, &p, &err) >= 0);
+  assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   adem_world_set_dt(w, 1e-6);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   double asym = 0.0, largest = 0.0;

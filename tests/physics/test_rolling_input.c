@@ -15,7 +15,7 @@
 #include "adem/adem.h"
 #include "case_text.h"
 #include "tmpdir.h"
-#include "validate.h"
+#include "adem/studies.h"
 
 static int setup(void **state) {
   (void)state;

@@ -21,11 +21,13 @@ static void test_reduced_stiffness_on_rigid_wall(void **state) {
   m.param[ADEM_PARAM_SURFACE_ENERGY] = 0.11;
   m.stiffness_factor = 0.01;
   adem_error err;
-  int psl = adem_world_add_material(w, &m, &err);
+  int psl = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &psl, &err), ADEM_OK);
   snprintf(m.name, sizeof m.name, "quartz");
   m.rigid = 1;
   m.stiffness_factor = 1.0;
-  int quartz = adem_world_add_material(w, &m, &err);
+  int quartz = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &quartz, &err), ADEM_OK);
   assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   const adem_interaction *it = adem_world_interaction(w, psl, quartz);
   printf("# E = %.6g Pa (real %.6g), gamma = %.6g J/m^2 (real %.6g)\n", it->pp.E, it->pp.E_real,
@@ -48,7 +50,8 @@ static void test_effective_moduli(void **state) {
   snprintf(m.name, sizeof m.name, "wall");
   m.rigid = 1;
   adem_error err;
-  int wall = adem_world_add_material(w, &m, &err);
+  int wall = -1;
+  assert_int_equal(adem_world_add_material(w, &m, &wall, &err), ADEM_OK);
   assert_int_equal(adem_materials_derive(&w->mat, &err), ADEM_OK);
   double G = 1e7 / (2.0 * 1.25);
   const adem_interaction *pp = adem_world_interaction(w, a, a);

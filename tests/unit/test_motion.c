@@ -82,7 +82,7 @@ static void test_sphere_on_moving_plane(void **state) {
   pl.material = mat;
   pl.velocity = v3(1.0, 0.0, 0.0);
   adem_error err;
-  assert_true(adem_world_add_plane(w, &pl, &err) >= 0);
+  assert_int_equal(adem_world_add_plane(w, &pl, NULL, &err), ADEM_OK);
   double r = 5e-3;
   double E = 1.0 / (2.0 * (1.0 - 0.09) / 1e8);
   double delta = pow(3.0 * test_sphere_mass(r, 2500.0) * 9.81 / (4.0 * E * sqrt(r)), 2.0 / 3.0);
