@@ -40,7 +40,6 @@ typedef struct adem_case {
   int nsets;
   adem_world *world;
   double end_time;            /* s */
-  double dt;                  /* chosen step, s */
   int dt_auto;                /* 1 when time.step was "auto" */
   double dt_user_ratio;       /* user dt / proposed dt (> 1 means too large) */
   adem_step_estimate estimate;

@@ -3,6 +3,7 @@
 #define ADEM_RUN_H
 
 #include <signal.h>
+#include <stdio.h>
 #include "adem/adem.h"
 
 #ifdef __cplusplus
@@ -27,10 +28,18 @@ typedef struct adem_run_options {
 } adem_run_options;
 adem_run_options adem_default_run_options(void);
 
+/* Steps from the start to the case's end time at the world's step. */
+uint64_t adem_case_total_steps(const adem_case *c);
+
 /* Runs the case to its end time, writing frames, CSV and checkpoints into c->output.dir.
  * On ADEM_INTERRUPTED a checkpoint has been written. On ADEM_ERR_RUNTIME the files already
  * written are kept and err names the particle and time. */
 adem_status adem_run(adem_case *c, const adem_run_options *opt, adem_error *err);
+
+/* What a loaded, prepared case will do, written as text to f (`adem check`): particles, walls,
+ * pours, stages, every material pair's effective values and laws (with the JKR quantities of
+ * H7-H10, H24 and the Tabor parameter), the time step, the outputs, memory and disk. */
+adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err);
 
 /* Checkpoints: the case text and the whole dynamic state, written atomically. */
 adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err);

@@ -147,7 +147,9 @@ adem_status adem_world_set_plane_active(adem_world *w, int plane, int active, ad
 adem_status adem_world_set_mesh_active(adem_world *w, int group, int active, adem_error *err);
 
 void adem_world_set_gravity(adem_world *w, adem_vec3 g);
-void adem_world_set_threads(adem_world *w, int nthreads);
+void adem_world_set_threads(adem_world *w, int nthreads); /* results do not depend on it */
+/* Threads a world uses unless told otherwise (OMP_NUM_THREADS, else the processors). */
+int adem_default_thread_count(void);
 void adem_world_set_skin(adem_world *w, double skin_fraction); /* skin as a fraction of max diameter */
 void adem_world_set_max_overlap_ratio(adem_world *w, double ratio);
 void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape check */

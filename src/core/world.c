@@ -314,6 +314,8 @@ adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def,
 }
 
 void adem_world_set_gravity(adem_world *w, adem_vec3 g) { w->gravity = g; }
+int adem_default_thread_count(void) { return adem_default_threads(); }
+
 void adem_world_set_threads(adem_world *w, int nthreads) {
   w->nthreads = nthreads > 0 ? nthreads : adem_default_threads();
 }

@@ -1309,11 +1309,11 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     if (!proposal)
       return adem_yaml_fail(ctx, time->at, "time.step",
                   "`auto` cannot propose a step (no particles were created); give a number");
-    c->dt = c->estimate.dt;
+    adem_world_set_dt(ctx->w, c->estimate.dt);
     c->dt_auto = 1;
     c->dt_user_ratio = 1.0;
   } else {
-    c->dt = step;
+    adem_world_set_dt(ctx->w, step);
     c->dt_auto = 0;
     c->dt_user_ratio = proposal ? step / c->estimate.dt : 0.0;
     if (c->dt_user_ratio > 1.0) {
@@ -1324,7 +1324,6 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
                c->dt_user_ratio, c->estimate.dt, collision ? "t_collision/50" : "0.2 t_Rayleigh");
     }
   }
-  adem_world_set_dt(ctx->w, c->dt);
   return ADEM_OK;
 }
 
@@ -1663,14 +1662,13 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
     if (!st) st = stage_config_extract(&g->config, sc, err);
     adem_case_free(sc);
     if (st) break;
-    double ratio = c->dt / g->config.dt_proposed;
+    double ratio = adem_world_dt(c->world) / g->config.dt_proposed;
     if (c->dt_auto && ratio > 1.0 && g->config.dt_proposed > 0.0) { /* the smallest of all */
-      c->dt = g->config.dt_proposed;
-      adem_world_set_dt(c->world, c->dt);
+      adem_world_set_dt(c->world, g->config.dt_proposed);
     } else if (ratio > 1.0 + 1e-12 && isfinite(ratio))
       adem_log(ADEM_LOG_WARN,
                "%s: stage `%s`: the time step %g s is %.2fx the step its materials propose (%g s)",
-               g->where, g->name, c->dt, ratio, g->config.dt_proposed);
+               g->where, g->name, adem_world_dt(c->world), ratio, g->config.dt_proposed);
   }
   free(sets);
   if (st) return st;

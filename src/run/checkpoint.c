@@ -6,7 +6,7 @@
  * Layout, all in the writing machine's byte order (checked by a marker):
  *   header  "ADEMCKPT", u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a of the
  *           payload, u32 sizeof(adem_vec3), u32 sizeof(adem_contact_history)
- *   payload case: source text, --set strings, path, base folder, end time, dt, output settings,
+ *   payload case: source text, --set strings, path, base folder, end time, output settings,
  *           the stage in force and the pours' state (streams, counts); then the world
  *           (adem_world_save), "ADEMEND\0"
  * Strings are u64 length + bytes; arrays are u64 count + raw elements. */
@@ -57,7 +57,6 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   adem_put_str(wr, c->path);
   adem_put_str(wr, c->base_dir); /* mesh files are found from it, whatever the working folder */
   adem_put_f64(wr, c->end_time);
-  adem_put_f64(wr, c->dt);
   adem_put_i32(wr, c->dt_auto);
   adem_put_str(wr, c->output.dir);
   adem_put_f64(wr, c->output.frame_interval);
@@ -151,7 +150,6 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
   if (st) return st;
   adem_world *w = c->world;
   c->end_time = adem_get_f64(rd);
-  c->dt = adem_get_f64(rd);
   c->dt_auto = adem_get_i32(rd);
   adem_get_str_into(rd, c->output.dir, sizeof c->output.dir);
   c->output.frame_interval = adem_get_f64(rd);
@@ -168,7 +166,6 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
 
   bool prepared;
   if ((st = adem_world_load_prepared(rd, &prepared, err))) goto damaged;
-  adem_world_set_dt(w, c->dt);
   if (!prepared) {
     /* Written before the first step: the loaded case is the whole state. */
     if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
@@ -190,7 +187,6 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
     adem_case_free(c);
     return bad_file(err, path, "it has data after its end marker");
   }
-  c->dt = w->dt;
   /* The stage in force: its materials, walls and settings, replayed stage start by stage start
    * as the run made them (walls that started a new motion start it from where they were). */
   if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;

@@ -26,6 +26,10 @@ enum { RUN_MAX_CHUNK = 100 };
 #define RUN_CHUNK_SECONDS 0.2
 #define RUN_PROGRESS_SECONDS 1.0
 
+uint64_t adem_case_total_steps(const adem_case *c) {
+  return adem_schedule_total_steps(c->end_time, adem_world_dt(c->world));
+}
+
 adem_run_options adem_default_run_options(void) {
   adem_run_options o;
   memset(&o, 0, sizeof o);
@@ -119,7 +123,6 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   if (!st) st = adem_fileio_check_writable(dir, err);
   if (st) return st;
   if (!w->prepared) {
-    if (c->dt > 0.0) adem_world_set_dt(w, c->dt);
     st = adem_world_prepare(w, err);
     if (st) return st;
   }

@@ -185,9 +185,9 @@ static void test_pour_step(void **state) {
   adem_case *c = load(pour_case, NULL, 0);
   const char *sets[] = {"pours.feed.radius={distribution: constant, value: 0.001}"};
   adem_case *d = load(pour_case, sets, 1);
-  printf("# dt %g s (uniform 1-1.5 mm), %g s (constant 1 mm)\n", c->dt, d->dt);
-  assert_true(c->dt > 0 && isfinite(c->dt));
-  assert_float_equal(c->dt, d->dt, 1e-12 * d->dt);
+  printf("# dt %g s (uniform 1-1.5 mm), %g s (constant 1 mm)\n", adem_world_dt(c->world), adem_world_dt(d->world));
+  assert_true(adem_world_dt(c->world) > 0 && isfinite(adem_world_dt(c->world)));
+  assert_float_equal(adem_world_dt(c->world), adem_world_dt(d->world), 1e-12 * adem_world_dt(d->world));
   assert_true(c->world->has_domain && c->world->domain_hi.z >= 0.1);
   adem_case_free(c);
   adem_case_free(d);

@@ -147,7 +147,7 @@ static energy_record settle(const char *model) {
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   energy_record r = {0, 0, 0, 0};
   adem_diagnostics prev = adem_world_diagnostics(w);
-  int samples = (int)(c->end_time / c->dt) / 100;
+  int samples = (int)(c->end_time / adem_world_dt(c->world)) / 100;
   for (int s = 0; s < samples; ++s) {
     assert_int_equal(adem_world_step(w, 100, &err), ADEM_OK); /* a CSV row every 5 ms */
     adem_diagnostics d = adem_world_diagnostics(w);

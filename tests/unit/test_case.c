@@ -101,7 +101,7 @@ static void test_good_case(void **state) {
   double v_ref = sqrt(2.0 * 9.81 * 0.101);
   assert_float_equal(c->estimate.v_ref, v_ref, 1e-12 * v_ref);
   adem_step_estimate e = adem_world_estimate_step(w, v_ref);
-  assert_float_equal(c->dt, e.dt, 0);
+  assert_float_equal(adem_world_dt(c->world), e.dt, 0);
   assert_float_equal(adem_world_dt(w), e.dt, 0);
   assert_float_equal(c->dt_user_ratio, 1.0, 0);
   assert_string_equal(c->source, base);
@@ -205,7 +205,7 @@ static void test_full_case(void **state) {
   assert_float_equal(c->output.checkpoint_interval, 0.002, 0);
   assert_int_equal(c->output.plot, 1);
   assert_false(c->dt_auto);
-  assert_float_equal(c->dt, 1e-6, 0);
+  assert_float_equal(adem_world_dt(c->world), 1e-6, 0);
   assert_float_equal(c->estimate.v_ref, 2.0, 0);
   assert_float_equal(c->dt_user_ratio, 1e-6 / c->estimate.dt, 1e-12);
   adem_error err;
@@ -218,7 +218,7 @@ static void test_step_too_large_warns(void **state) {
   (void)state;
   char *text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\n");
   adem_case *c = load_ok(text, NULL, 0);
-  assert_float_equal(c->dt, 1e-3, 0);
+  assert_float_equal(adem_world_dt(c->world), 1e-3, 0);
   assert_true(c->dt_user_ratio > 1.0);
   assert_float_equal(c->dt_user_ratio, 1e-3 / c->estimate.dt, 1e-12);
   assert_contains(logged, "W ");

@@ -1,0 +1,183 @@
+/* adem run */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "adem/adem.h"
+#include "adem/vec3.h"
+#include "cli.h"
+
+const char *const run_help =
+    "Usage:\n"
+    "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
+    "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
+    "\n"
+    "Simulates the case to its end time (time.end). In the output folder DIR it writes\n"
+    "  frames/particles_NNNNNN.vtu  particle frames every output.frame_interval (ParaView)\n"
+    "  particles.pvd                the collection of frames with their times (open this one)\n"
+    "  frames/mesh_NNNNNN.vtu       mesh walls with the force and pressure on each face, and\n"
+    "  mesh.pvd                     their collection (only when the case has mesh walls)\n"
+    "  timeseries.csv               energies, contact counts, largest overlap, the force on\n"
+    "                               every wall and the force and torque on every mesh group,\n"
+    "                               every output.csv_interval\n"
+    "  checkpoint                   the whole state, every output.checkpoint_interval, on\n"
+    "                               Ctrl-C and at the end\n"
+    "  energy.png                   energy against time, if output.plot is true (gnuplot)\n"
+    "  loads.png                    wall loads against time, if output.plot_loads is true\n"
+    "Every file is written to a temporary name and renamed when complete, so a crash never\n"
+    "leaves a half-written file.\n"
+    "\n"
+    "Options:\n"
+    "  --set key.path=value  override one value of the case file, e.g. --set time.end=0.2,\n"
+    "                        --set materials.glass.friction=0.3; may be repeated; applied after\n"
+    "                        the file is read and validated like it\n"
+    "  --out DIR             output folder (default: output.dir of the case, or out/<name>);\n"
+    "                        created if missing; the run stops at once if it cannot be written\n"
+    "  --threads N           number of threads (default: OMP_NUM_THREADS or all cores); the\n"
+    "                        results are identical for every N\n"
+    "  --resume CHECKPOINT   continue an interrupted run from DIR/checkpoint (or DIR): the case\n"
+    "                        is the one stored in the checkpoint, the output continues in DIR,\n"
+    "                        and the result is bit for bit that of an uninterrupted run\n"
+    "  -q, --quiet           print only warnings and errors, no progress\n"
+    "  -h, --help            show this help\n"
+    "\n"
+    "Progress goes to standard error: one updating line on a terminal, otherwise a line about\n"
+    "every 10 s. Ctrl-C (or SIGTERM) stops the run after the current few steps and writes a\n"
+    "checkpoint.\n"
+    "\n"
+    "Examples:\n"
+    "  adem run cases/pour.yaml\n"
+    "  adem run cases/pour.yaml --set time.end=0.5 --set output.frame_interval=0.01 --out out/s\n"
+    "  adem run --resume out/s/checkpoint --threads 4\n"
+    "\n"
+    "Exit status: 0 done; 2 bad input or output folder; 3 the run failed (the message names the\n"
+    "particle and the time; the output written before is kept); 4 a file could not be written;\n"
+    "130/143 interrupted by SIGINT/SIGTERM with a checkpoint written; 1 out of memory.\n";
+
+/* ---------------------------------------------------------------- run */
+
+double wall_now(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* DIR or DIR/checkpoint -> the checkpoint file. */
+char *checkpoint_path(const char *arg) {
+  struct stat st;
+  size_t n = strlen(arg);
+  char *p;
+  if (stat(arg, &st) == 0 && S_ISDIR(st.st_mode)) {
+    p = malloc(n + 12);
+    if (p) snprintf(p, n + 12, "%s%scheckpoint", arg, n && arg[n - 1] == '/' ? "" : "/");
+  } else {
+    p = malloc(n + 1);
+    if (p) memcpy(p, arg, n + 1);
+  }
+  return p;
+}
+
+int cmd_run(int argc, char **argv) {
+  cli_options o;
+  int rc = parse_options(argc, argv, &o, 1, "run");
+  if (rc || o.help) {
+    free(o.sets);
+    if (o.help && !rc) fputs(run_help, stdout);
+    return rc;
+  }
+  adem_error err;
+  memset(&err, 0, sizeof err);
+  adem_case *c = NULL;
+  adem_status st;
+  if (o.resume) {
+    if (o.case_path || o.nsets || o.out) {
+      free(o.sets);
+      return fail(EXIT_INPUT, "--resume continues the case stored in the checkpoint, in the "
+                              "checkpoint's folder: it takes no case file, --set or --out");
+    }
+    char *path = checkpoint_path(o.resume);
+    if (!path) {
+      free(o.sets);
+      return fail(EXIT_INTERNAL, "out of memory");
+    }
+    st = adem_checkpoint_read(path, &c, &err);
+    if (!st) {
+      /* The output continues next to the checkpoint, wherever the folder has been moved. */
+      const char *slash = strrchr(path, '/');
+      if (!slash) snprintf(c->output.dir, sizeof c->output.dir, ".");
+      else if (slash == path) snprintf(c->output.dir, sizeof c->output.dir, "/");
+      else snprintf(c->output.dir, sizeof c->output.dir, "%.*s", (int)(slash - path), path);
+    }
+    free(path);
+  } else {
+    if (!o.case_path) {
+      free(o.sets);
+      return fail(EXIT_INPUT, "adem run needs a case file (or --resume CHECKPOINT); see: adem "
+                              "run --help");
+    }
+    st = adem_case_load_file(o.case_path, o.sets, o.nsets, &c, &err);
+    if (!st && o.out) {
+      if (strlen(o.out) >= sizeof c->output.dir) {
+        adem_case_free(c);
+        free(o.sets);
+        return fail(EXIT_INPUT, "--out: the folder name is longer than %d characters",
+                    ADEM_PATH_MAX - 1);
+      }
+      snprintf(c->output.dir, sizeof c->output.dir, "%s", o.out);
+    }
+  }
+  free(o.sets);
+  if (st) {
+    adem_case_free(c);
+    return fail(exit_code(st), "%s", err.message);
+  }
+
+  adem_world *w = c->world;
+  if (!quiet) {
+    fprintf(stderr, "adem: %s %s: %zu particles, dt = %.6g s%s, end time %.6g s (%llu steps), "
+                    "output in %s\n",
+            o.resume ? "resuming" : "running", c->name, adem_world_particle_count(w),
+            adem_world_dt(w), c->dt_auto ? " (auto)" : "", c->end_time,
+            (unsigned long long)adem_case_total_steps(c), c->output.dir);
+    if (o.resume)
+      fprintf(stderr, "adem: continuing from t = %.9g s (step %llu)\n", adem_world_time(w),
+              (unsigned long long)adem_world_step_count(w));
+  }
+
+  install_signals();
+  progress_state ps = {0.0};
+  adem_run_options opt = adem_default_run_options();
+  opt.nthreads = o.threads;
+  opt.progress = on_progress;
+  opt.progress_user = &ps;
+  opt.stop_flag = &stop_signal;
+  double t0 = wall_now();
+  st = adem_run(c, &opt, &err);
+  double spent = wall_now() - t0;
+  end_progress_line();
+
+  if (st == ADEM_INTERRUPTED) {
+    fprintf(stderr, "adem: %s\nadem: continue with: adem run --resume %s/checkpoint\n",
+            err.message, c->output.dir);
+    rc = 128 + (stop_signal ? (int)stop_signal : SIGINT);
+  } else if (st) {
+    rc = fail(exit_code(st), "%s", err.message);
+  } else {
+    if (!quiet)
+      fprintf(stderr, "adem: done: t = %.9g s after %llu steps in %.1f s; output in %s\n",
+              adem_world_time(w), (unsigned long long)adem_world_step_count(w), spent,
+              c->output.dir);
+    rc = EXIT_OK;
+  }
+  adem_case_free(c);
+  return rc;
+}
+
