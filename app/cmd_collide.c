@@ -197,13 +197,9 @@ static void status_cell(char *out, size_t n, adem_status st, const char *message
 
 int cmd_collide(int argc, char **argv) {
   adem_collision_spec base = adem_default_collision_spec();
-  base.kind = ADEM_COLLISION_WALL;
-  base.radius = 0.635e-6;
-  base.density = 1026.0;
-  base.young = 271e6;
-  base.restitution = 0.86;
+  adem_error perr;
+  if (adem_collide_psl_quartz(&base, &perr)) return fail(EXIT_INTERNAL, "%s", perr.message);
   base.friction = 0.3;
-  base.surface_energy = 0.11;
   value_list speed = {0}, angle = {0}, lambda = {0}, ad = {0}, fs = {0}, rest = {0}, fhat = {0};
   const char *out = NULL, *critical = NULL;
   int threads = 0, rc = EXIT_OK;

@@ -192,6 +192,11 @@ size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double
 
 
 
+/* The PSL sphere of 1.27 um on quartz of H Fig. 5 (a wall impact), from the case file
+ * cases/haervig/psl-quartz.yaml (embedded at build time): kind, radius, density, E*, nu,
+ * restitution and surface energy; the rest of *s is left as it is. */
+adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err);
+
 /* ---------------------------------------------------------------- validations */
 
 /* Paper reproductions (`adem validate`): each writes DIR/NAME.csv and DIR/NAME.png and reports

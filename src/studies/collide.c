@@ -3,6 +3,7 @@
  * run computes. */
 #include "adem/adem.h"
 #include "adem/vec3.h"
+#include "embedded.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -33,6 +34,32 @@ adem_collision_spec adem_default_collision_spec(void) {
   s.rest_periods = 3.0;
   s.max_roll_periods = 400.0;
   return s;
+}
+
+adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err) {
+  adem_case *c = NULL;
+  adem_status st = adem_case_load_string(adem_case_haervig_psl_quartz_yaml,
+                                         "cases/haervig/psl-quartz.yaml", NULL, 0, &c, err);
+  if (st) return st;
+  const adem_world *w = c->world;
+  int k = adem_world_find_material(w, "psl");
+  double r = 0.0;
+  if (k < 0 || adem_world_particle_count(w) != 1 ||
+      adem_world_get_particles(w, ADEM_FIELD_RADIUS, &r, 1, NULL)) {
+    adem_case_free(c);
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "cases/haervig/psl-quartz.yaml must hold material `psl` and one sphere");
+  }
+  const adem_material_def *m = adem_world_material(w, k);
+  s->kind = ADEM_COLLISION_WALL;
+  s->radius = r;
+  s->density = m->density;
+  s->poisson = m->poisson;
+  s->young = m->young / (1.0 - m->poisson * m->poisson); /* E* of a sphere on a rigid wall (H2) */
+  s->restitution = m->restitution;
+  s->surface_energy = m->param[ADEM_PARAM_SURFACE_ENERGY];
+  adem_case_free(c);
+  return ADEM_OK;
 }
 
 const char *adem_collision_outcome_name(adem_collision_outcome o) {

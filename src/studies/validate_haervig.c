@@ -15,17 +15,11 @@ static const double stiffness[NF] = {1.0, 0.1, 0.01}; /* E_mod/E of Figs. 5 and 
 
 /* ------------------------------------------------------------------ helpers */
 
-/* PSL sphere on polished quartz (H Fig. 5, notes section 8): the wall is rigid and the sphere's
- * modulus is chosen so that the effective modulus is 271 MPa. */
+/* PSL sphere on polished quartz (H Fig. 5, notes section 8), as cases/haervig/psl-quartz.yaml
+ * gives it: the wall is rigid and the effective modulus is 271 MPa. */
 static adem_collision_spec psl_on_quartz(double f, bool keep_gamma, double speed) {
   adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
-  s.radius = 0.5 * 1.27e-6;
-  s.density = 1026.0;
-  s.young = 271e6;
-  s.poisson = 0.3;
-  s.restitution = 0.86;
-  s.surface_energy = 0.11;
+  if (adem_collide_psl_quartz(&s, NULL)) abort(); /* the embedded case file is tested to load */
   s.stiffness_factor = f;
   s.keep_gamma = keep_gamma;
   s.speed = speed;

@@ -13,6 +13,7 @@
 
 #include "adem/adem.h"
 #include "adem/vec3.h"
+#include "embedded.h"
 
 /* I Table 1 (test cases 1 and 2). */
 #define T1_DENSITY 1056.0     /* kg/m^3 */
@@ -625,31 +626,9 @@ static adem_status fig9(const adem_validation_context *ctx, const char *name,
 
 /* ------------------------------------------------------------------ irazabal-pile */
 
-/* The heap (also cases/irazabal/pile.yaml): Table 1 spheres of 8-12 mm radius filled at random
- * into a column above a rigid floor and released. %d: count, %g: half width, height. */
-static const char pile_case[] =
-    "name: irazabal-pile\n"
-    "seed: 2017\n"
-    "materials:\n"
-    "  - {name: ballast, density: 1056, youngs_modulus: 4.0e7, poisson_ratio: 0.49,\n"
-    "     restitution: 0.2, friction: 0.8, rolling_friction: 0.2, rolling_damping: 0.3}\n"
-    "  - {name: floor, rigid: true, restitution: 0.2, friction: 0.8, rolling_friction: 0.2,\n"
-    "     rolling_damping: 0.3}\n"
-    "interactions:\n"
-    "  - {materials: [ballast, ballast], rolling: brof}\n"
-    "  - {materials: [ballast, floor], rolling: brof}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: ballast\n"
-    "    count: %d\n"
-    "    radius: {distribution: uniform, min: 0.008, max: 0.012}\n"
-    "    min: [%g, %g, 0.0]\n"
-    "    max: [%g, %g, %g]\n"
-    "walls:\n"
-    "  - {type: plane, name: floor, material: floor, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "gravity: [0, 0, -9.8]\n"
-    "time: {end: %g, step: 5.0e-5}\n";
-
+/* The heap is cases/irazabal/pile.yaml (embedded at build time): Table 1 spheres of 8-12 mm
+ * radius filled at random into a column above a rigid floor and released; quick mode and the
+ * models change it by --set. */
 typedef struct pile_series {
   size_t n;
   double *t, *kinetic, *rotational;
@@ -660,14 +639,17 @@ static adem_status pile_run(const adem_validation_context *ctx, const char *mode
                             double half, double height, double end, size_t every,
                             pile_series *out, adem_error *err) {
   memset(out, 0, sizeof *out);
-  char text[sizeof pile_case + 256];
-  snprintf(text, sizeof text, pile_case, count, -half, -half, half, half, height, end);
-  char s1[64], s2[64];
-  snprintf(s1, sizeof s1, "interactions.0.rolling=%s", model);
-  snprintf(s2, sizeof s2, "interactions.1.rolling=%s", model);
-  const char *sets[2] = {s1, s2};
+  char s[6][96];
+  snprintf(s[0], sizeof s[0], "interactions.0.rolling=%s", model);
+  snprintf(s[1], sizeof s[1], "interactions.1.rolling=%s", model);
+  snprintf(s[2], sizeof s[2], "particles.0.count=%d", count);
+  snprintf(s[3], sizeof s[3], "particles.0.min=[%g, %g, 0.0]", -half, -half);
+  snprintf(s[4], sizeof s[4], "particles.0.max=[%g, %g, %g]", half, half, height);
+  snprintf(s[5], sizeof s[5], "time.end=%g", end);
+  const char *sets[6] = {s[0], s[1], s[2], s[3], s[4], s[5]};
   adem_case *c = NULL;
-  adem_status st = adem_case_load_string(text, "irazabal-pile", sets, 2, &c, err);
+  adem_status st = adem_case_load_string(adem_case_irazabal_pile_yaml, "cases/irazabal/pile.yaml",
+                                         sets, 6, &c, err);
   if (st) return st;
   adem_world *w = c->world;
   adem_world_set_threads(w, ctx->nthreads);
