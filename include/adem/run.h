@@ -45,6 +45,12 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err);
 adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err);
 /* Rebuilds the case from a checkpoint so that adem_run continues bit for bit. */
 adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err);
+/* A world made through the API (adem/world.h), set-up and state, written atomically; reading it
+ * gives a world that steps on bit for bit as the one written would have. Only prepared worlds
+ * (or worlds before their first step) can be written. */
+adem_status adem_world_checkpoint_write(const adem_world *w, const char *path, adem_error *err);
+adem_status adem_world_checkpoint_read(const char *path, adem_world **out, adem_error *err);
+
 /* The same from the bytes of a checkpoint file in memory; path only names it in messages. */
 adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char *path,
                                        adem_case **out, adem_error *err);

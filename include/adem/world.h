@@ -119,7 +119,9 @@ adem_status adem_world_set_interaction(adem_world *w, const adem_interaction_def
 adem_status adem_world_add_group(adem_world *w, const char *name, adem_vec3 external_force,
                                  int *index, adem_error *err);
 int adem_world_find_group(const adem_world *w, const char *name);
-/* *id: the particle's stable id, 0, 1, ... in order of creation. */
+/* *id: the particle's stable id, 0, 1, ... in order of creation. Particles may be added to a world
+ * that already runs (between steps): they join at the next step with their body forces, like
+ * a pour's; they must not overlap particles or walls. */
 adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def, uint64_t *id,
                                     adem_error *err);
 adem_status adem_world_add_plane(adem_world *w, const adem_plane_def *def, int *index,

@@ -144,3 +144,39 @@ bool adem_motion_same(const adem_motion *a, const adem_motion *b) {
                        !memcmp(a->velocity, b->velocity, a->n * sizeof *a->velocity));
 }
 
+
+void adem_motion_save(adem_writer *wr, const adem_motion *m) {
+  adem_put_array(wr, m->time, m->n, sizeof *m->time);
+  adem_put_array(wr, m->velocity, m->n, sizeof *m->velocity);
+  adem_put_array(wr, m->displacement, m->n, sizeof *m->displacement);
+  adem_put_vec(wr, m->axis);
+  adem_put_f64(wr, m->omega);
+  adem_put_vec(wr, m->center);
+  adem_put_u8(wr, m->moving ? 1 : 0);
+  adem_put_f64(wr, m->t0);
+}
+
+adem_status adem_motion_load(adem_reader *rd, adem_motion *m, adem_error *err) {
+  memset(m, 0, sizeof *m);
+  uint64_t n = adem_get_count(rd, sizeof(double));
+  if (rd->failed) return ADEM_OK;
+  if (n > 0) {
+    m->time = malloc((size_t)n * sizeof *m->time);
+    m->velocity = malloc((size_t)n * sizeof *m->velocity);
+    m->displacement = malloc((size_t)n * sizeof *m->displacement);
+    if (!m->time || !m->velocity || !m->displacement) {
+      adem_motion_free(m);
+      return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    }
+  }
+  m->n = (size_t)n;
+  adem_get(rd, m->time, m->n * sizeof *m->time);
+  adem_get_array(rd, m->velocity, m->n, sizeof *m->velocity);
+  adem_get_array(rd, m->displacement, m->n, sizeof *m->displacement);
+  m->axis = adem_get_vec(rd);
+  m->omega = adem_get_f64(rd);
+  m->center = adem_get_vec(rd);
+  m->moving = adem_get_u8(rd) != 0;
+  m->t0 = adem_get_f64(rd);
+  return ADEM_OK;
+}

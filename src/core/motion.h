@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include "adem/adem.h"
 #include "adem/world.h"
+#include "stream.h"
 
 typedef struct adem_motion {
   size_t n;
@@ -43,5 +44,9 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err);
 /* The same motion table, axis and centre (t0 aside). */
 bool adem_motion_same(const adem_motion *a, const adem_motion *b);
+
+/* Every field, exactly (a restart places the wall bit for bit). */
+void adem_motion_save(adem_writer *wr, const adem_motion *m);
+adem_status adem_motion_load(adem_reader *rd, adem_motion *m, adem_error *err);
 
 #endif

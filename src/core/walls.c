@@ -441,3 +441,120 @@ adem_status adem_walls_set_mesh_active(adem_walls *wl, int group, bool active, a
   wl->mesh_inactive[group] = !active;
   return ADEM_OK;
 }
+
+/* ---------------------------------------------------------------- set-up in checkpoints */
+
+void adem_walls_save_setup(adem_writer *wr, const adem_walls *wl) {
+  adem_put_u32(wr, (uint32_t)wl->nplanes);
+  for (int k = 0; k < wl->nplanes; ++k) {
+    const adem_plane *pl = &wl->planes[k];
+    adem_put(wr, &pl->def, sizeof pl->def);
+    adem_put_vec(wr, pl->point0);
+    adem_put_vec(wr, pl->normal0);
+    adem_put_u8(wr, pl->inactive ? 1 : 0);
+    adem_motion_save(wr, &pl->motion);
+  }
+  const adem_mesh *m = &wl->mesh;
+  adem_put_u32(wr, (uint32_t)wl->nmesh_walls);
+  for (int k = 0; k < wl->nmesh_walls; ++k) {
+    const adem_mesh_wall *mw = &wl->mesh_walls[k];
+    adem_put_str(wr, mw->name);
+    adem_put_vec(wr, mw->ref0);
+    adem_put_u32(wr, (uint32_t)mw->count);
+    for (int g = mw->first; g < mw->first + mw->count; ++g) {
+      const adem_mesh_group *grp = &m->groups[g];
+      adem_put_str(wr, grp->name);
+      adem_put_i32(wr, grp->material);
+      adem_put_i32(wr, grp->own_vertices);
+      adem_put_u64(wr, grp->count);
+      for (uint32_t t = grp->first; t < grp->first + grp->count; ++t)
+        for (int c = 0; c < 3; ++c) adem_put_vec(wr, wl->mesh_vert0[m->tri[t][c]]);
+      adem_motion_save(wr, &wl->mesh_motion[g]);
+      adem_put_u8(wr, adem_walls_mesh_active(wl, (uint32_t)g) ? 0 : 1);
+      adem_put_vec(wr, wl->mesh_ref0[g]);
+    }
+  }
+}
+
+adem_status adem_walls_load_setup(adem_reader *rd, adem_walls *wl, int nmaterials,
+                                  adem_error *err) {
+  adem_status st = ADEM_OK;
+  uint32_t np = adem_get_u32(rd);
+  for (uint32_t k = 0; k < np && !st && !rd->failed; ++k) {
+    adem_plane_def def;
+    adem_get(rd, &def, sizeof def);
+    def.name[ADEM_NAME_MAX - 1] = '\0';
+    int idx = adem_walls_add_plane(wl, &def, nmaterials, err);
+    if (idx < 0) return err ? err->status : ADEM_ERR_INPUT;
+    adem_plane *pl = &wl->planes[idx];
+    pl->def = def;
+    pl->point0 = adem_get_vec(rd);
+    pl->normal0 = adem_get_vec(rd);
+    pl->inactive = adem_get_u8(rd) != 0;
+    adem_motion_free(&pl->motion);
+    st = adem_motion_load(rd, &pl->motion, err);
+  }
+  uint32_t nw = adem_get_u32(rd);
+  for (uint32_t k = 0; k < nw && !st && !rd->failed; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    adem_vec3 wall_ref0 = adem_get_vec(rd);
+    uint32_t ng = adem_get_u32(rd);
+    if (rd->failed || ng > 1u << 20) break;
+    /* the wall's groups as one soup, one block each, with their time-0 corners */
+    adem_mesh_soup s;
+    memset(&s, 0, sizeof s);
+    adem_mesh_transform tf = adem_default_mesh_transform();
+    int first = wl->mesh.ngroups;
+    int *material = calloc(ng + 1, sizeof *material);
+    uint8_t *inactive = calloc(ng + 1, 1);
+    adem_motion *motion = calloc(ng + 1, sizeof *motion);
+    adem_vec3 *ref0 = calloc(ng + 1, sizeof *ref0);
+    if (!material || !inactive || !motion || !ref0) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    for (uint32_t g = 0; g < ng && !st && !rd->failed; ++g) {
+      char gname[ADEM_NAME_MAX];
+      adem_get_str_into(rd, gname, sizeof gname);
+      material[g] = adem_get_i32(rd);
+      tf.material = g == 0 ? material[g] : tf.material;
+      tf.own_vertices = adem_get_i32(rd);
+      uint64_t nt = adem_get_count(rd, 3 * sizeof(adem_vec3));
+      adem_mesh_soup_block *b = adem_mesh_soup_block_open(&s, gname, 0);
+      if (!b) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+      for (uint64_t t = 0; t < nt && !st && !rd->failed; ++t) {
+        adem_vec3 c[3] = {adem_get_vec(rd), adem_get_vec(rd), adem_get_vec(rd)};
+        if (!adem_mesh_soup_push(&s, c, v3_zero(), (size_t)t))
+          st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+        else
+          s.blocks[s.nblocks - 1].count++;
+      }
+      if (!st) st = adem_motion_load(rd, &motion[g], err);
+      inactive[g] = adem_get_u8(rd);
+      ref0[g] = adem_get_vec(rd);
+    }
+    if (!st && !rd->failed)
+      st = adem_walls_add_mesh_soup(wl, nmaterials, &s, &tf, name, 0, name, v3_zero(), err);
+    adem_mesh_soup_free(&s);
+    for (uint32_t g = 0; g < ng && !st && !rd->failed; ++g) {
+      int grp = first + (int)g;
+      wl->mesh.groups[grp].material = material[g];
+      adem_motion_free(&wl->mesh_motion[grp]);
+      wl->mesh_motion[grp] = motion[g];
+      memset(&motion[g], 0, sizeof motion[g]);
+      double reach = 0.0; /* as adem_walls_set_mesh_motion */
+      const adem_mesh_group *gr = &wl->mesh.groups[grp];
+      for (uint32_t v = gr->vert_first; v < gr->vert_first + gr->vert_count; ++v)
+        reach = fmax(reach, v3_norm(v3_sub(wl->mesh_vert0[v], wl->mesh_motion[grp].center)));
+      wl->mesh_reach[grp] = reach;
+      wl->mesh_ref0[grp] = ref0[g];
+      wl->mesh_ref[grp] = adem_motion_place(&wl->mesh_motion[grp], wl->time, ref0[g]);
+      if (inactive[g]) st = adem_walls_set_mesh_active(wl, grp, false, err);
+    }
+    if (!st && !rd->failed) wl->mesh_walls[wl->nmesh_walls - 1].ref0 = wall_ref0;
+    for (uint32_t g = 0; motion && g < ng; ++g) adem_motion_free(&motion[g]);
+    free(material);
+    free(inactive);
+    free(motion);
+    free(ref0);
+  }
+  return st;
+}

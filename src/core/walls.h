@@ -11,6 +11,7 @@
 #include "adem/adem.h"
 #include "mesh.h"
 #include "motion.h"
+#include "stream.h"
 
 typedef struct adem_plane {
   adem_plane_def def;        /* point and unit normal where the plane is now */
@@ -124,5 +125,10 @@ static inline void adem_walls_add_face_load(adem_walls *wl, size_t t, adem_vec3 
   ft[2] += tq.z;
 }
 void adem_walls_free(adem_walls *wl);
+/* The walls' whole set-up (planes, meshes as time-0 triangles, motions, on/off, torque points),
+ * for checkpoints of worlds made through the API; loading adds them to empty walls. */
+void adem_walls_save_setup(adem_writer *wr, const adem_walls *wl);
+adem_status adem_walls_load_setup(adem_reader *rd, adem_walls *wl, int nmaterials,
+                                  adem_error *err);
 
 #endif

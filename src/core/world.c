@@ -237,6 +237,7 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
    * the balance, and the neighbour lists take them in; the forces of the others stay those of
    * the last force pass, whose history must not be advanced twice. */
   adem_particles *p = &w->p;
+  w->admit_pending = false;
   double energy = 0.0;
   for (size_t i = first; i < p->n; ++i) {
     double m = 1.0 / p->inv_mass[i];
@@ -308,7 +309,11 @@ adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def,
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory adding particles");
   }
   w->next_id++;
-  w->prepared = false;
+  /* a world that runs takes new particles in at its next step, without a new prepare */
+  if (w->prepared && !w->admit_pending) {
+    w->admit_pending = true;
+    w->admit_from = i;
+  }
   if (id) *id = p->id[i];
   return ADEM_OK;
 }
@@ -583,6 +588,11 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   if (!w->prepared) {
     adem_status st = adem_world_prepare(w, err);
+    if (st) return st;
+  }
+  if (w->admit_pending) {
+    w->admit_pending = false;
+    adem_status st = adem_world_admit_particles(w, w->admit_from, err);
     if (st) return st;
   }
   double dt = w->dt;
@@ -925,4 +935,61 @@ size_t adem_world_bytes_per_particle(void) {
 size_t adem_world_bytes_per_pair(void) {
   /* the pair table and the gather entries (two for a particle pair) */
   return adem_pairs_item_bytes() + 2 * sizeof(uint32_t);
+}
+
+/* ---------------------------------------------------------------- set-up in checkpoints */
+
+void adem_world_save_setup(adem_writer *wr, const adem_world *w) {
+  adem_put_vec(wr, w->gravity);
+  adem_put_f64(wr, w->dt);
+  adem_put_f64(wr, w->nb.skin_fraction);
+  adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
+  adem_put_f64(wr, w->max_overlap_ratio);
+  adem_put_u64(wr, w->parallel_min);
+  adem_put_u32(wr, (uint32_t)w->mat.n);
+  for (int k = 0; k < w->mat.n; ++k) adem_put(wr, &w->mat.m[k].def, sizeof w->mat.m[k].def);
+  adem_put_u32(wr, (uint32_t)w->mat.ndefs);
+  adem_put(wr, w->mat.defs, (size_t)w->mat.ndefs * sizeof *w->mat.defs);
+  adem_put_u32(wr, (uint32_t)w->ngroups);
+  for (int k = 0; k < w->ngroups; ++k) {
+    adem_put_str(wr, w->groups[k].name);
+    adem_put_vec(wr, w->groups[k].external_force);
+  }
+  adem_walls_save_setup(wr, &w->walls);
+}
+
+adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *err) {
+  const char *cut = "its contents are cut short or damaged";
+  w->gravity = adem_get_vec(rd);
+  w->dt = adem_get_f64(rd);
+  w->nb.skin_fraction = adem_get_f64(rd);
+  w->nb.brute_force = adem_get_u8(rd) != 0;
+  w->max_overlap_ratio = adem_get_f64(rd);
+  w->parallel_min = (size_t)adem_get_u64(rd);
+  uint32_t nm = adem_get_u32(rd);
+  adem_status st = ADEM_OK;
+  for (uint32_t k = 0; k < nm && !st && !rd->failed; ++k) {
+    adem_material_def d;
+    adem_get(rd, &d, sizeof d);
+    d.name[ADEM_NAME_MAX - 1] = '\0';
+    if (!rd->failed) st = adem_world_add_material(w, &d, NULL, err);
+  }
+  uint32_t nd = adem_get_u32(rd);
+  for (uint32_t k = 0; k < nd && !st && !rd->failed; ++k) {
+    adem_interaction_def d;
+    adem_get(rd, &d, sizeof d);
+    if (!rd->failed) st = adem_world_set_interaction(w, &d, err);
+  }
+  uint32_t ng = adem_get_u32(rd);
+  for (uint32_t k = 0; k < ng && !st && !rd->failed; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    adem_vec3 f = adem_get_vec(rd);
+    if (!rd->failed) st = adem_world_add_group(w, name, f, NULL, err);
+  }
+  if (!st && !rd->failed) st = adem_walls_load_setup(rd, &w->walls, w->mat.n, err);
+  if (st) return st == ADEM_ERR_NOMEM ? st : damaged(err, err ? err->message : cut);
+  if (rd->failed) return damaged(err, cut);
+  w->prepared = false;
+  return ADEM_OK;
 }

@@ -51,6 +51,9 @@ struct adem_world {
   /* energy bookkeeping */
   double energy_initial; /* E_total at prepare */
   bool prepared;
+  /* particles added through the API to a prepared world, taken in at the next step */
+  bool admit_pending;
+  size_t admit_from;
 };
 
 /* All-pairs search instead of the grid (tests compare the two). */
@@ -121,6 +124,11 @@ void adem_world_save(adem_writer *wr, const adem_world *w);
 adem_status adem_world_load_prepared(adem_reader *rd, bool *prepared, adem_error *err);
 /* The rest, into a world prepared from the same case. */
 adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err);
+
+/* The whole set-up of a world made through the API (settings, materials, interactions, groups,
+ * walls), before its dynamic state: loading it into a fresh world remakes that world. */
+void adem_world_save_setup(adem_writer *wr, const adem_world *w);
+adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *err);
 
 /* Deterministic sum: fixed blocks, independent of the thread count. */
 double adem_sum(const double *x, size_t n);

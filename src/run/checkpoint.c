@@ -25,6 +25,7 @@
 #include "world.h"
 
 #define CKPT_MAGIC "ADEMCKPT"
+#define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
 #define CKPT_VERSION 4u
 #define CKPT_ENDIAN 0x01020304u
@@ -36,10 +37,11 @@ static int file_sink(void *ctx, const void *data, size_t n) {
   return fwrite(data, 1, n, (FILE *)ctx) == n;
 }
 
-static void header_bytes(unsigned char h[CKPT_HEADER_BYTES], uint64_t payload_bytes, uint64_t hash) {
+static void header_bytes(unsigned char h[CKPT_HEADER_BYTES], const char *magic,
+                         uint64_t payload_bytes, uint64_t hash) {
   uint32_t version = CKPT_VERSION, endian = CKPT_ENDIAN;
   uint32_t vec_size = sizeof(adem_vec3), hist_size = sizeof(adem_contact_history);
-  memcpy(h, CKPT_MAGIC, 8);
+  memcpy(h, magic, 8);
   memcpy(h + 8, &version, 4);
   memcpy(h + 12, &endian, 4);
   memcpy(h + 16, &payload_bytes, 8);
@@ -73,21 +75,24 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   free(runs);
 }
 
-adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err) {
+typedef void save_fn(adem_writer *wr, const void *what, int *nomem);
+
+/* A checkpoint file: header, the payload save() writes, the end marker; atomic. */
+static adem_status write_file(const char *path, const char *magic, save_fn *save,
+                              const void *what, adem_error *err) {
   adem_afile af;
   adem_status st = adem_fileio_open(&af, path, err);
   if (st) return st;
   unsigned char h[CKPT_HEADER_BYTES];
-  header_bytes(h, 0, 0); /* rewritten once the payload's size and hash are known */
+  header_bytes(h, magic, 0, 0); /* rewritten once the payload's size and hash are known */
   int failed = fwrite(h, 1, sizeof h, af.f) != sizeof h;
   adem_writer wr = adem_writer_make(file_sink, af.f);
   int nomem = 0;
-  save_case(&wr, c, &nomem);
-  adem_world_save(&wr, c->world);
+  save(&wr, what, &nomem);
   adem_put(&wr, CKPT_END, 8);
   failed |= wr.failed | nomem;
   if (!failed) {
-    header_bytes(h, wr.bytes, wr.hash);
+    header_bytes(h, magic, wr.bytes, wr.hash);
     failed = fseek(af.f, 0, SEEK_SET) != 0 || fwrite(h, 1, sizeof h, af.f) != sizeof h;
   }
   if (failed) {
@@ -96,6 +101,26 @@ adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_err
     return adem_error_set(err, ADEM_ERR_IO, "cannot write checkpoint %s: %s", path, strerror(e));
   }
   return adem_fileio_commit(&af, err);
+}
+
+static void save_case_and_world(adem_writer *wr, const void *what, int *nomem) {
+  const adem_case *c = what;
+  save_case(wr, c, nomem);
+  adem_world_save(wr, c->world);
+}
+
+static void save_world(adem_writer *wr, const void *what, int *nomem) {
+  (void)nomem;
+  adem_world_save_setup(wr, what);
+  adem_world_save(wr, what);
+}
+
+adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err) {
+  return write_file(path, CKPT_MAGIC, save_case_and_world, c, err);
+}
+
+adem_status adem_world_checkpoint_write(const adem_world *w, const char *path, adem_error *err) {
+  return write_file(path, CKPT_WORLD_MAGIC, save_world, w, err);
 }
 
 /* ---------------------------------------------------------------- reading */
@@ -215,12 +240,16 @@ mismatch:
   return bad_file(err, path, why);
 }
 
-adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char *path,
-                                       adem_case **out, adem_error *err) {
-  *out = NULL;
+/* Checks the header of a checkpoint of kind magic; the payload's reader on success. */
+static adem_status check_header(const char *data, size_t len, const char *path, const char *magic,
+                                adem_reader *rd, adem_error *err) {
   const unsigned char *b = (const unsigned char *)data;
-  if (len < 8 || memcmp(b, CKPT_MAGIC, 8) != 0)
-    return bad_file(err, path, "it does not start with ADEMCKPT (not a checkpoint)");
+  if (len < 8 || memcmp(b, magic, 8) != 0) {
+    char why[96];
+    snprintf(why, sizeof why, "it does not start with %s (not a %s)", magic,
+             strcmp(magic, CKPT_MAGIC) ? "world checkpoint" : "checkpoint");
+    return bad_file(err, path, why);
+  }
   if (len < CKPT_HEADER_BYTES) return bad_file(err, path, "it is truncated (header)");
   uint32_t version, endian, vec_size, hist_size;
   uint64_t payload, hash;
@@ -248,8 +277,59 @@ adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char 
   }
   if (adem_fnv1a(ADEM_FNV_START, b + CKPT_HEADER_BYTES, (size_t)payload) != hash)
     return bad_file(err, path, "its checksum does not match (the file is damaged)");
-  adem_reader rd = {b + CKPT_HEADER_BYTES, b + len, 0};
+  rd->at = b + CKPT_HEADER_BYTES;
+  rd->end = b + len;
+  rd->failed = 0;
+  return ADEM_OK;
+}
+
+adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char *path,
+                                       adem_case **out, adem_error *err) {
+  *out = NULL;
+  adem_reader rd;
+  adem_status st = check_header(data, len, path, CKPT_MAGIC, &rd, err);
+  if (st) return st;
   return restore(&rd, path, out, err);
+}
+
+adem_status adem_world_checkpoint_read(const char *path, adem_world **out, adem_error *err) {
+  *out = NULL;
+  char *data = NULL;
+  size_t len = 0;
+  adem_status st = adem_file_read_all(path, &data, &len, err);
+  if (st) return st;
+  adem_reader rd;
+  adem_world *w = NULL;
+  st = check_header(data, len, path, CKPT_WORLD_MAGIC, &rd, err);
+  if (!st && !(w = adem_world_create())) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) st = adem_world_load_setup(&rd, w, err);
+  bool prepared = false;
+  if (!st) st = adem_world_load_prepared(&rd, &prepared, err);
+  /* a prepared world: its tables and buffers first (no particles yet), then the state */
+  if (!st && prepared) st = adem_world_prepare(w, err);
+  if (!st) st = adem_world_load(&rd, w, err);
+  char end[8] = "";
+  if (!st) {
+    adem_get(&rd, end, 8);
+    if (rd.failed || memcmp(end, CKPT_END, 8) != 0 || rd.at != rd.end)
+      st = bad_file(err, path, "its contents are cut short or damaged");
+  }
+  if (!st && prepared) {
+    adem_world_place_walls(w, w->time);
+    if (adem_world_gather(w) != ADEM_OK) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  if (st && st != ADEM_ERR_NOMEM && strstr(err ? err->message : "", "adem checkpoint") == NULL) {
+    char why[ADEM_MSG_MAX];
+    snprintf(why, sizeof why, "%s", err ? err->message : "damaged");
+    st = bad_file(err, path, why);
+  }
+  free(data);
+  if (st) {
+    adem_world_free(w);
+    return st;
+  }
+  *out = w;
+  return ADEM_OK;
 }
 
 adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err) {
