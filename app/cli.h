@@ -47,7 +47,7 @@ void on_progress(const adem_progress *p, void *user);
 const char *option_value(int argc, char **argv, int *i, const char *name, int *missing);
 /* The options of run and check. */
 int parse_options(int argc, char **argv, cli_options *o, int allow_run, const char *cmd);
-double wall_now(void);
+double cli_now(void);
 /* OUTDIR/checkpoint for a folder, or the path itself. */
 char *checkpoint_path(const char *arg);
 

@@ -373,7 +373,7 @@ int cmd_collide(int argc, char **argv) {
                   if (ad.n) adem_collide_set_ad(&c, D->v[d]);
                   sp[k] = c;
                 }
-    double t0 = wall_now();
+    double t0 = cli_now();
     int nt = threads > 0 ? threads : adem_default_thread_count();
     if (nt < 1) nt = 1;
     size_t failed = 0, first_failed = n;
@@ -394,7 +394,7 @@ int cmd_collide(int argc, char **argv) {
       for (size_t q = 0; q < n; ++q)
         if (res[q].status && !failed++) first_failed = q;
     }
-    double spent = wall_now() - t0;
+    double spent = cli_now() - t0;
     adem_afile af;
     adem_error err;
     FILE *f = stdout;

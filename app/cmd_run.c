@@ -64,7 +64,7 @@ const char *const run_help =
 
 /* ---------------------------------------------------------------- run */
 
-double wall_now(void) {
+double cli_now(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
@@ -159,9 +159,9 @@ int cmd_run(int argc, char **argv) {
   opt.progress = on_progress;
   opt.progress_user = &ps;
   opt.stop_flag = &stop_signal;
-  double t0 = wall_now();
+  double t0 = cli_now();
   st = adem_run(c, &opt, &err);
-  double spent = wall_now() - t0;
+  double spent = cli_now() - t0;
   end_progress_line();
 
   if (st == ADEM_INTERRUPTED) {
