@@ -48,9 +48,12 @@ Files written to --out (default: meshes/ beside this script), all ASCII STL with
   sides.stl        side_front (y = +s/2) and side_back (y = -s/2): the frictionless mirror walls.
                    Separate from container.stl because a mesh file has one material.
   fill_region.stl  closed surface of the volume the loose spheres are placed in before packing:
-                   the bed's profile below z_top, the strip between the risers up to z_fill.
+                   the bed's profile below z_top, the strip between the risers up to z_fill,
+                   minus a slot where the aux sleeper stands (adem may place random spheres
+                   inside a closed mesh wall, since it could be a container).
 
 Run:  python3 make_geometry.py                   # write the meshes, check them, print the estimate
+      python3 make_geometry.py --preset quick    # the reduced-scale variant into meshes/quick/
       python3 make_geometry.py --set ballast_depth=0.3 --no-write   # estimate another geometry
       python3 make_geometry.py --solve-depth 21700                    # depth for a sphere count
 """
@@ -84,6 +87,40 @@ DEFAULTS = {
     "packing_fraction": 0.60,    # solid fraction of the packed bed
     "target_count": 21700,       # the paper's 21,708 spheres
 }
+
+
+# A reduced-scale variant for quick checks: spheres twice as large (8x fewer), same geometry; the
+# count is the one that fills the bed to the crib level (calibrated with protocol-demo.yaml: with
+# 2,700 the lid probe pressed on the bed, with 2,550 it carried ~1% of the bed's weight).
+PRESETS = {
+    "quick": {"d_min": 0.074, "d_max": 0.126, "target_count": 2550},
+}
+
+
+def lid_probe(p, q, fast=1.25, slow=0.25, slow_travel=0.15, start=0.1, clearance=0.05, ramp=1e-4):
+    """Motion of aux_lid.stl as an over-compaction probe: the lid starts `clearance` above z_fill
+    (translate it up by the returned lift), waits until `start`, comes down at `fast` m/s, then
+    at `slow` m/s for the last `slow_travel` metres, and stops at the crib level. Returns
+    (lift, table) with table rows [t, vx, vy, vz] for `motion.table` (piecewise-linear velocity,
+    switches spread over `ramp` seconds); the table's travel equals the lift to round-off."""
+    lift = q["z_fill"] - q["z_top"] + clearance
+    ta = start + ramp + (lift - slow_travel) / fast
+
+    def rows(tb):
+        return [[start, 0, 0, 0], [start + ramp, 0, 0, -fast], [ta, 0, 0, -fast],
+                [ta + ramp, 0, 0, -slow], [tb, 0, 0, -slow], [tb + ramp, 0, 0, 0]]
+
+    tb = ta + ramp + slow_travel / slow
+    tb += (lift + table_travel(rows(tb))) / slow     # travel is negative (downwards)
+    return lift, rows(tb)
+
+
+def table_travel(table):
+    """Distance travelled under a piecewise-linear velocity table (z component)."""
+    d = 0.0
+    for (t0, *_, v0), (t1, *_, v1) in zip(table, table[1:]):
+        d += 0.5 * (v0 + v1) * (t1 - t0)
+    return d
 
 
 def derived(p):
@@ -179,6 +216,18 @@ class Solid:
         """Convex planar polygon (counter-clockwise seen from the normal side), fanned from pts[0]."""
         for i in range(1, len(pts) - 1):
             self.tri(pts[0], pts[i], pts[i + 1])
+
+
+def face(solid, pts, outward):
+    """Add the convex planar polygon pts to solid, ordered so that its right-hand normal points
+    along `outward` (fanned from its first point)."""
+    n = (0.0, 0.0, 0.0)
+    for i in range(1, len(pts) - 1):
+        c = cross(sub(pts[i], pts[0]), sub(pts[i + 1], pts[0]))
+        n = (n[0] + c[0], n[1] + c[1], n[2] + c[2])
+    if dot(n, outward) < 0:
+        pts = list(reversed(pts))
+    solid.polygon(pts)
 
 
 def sub(a, b):
@@ -294,17 +343,40 @@ def build(p):
     sb.quad((-xend, y0, 0.0), (-xend, y0, zbox), (xend, y0, zbox), (xend, y0, 0.0))
     files["sides.stl"] = [sf, sb]
 
-    # -- fill region: prism along y of the convex x-z polygon; built as a prism along x of a
-    #    y-z polygon is not possible, so write it directly. Polygon counter-clockwise seen from -y
-    #    (x to the right, z up, looking along +y).
-    poly = [(-xt, 0.0), (xt, 0.0), (xe, zt), (xe, zfill), (-xe, zfill), (-xe, zt)]
+    # -- fill region: the bed's profile up to z_fill with a slot where the aux sleeper stands.
+    #    adem may place random spheres inside a closed mesh wall (it could be a container), so the
+    #    region itself must leave the aux sleeper out. To keep the surface closed, faces that meet
+    #    are split at the same points: x at -x_edge, -L/2, L/2, x_edge and y at -s/2, -t/2, t/2, s/2.
     fr = Solid("fill_region")
-    fr.polygon([(x, y0, z) for (x, z) in poly])              # cap at y0, normal -y
-    fr.polygon([(x, y1, z) for (x, z) in reversed(poly)])    # cap at y1, normal +y
-    k = len(poly)
-    for i in range(k):
-        (xa, za), (xb_, zb_) = poly[i], poly[(i + 1) % k]
-        fr.quad((xa, y0, za), (xa, y1, za), (xb_, y1, zb_), (xb_, y0, zb_))
+    X = [-xe, -L / 2, L / 2, xe]
+    Y = [y0, -t / 2, t / 2, y1]
+    zf = zfill
+    for i in range(3):                       # top plate at z_fill, a 3x3 grid without the centre
+        for j in range(3):
+            if (i, j) != (1, 1):
+                face(fr, [(X[i], Y[j], zf), (X[i + 1], Y[j], zf), (X[i + 1], Y[j + 1], zf),
+                          (X[i], Y[j + 1], zf)], (0, 0, 1))
+    for j in range(3):                       # strips along y so that all seams share vertices
+        ya, yb = Y[j], Y[j + 1]
+        for sx in (1, -1):
+            face(fr, [(sx * xe, ya, zt), (sx * xe, yb, zt), (sx * xe, yb, zf), (sx * xe, ya, zf)],
+                 (sx, 0, 0))                                               # riser
+            face(fr, [(sx * xt, ya, 0.0), (sx * xt, yb, 0.0), (sx * xe, yb, zt), (sx * xe, ya, zt)],
+                 (sx, 0, n))                                               # slope
+        face(fr, [(-xt, ya, 0.0), (xt, ya, 0.0), (xt, yb, 0.0), (-xt, yb, 0.0)], (0, 0, -1))  # floor
+    cap = [(-xt, 0.0), (xt, 0.0), (xe, zt), (xe, zf), (L / 2, zf), (-L / 2, zf), (-xe, zf), (-xe, zt)]
+    for yc, sy in ((y0, -1), (y1, 1)):       # the two ends of the slice
+        face(fr, [(x, yc, z) for (x, z) in cap], (0, sy, 0))
+    # the slot: the aux sleeper's faces between its base and z_fill, normals into the sleeper
+    face(fr, [(-L / 2, -b / 2, zb), (L / 2, -b / 2, zb), (L / 2, b / 2, zb), (-L / 2, b / 2, zb)], (0, 0, 1))
+    for sy in (1, -1):
+        face(fr, [(-L / 2, sy * b / 2, zb), (L / 2, sy * b / 2, zb), (L / 2, sy * t / 2, zs),
+                  (-L / 2, sy * t / 2, zs)], (0, -sy, 0))                  # crib face
+        face(fr, [(-L / 2, sy * t / 2, zs), (L / 2, sy * t / 2, zs), (L / 2, sy * t / 2, zf),
+                  (-L / 2, sy * t / 2, zf)], (0, -sy, 0))                  # vertical part
+    end = [(-b / 2, zb), (b / 2, zb), (t / 2, zs), (t / 2, zf), (-t / 2, zf), (-t / 2, zs)]
+    for sx in (1, -1):
+        face(fr, [(sx * L / 2, y, z) for (y, z) in end], (-sx, 0, 0))
     files["fill_region.stl"] = [fr]
     return files, q
 
@@ -359,8 +431,10 @@ def check(files, q, p):
     zt, zf = q["z_top"], q["z_fill"]
     s = p["slice_length"]
     vr = (2 * q["x_edge"] * zt + p["shoulder_slope"] * zt * zt) * s + 2 * q["x_edge"] * s * (zf - zt)
+    vr -= L * (0.5 * (b + t) * h + t * (zf - q["z_sleeper_top"]))    # the aux sleeper's slot
     v = signed_volume(files["fill_region.stl"])
-    out.append((abs(v - vr) < 1e-9 * vr, f"fill_region.stl: volume {v:.6f} m^3, profile gives {vr:.6f}"))
+    out.append((abs(v - vr) < 1e-9 * vr, f"fill_region.stl: volume {v:.6f} m^3, profile minus the "
+                                         f"aux sleeper gives {vr:.6f}"))
 
     # every face of a wall points towards the ballast: a probe point inside the bed
     probe_bed = (0.0, 0.0, 0.5 * q["z_base"])               # under the sleeper, mid-depth
@@ -399,7 +473,7 @@ def fmt(v):
     return "0" if r in ("0.0", "-0.0") else r
 
 
-def write_stl(path, solids, header):
+def write_stl(path, solids):
     lines = []
     for sol in solids:
         lines.append(f"solid {sol.name}")
@@ -457,7 +531,9 @@ def report(p, q):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--out", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "meshes"))
+    ap.add_argument("--out", help="output folder (default: meshes/ beside this script, "
+                                   "meshes/PRESET/ with --preset)")
+    ap.add_argument("--preset", choices=sorted(PRESETS), help="start from a named variant")
     ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                     help="change a parameter (repeatable); names: " + ", ".join(DEFAULTS))
     ap.add_argument("--no-write", action="store_true", help="estimate and check only")
@@ -465,13 +541,20 @@ def main(argv=None):
                     help="print the ballast depth that gives COUNT spheres, then exit")
     a = ap.parse_args(argv)
     p = dict(DEFAULTS)
+    if a.preset:
+        p.update(PRESETS[a.preset])
     p.update(parse_set(a.set))
+    here = os.path.dirname(os.path.abspath(__file__))
+    out = a.out or os.path.join(here, "meshes", a.preset or "")
     if a.solve_depth:
         d = solve_depth(p, a.solve_depth)
         print(f"ballast_depth={d:.4f} m gives {sphere_count(dict(p, ballast_depth=d)):.0f} spheres")
         return 0
     files, q = build(p)
     print(report(p, q))
+    lift, table = lid_probe(p, q)
+    print(f"lid probe (aux_lid.stl): translate [0, 0, {lift!r}], motion table {table!r} "
+          f"(travel {-table_travel(table):.6f} m)")
     results = check(files, q, p)
     for ok, msg in results:
         print(("ok   " if ok else "FAIL ") + msg)
@@ -479,11 +562,10 @@ def main(argv=None):
         print("mesh checks failed; nothing written", file=sys.stderr)
         return 1
     if not a.no_write:
-        os.makedirs(a.out, exist_ok=True)
-        header = "generated by make_geometry.py"
+        os.makedirs(out, exist_ok=True)
         for name, sols in files.items():
-            write_stl(os.path.join(a.out, name), sols, header)
-        print(f"wrote {len(files)} files to {a.out}")
+            write_stl(os.path.join(out, name), sols)
+        print(f"wrote {len(files)} files to {os.path.relpath(out)}")
     return 0
 
 
