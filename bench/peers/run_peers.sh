@@ -23,6 +23,8 @@
 #   PEERS_CODES ["adem lammps liggghts"]  adem runs only when PEERS_ADEM_BENCH is set
 #   PEERS_ADEM_BENCH []       path of adem's bench_bed (see the hook)
 #   PEERS_CHECK [0]           1: verification runs (walls record forces; never use for timing)
+#   PEERS_COUNT_REP [1]       the repetition whose runs count contacts (the count allocates a
+#                             neighbour list, so the other repetitions give the memory figures)
 #   PEERS_NICE [10]           nice level of every run (0 on a quiet machine)
 #   PEERS_MPIRUN_ARGS []      extra mpirun arguments, e.g. "--bind-to core"
 #   PEERS_LIGGGHTS_ROLLING [epsd2]   LIGGGHTS rolling model: epsd2, epsd (Ai et al., as adem's
@@ -96,12 +98,12 @@ run_code() {
       OMP_NUM_THREADS=1 nice -n "$NICE" "${mpi[@]}" -np "$np" "$here/rss.sh" "$prefix.rss" \
         "$LMP" -in "$here/bed.lmp" -log "$prefix.log" -nocite -var params "$OUT/params.in" \
         -var data "$file" -var jkr "$jkr" -var relax "$RELAX" -var steps "$STEPS" \
-        -var check "$CHECK" -var peers "$here" > "$prefix.out" 2>&1 ;;
+        -var check "$CHECK" -var count "$count" -var peers "$here" > "$prefix.out" 2>&1 ;;
     liggghts)
       OMP_NUM_THREADS=1 nice -n "$NICE" "${mpi[@]}" -np "$np" "$here/rss.sh" "$prefix.rss" \
         "$LIGGGHTS" -in "$here/bed.liggghts" -log "$prefix.log" -nocite -var params "$OUT/params.in" \
         -var data "$file" -var jkr "$jkr" -var relax "$RELAX" -var steps "$STEPS" \
-        -var check "$CHECK" -var peers "$here" -var rolling_model "${PEERS_LIGGGHTS_ROLLING:-epsd2}" \
+        -var check "$CHECK" -var count "$count" -var peers "$here" -var rolling_model "${PEERS_LIGGGHTS_ROLLING:-epsd2}" \
         > "$prefix.out" 2>&1 ;;
     adem)
       run_adem "$bed" "$np" "$prefix" "$file" ;;
@@ -116,7 +118,7 @@ run_code() {
 #   PEERS particles <N>
 #   PEERS loop_seconds <wall seconds of the timed steps>
 #   PEERS rebuilds <neighbour-list builds during the timed steps>
-#   PEERS contacts_per_particle <2 * pair contacts / N + wall contacts / N>
+#   PEERS contacts_per_particle <2 * pair contacts / N + wall contacts / N>  (when $count = 1)
 # With physics set to match (docs/performance.md): Hertz or simplified JKR (gamma = PEERS_GAMMA),
 # COR, friction, rolling model C with eta_r = PEERS_ROLLING and no rolling damping (as epsd2 and
 # the sds settings here), 5 walls of the particles' material, skin PEERS_SKIN, dt PEERS_DT.
@@ -159,6 +161,8 @@ parse() {
 
 # --- 4. interleaved repetitions ---------------------------------------------------------------
 for rep in $(seq 1 "$REPS"); do
+  count=0
+  { [ "$rep" = "${PEERS_COUNT_REP:-1}" ] || [ "$CHECK" = 1 ] || [ "$REPS" = 1 ]; } && count=1
   for bed in $BEDS; do
     for np in $NPS; do
       for code in $CODES; do

@@ -3,8 +3,9 @@
 # RECORDS columns: code bed np rep kind(bed|empty) atoms steps loop_s builds dangerous
 #                  contacts_per_particle code_MB_per_rank rss_kB_summed_over_ranks
 # Rate = atoms*steps/loop_s; net bytes per particle = (rss(bed) - rss(empty)) * 1024 /
-# (atoms(bed) - atoms(empty)), paired by repetition, then the median (the "empty" bed holds one
-# sphere: LIGGGHTS does not run with none).
+# (atoms(bed) - atoms(empty)), paired by repetition, then the median over the repetitions that did
+# not count contacts if there are any (the count allocates a neighbour list); the "empty" bed
+# holds one sphere: LIGGGHTS does not run with none.
 set -eu
 [ $# -ge 1 ] || { echo "usage: $0 records.tsv [about.txt]" >&2; exit 2; }
 if [ $# -ge 2 ] && [ -f "$2" ]; then sed 's/^/    /' "$2"; echo; fi
@@ -20,7 +21,8 @@ function stat(what, k, kind,   i, n, a, lo, hi) {   # median of a column over th
     else if (what == "cpp" && cpp[k, i] != "-") a[++n] = cpp[k, i]
     else if (what == "builds" && bld[k, i] != "-") a[++n] = bld[k, i]
     else if (what == "mem" && mem[k, i] != "-") a[++n] = mem[k, i]
-    else if (what == "net" && (k, rep[k, i]) in rsse) a[++n] = (rssb[k, i] - rsse[k, rep[k, i]]) * 1024 / (atoms[k] - atomse[k, rep[k, i]])
+    else if (what == "net" && (k, rep[k, i]) in rsse && (cpp[k, i] == "-" || !uncounted[k]))
+      a[++n] = (rssb[k, i] - rsse[k, rep[k, i]]) * 1024 / (atoms[k] - atomse[k, rep[k, i]])
   }
   if (n == 0) return "-"
   lo = hi = a[1]; for (i = 2; i <= n; i++) { if (a[i] < lo) lo = a[i]; if (a[i] > hi) hi = a[i] }
@@ -31,6 +33,7 @@ $5 == "bed" {
   k = $1 SUBSEP $2 SUBSEP $3; i = ++cnt[k]
   rate[k, i] = $6 * $7 / $8 / 1e6; cpp[k, i] = $11; bld[k, i] = $9; mem[k, i] = $12
   rssb[k, i] = $13; rep[k, i] = $4; atoms[k] = $6; steps[k] = $7; nrep[k] = i
+  if ($11 == "-") uncounted[k] = 1
 }
 $5 == "empty" { rsse[$1, $2, $3, $4] = $13; atomse[$1, $2, $3, $4] = $6 }
 END {
