@@ -55,8 +55,9 @@ typedef struct adem_pile_options {
  * limits. */
 adem_pile_options adem_pile_default_options(void);
 
-/* A least-squares line y = intercept + slope x over n points, with its coefficient of
- * determination R^2. */
+/* A fitted line over n points: for the surface fit z = intercept + slope rho (orthogonal least
+ * squares), for the slices r_eq = intercept + slope z (ordinary least squares); r2 is the
+ * squared correlation coefficient of the points (R^2 of the ordinary fit). */
 typedef struct adem_pile_fit {
   size_t n;
   double slope, intercept, r2;
