@@ -161,8 +161,10 @@ int main(int argc, char **argv) {
       printf("frame            %s (t = %.4f s, %zu particles)\n", last, f.time, f.n);
       printf("pile             %zu particles, axis (%.4f, %.4f) m, mean diameter %.4f m\n",
              r.n_pile, r.axis_x, r.axis_y, r.mean_diameter);
-      printf("height           %.4f m; base radius %.4f m; fit band %.4f..%.4f m\n", r.height,
-             r.base_radius, r.band_zmin, r.band_zmax);
+      printf("height           %.4f m; fit band %.4f..%.4f m\n", r.height, r.band_zmin,
+             r.band_zmax);
+      printf("base radius      %.4f m (slice fit at the floor); footprint %.4f m (first layer)\n",
+             r.base_radius, r.footprint_radius);
       printf("surface fit      %.2f deg (R^2 %.4f, %zu surface particles)\n", r.angle_surface_deg,
              r.surface.r2, r.surface.n);
       printf("slice radii      %.2f deg (R^2 %.4f, %zu slices)\n", r.angle_slices_deg,
