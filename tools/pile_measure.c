@@ -170,7 +170,15 @@ int main(int argc, char **argv) {
       printf("slice radii      %.2f deg (R^2 %.4f, %zu slices)\n", r.angle_slices_deg,
              r.slices.r2, r.slices.n);
       if (profile || png) {
-        const char *csv = profile ? profile : "pile_profile.csv";
+        /* --png alone: the profile CSV goes beside the PNG (FILE.png -> FILE.csv) */
+        char beside[4096];
+        if (!profile) {
+          snprintf(beside, sizeof beside, "%s", png);
+          size_t L = strlen(beside);
+          if (L > 4 && !strcmp(beside + L - 4, ".png")) beside[L - 4] = '\0';
+          strncat(beside, ".csv", sizeof beside - strlen(beside) - 1);
+        }
+        const char *csv = profile ? profile : beside;
         FILE *o = fopen(csv, "w");
         if (!o) {
           fprintf(stderr, "adem_pile: cannot write %s\n", csv);
