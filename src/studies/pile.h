@@ -1,0 +1,109 @@
+/* The angle of repose of a pile of spheres on a horizontal floor, by two methods:
+ *
+ * (a) surface fit: the particles are binned by radial distance from the pile's axis (rings one
+ *     bin width wide) and by angular sector (cells of equal area, `cell_arc` bin widths along
+ *     the arc); the highest centre of each cell is a surface particle. A line z = a + b rho is
+ *     fitted to the surface particles over the middle band of the pile's height, by orthogonal
+ *     least squares (the particles scatter across the slope, not only vertically); the band is
+ *     mapped onto the slope by a first fit so that the selection does not trim the scatter;
+ *     angle = atan(-b).
+ * (b) slices: horizontal planes cut the pile; each plane's footprint is the region inside the
+ *     star-shaped envelope of the particles' cross-sections seen from the axis (along each of a
+ *     fan of rays, the farthest edge of a cross-section the ray crosses); its equivalent radius
+ *     r_eq is the envelope's mean distance from the axis (by default) or sqrt(A / pi), equal
+ *     for a circle. A line r_eq = c + k z is fitted over the same band (ordinary least squares:
+ *     the heights are exact); angle = atan(-1 / k).
+ *
+ * Plain C on arrays of centres and radii; it depends on no engine module (only the adem_vec3,
+ * adem_status and adem_error types of the public header), so it runs on any frame, synthetic
+ * piles included. See the definitions of the band, bins and rays at adem_pile_default_options. */
+#ifndef ADEM_STUDIES_PILE_H
+#define ADEM_STUDIES_PILE_H
+
+#include <stddef.h>
+
+#include "adem/adem.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The equivalent radius of a slice's footprint (see slice_req in pile.c for the comparison). */
+typedef enum adem_pile_slice_radius {
+  ADEM_PILE_MEAN_RADIUS = 0, /* mean distance of the footprint's boundary from the axis */
+  ADEM_PILE_AREA_RADIUS = 1  /* sqrt(A / pi) */
+} adem_pile_slice_radius;
+
+typedef struct adem_pile_options {
+  double floor_z;       /* height of the floor, m */
+  int axis_given;       /* 1: the pile's axis is (axis_x, axis_y); 0: derived (see below) */
+  double axis_x, axis_y;
+  double band_lo, band_hi; /* the fit band, as fractions of the pile's height H */
+  double cell_arc;      /* length along the arc of a cell of method (a), in bin widths */
+  double bin_width;     /* radial bin width of method (a), m; <= 0: the mean diameter */
+  int rays;             /* rays of the slice envelope, method (b) */
+  double slice_step;    /* distance between slice planes, m; <= 0: a quarter of the mean diameter */
+  adem_pile_slice_radius slice_radius;
+  double zmax;          /* centres higher than floor_z + zmax are not the pile (<= 0: no limit),
+                           e.g. spheres still in a hopper above it */
+  double rmax;          /* centres farther than rmax from the axis are not the pile (<= 0: no
+                           limit), e.g. spheres that bounced away */
+} adem_pile_options;
+
+/* floor 0, axis derived, band 0.25..0.75 of H (clear of the rounded top and of the toe), cells
+ * of one mean diameter by two, 720 rays, slices every quarter diameter with the mean radius, no
+ * limits. */
+adem_pile_options adem_pile_default_options(void);
+
+/* A fitted line over n points: for the surface fit z = intercept + slope rho (orthogonal least
+ * squares), for the slices r_eq = intercept + slope z (ordinary least squares); r2 is the
+ * squared correlation coefficient of the points (R^2 of the ordinary fit). */
+typedef struct adem_pile_fit {
+  size_t n;
+  double slope, intercept, r2;
+} adem_pile_fit;
+
+/* A point of a profile: rho (radial distance from the axis, or r_eq) and z (height above the
+ * floor), both m; used = 1 when the point is inside the fit band and entered the fit. */
+typedef struct adem_pile_point {
+  double rho, z;
+  int used;
+} adem_pile_point;
+
+typedef struct adem_pile_result {
+  size_t n_pile;            /* particles counted as the pile */
+  double axis_x, axis_y;    /* axis used */
+  double height;            /* H: top of the highest sphere above the floor, m */
+  double base_radius;       /* the slice fit's r_eq at the floor: the fitted cone's base, m */
+  double footprint_radius;  /* r_eq of the slice half a mean diameter above the floor, m,
+                               spheres that rolled away included */
+  double mean_diameter;     /* of the pile's particles, m */
+  double band_zmin, band_zmax; /* the fit band above the floor, m */
+  /* (a) surface fit: z = intercept + slope rho */
+  double angle_surface_deg;
+  adem_pile_fit surface;
+  adem_pile_point *surface_pts; /* every surface particle (one per occupied bin) */
+  size_t n_surface_pts;
+  /* (b) slices: r_eq = intercept + slope z */
+  double angle_slices_deg;
+  adem_pile_fit slices;
+  adem_pile_point *slice_pts; /* (r_eq, z) of every slice plane */
+  size_t n_slice_pts;
+} adem_pile_result;
+
+/* Measures the pile formed by the n spheres (centres pos, radii radius). The axis, when not
+ * given, is the volume-weighted centroid (x, y) of the pile's particles. Fails with
+ * ADEM_ERR_INPUT when the input is unusable (no particle above the floor, non-finite values,
+ * bad options, fewer than 3 points in a band) and ADEM_ERR_NOMEM; *res is then zeroed. Free the
+ * result with adem_pile_result_free. */
+adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t n,
+                              const adem_pile_options *opt, adem_pile_result *res,
+                              adem_error *err);
+
+void adem_pile_result_free(adem_pile_result *res);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
