@@ -57,6 +57,8 @@ int cmd_check(int argc, char **argv);
 int cmd_collide(int argc, char **argv);
 int cmd_validate(int argc, char **argv);
 int cmd_reference(int argc, char **argv);
-extern const char *const run_help, *const check_help, *const collide_help, *const validate_help;
+int cmd_analyze(int argc, char **argv);
+extern const char *const run_help, *const check_help, *const collide_help, *const validate_help,
+    *const analyze_help;
 
 #endif

@@ -23,6 +23,7 @@ static const char *const main_help =
     "  adem check CASE.yaml [--set key.path=value ...]\n"
     "  adem collide [--kind pair|wall] [--speed LIST] [--lambda LIST] [--ad LIST] ...\n"
     "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"
+    "  adem analyze repose OUTDIR [--zmax Z]\n"
     "  adem reference\n"
     "  adem --help | --version\n"
     "\n"
@@ -37,6 +38,8 @@ static const char *const main_help =
     "             duration and overlap as CSV (see: adem collide --help)\n"
     "  validate   reproduce the papers' figures and check their claims: CSV, PNG and a\n"
     "             summary per figure (see: adem validate --help)\n"
+    "  analyze    measure a run's result: `repose` measures the pile in its last frame (angle\n"
+    "             by two methods, height, base radius) and draws its profile\n"
     "  reference  print the case-file reference (every key, unit, default, range) as Markdown\n"
     "\n"
     "Options:\n"
@@ -73,6 +76,7 @@ int main(int argc, char **argv) {
     else if (argc > 2 && strcmp(argv[2], "check") == 0) fputs(check_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "collide") == 0) fputs(collide_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "validate") == 0) fputs(validate_help, stdout);
+    else if (argc > 2 && strcmp(argv[2], "analyze") == 0) fputs(analyze_help, stdout);
     else fputs(main_help, stdout);
     return EXIT_OK;
   }
@@ -85,6 +89,7 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "collide") == 0) return cmd_collide(argc - 2, argv + 2);
   if (strcmp(cmd, "validate") == 0) return cmd_validate(argc - 2, argv + 2);
   if (strcmp(cmd, "reference") == 0) return cmd_reference(argc - 2, argv + 2);
-  return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate and "
-                          "reference (see: adem --help)", cmd);
+  if (strcmp(cmd, "analyze") == 0) return cmd_analyze(argc - 2, argv + 2);
+  return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate, "
+                          "analyze and reference (see: adem --help)", cmd);
 }

@@ -61,5 +61,7 @@ typedef struct adem_world adem_world;
 #include "adem/output.h"
 #include "adem/run.h"
 #include "adem/studies.h"
+#include "adem/pile.h"
+#include "adem/frames.h"
 
 #endif

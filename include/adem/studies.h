@@ -258,6 +258,9 @@ extern const adem_validation adem_validations_haervig[];
 extern const size_t adem_validations_haervig_count;
 extern const adem_validation adem_validations_irazabal[];
 extern const size_t adem_validations_irazabal_count;
+/* Paper-scale runs of whole cases, resumable (validate_repose.c). */
+extern const adem_validation adem_validations_repose[];
+extern const size_t adem_validations_repose_count;
 
 #ifdef __cplusplus
 }

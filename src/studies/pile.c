@@ -1,6 +1,6 @@
 /* Angle of repose of a pile of spheres: surface-particle fit and slice equivalent radii. See
  * pile.h for the definitions. */
-#include "pile.h"
+#include "adem/pile.h"
 
 #include <math.h>
 #include <stdarg.h>

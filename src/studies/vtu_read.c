@@ -1,6 +1,6 @@
 /* Particle-frame reader: a small tag scanner over the XML header, then bounds-checked copies of
  * the raw appended blocks (each an 8-byte size, then the data). See vtu_read.h. */
-#include "vtu_read.h"
+#include "adem/frames.h"
 
 #include <errno.h>
 #include <math.h>

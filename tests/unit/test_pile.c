@@ -10,7 +10,7 @@
 #include <cmocka.h>
 #include <math.h>
 
-#include "pile.h"
+#include "adem/pile.h"
 
 static const double PI = 3.14159265358979323846;
 

@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "cli_run.h"
-#include "vtu_read.h"
+#include "adem/frames.h"
 
 enum { NS = 7 };
 static const double X[NS][4] = { /* x, y, z, radius */

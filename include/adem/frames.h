@@ -5,8 +5,8 @@
  * The file is untrusted input: every offset, size and count is checked against the bytes that are
  * there, and a file that is not such a frame is refused with a message that says what is wrong
  * and where (byte offset). The library never prints and never exits. */
-#ifndef ADEM_STUDIES_VTU_READ_H
-#define ADEM_STUDIES_VTU_READ_H
+#ifndef ADEM_FRAMES_H
+#define ADEM_FRAMES_H
 
 #include <stddef.h>
 #include <stdint.h>

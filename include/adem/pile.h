@@ -17,8 +17,8 @@
  * Plain C on arrays of centres and radii; it depends on no engine module (only the adem_vec3,
  * adem_status and adem_error types of the public header), so it runs on any frame, synthetic
  * piles included. See the definitions of the band, bins and rays at adem_pile_default_options. */
-#ifndef ADEM_STUDIES_PILE_H
-#define ADEM_STUDIES_PILE_H
+#ifndef ADEM_PILE_H
+#define ADEM_PILE_H
 
 #include <stddef.h>
 
@@ -101,6 +101,23 @@ adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t
                               adem_error *err);
 
 void adem_pile_result_free(adem_pile_result *res);
+
+/* The last particle frame of a run's output folder (OUTDIR/frames/particles_NNNNNN.vtu); *path a
+ * fresh string. */
+adem_status adem_frames_last(const char *outdir, char **path, adem_error *err);
+
+/* `adem analyze repose OUTDIR`: the pile in the last frame of a run, measured with opt, and its
+ * profile written beside the run's files as OUTDIR/repose_profile.csv and .png. */
+typedef struct adem_repose_report {
+  char frame[4096];        /* the frame measured */
+  double time;             /* its time, s */
+  size_t particles;        /* in the frame */
+  adem_pile_result pile;
+  char profile_csv[4096], profile_png[4096];
+} adem_repose_report;
+adem_status adem_repose_analyze(const char *outdir, const adem_pile_options *opt,
+                                adem_repose_report *rep, adem_error *err);
+void adem_repose_report_free(adem_repose_report *rep);
 
 #ifdef __cplusplus
 }
