@@ -476,7 +476,7 @@ adem_status adem_neighbors_build(adem_world *w, adem_error *err) {
   nb->time_at_build = w->wall_time;
   st = adem_neighbors_gather(w);
   if (st) goto done;
-  memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos);
+  if (n) memcpy(p->pos_at_build, p->pos, n * sizeof *p->pos); /* no particles yet: both NULL */
   nb->rebuilds++;
 done:
   free(saved_pp);
