@@ -343,10 +343,11 @@ static adem_status get_mesh_state(ck_reader *rd, adem_world *w, adem_error *err)
 static bool mesh_state_consistent(const adem_world *w) {
   const adem_mesh_pairs *pm = &w->pm;
   size_t n = w->p.n;
-  if (pm->l.n == 0) return true;
-  if (!pm->start || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
+  if (!pm->start) return pm->l.n == 0;
+  /* The stepper walks every particle's range, contacts or not: all n + 1 bounds must be there. */
+  if (pm->start_cap < n + 1 || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
   for (size_t i = 0; i < n; ++i) {
-    if (pm->start[i + 1] < pm->start[i]) return false;
+    if (pm->start[i + 1] < pm->start[i] || pm->start[i + 1] > pm->l.n) return false;
     for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k)
       if (pm->l.a[k] != i || pm->l.b[k] >= w->mesh.ntris ||
           (pm->l.touching[k] && pm->owner[k] >= w->mesh.ntris))
