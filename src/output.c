@@ -386,7 +386,8 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
     if (!end) break; /* a partial last row is dropped */
     char *num_end;
     double t = strtod(text + keep, &num_end);
-    if (num_end == text + keep || !(t <= t_resume)) break;
+    /* strtod skips blank lines: a time read past this row's end is not this row's. */
+    if (num_end == text + keep || num_end > end || !(t <= t_resume)) break;
     keep = (size_t)(end - text) + 1;
   }
   adem_status st = ADEM_OK;
