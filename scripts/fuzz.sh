@@ -82,8 +82,11 @@ run_target() {
   local corpus=$build/corpus/$t artifacts=$build/artifacts/$t log=$build/logs/fuzz_$t.log
   mkdir -p "$corpus" "$artifacts" "$build/logs"
   make_seeds "$t"
-  local opts=(-max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1
-              -artifact_prefix="$artifacts/")
+  # Fork mode (one job at a time) goes on past slow inputs and out-of-memory ones: a case may
+  # legitimately ask for a million particles (guards against those are a later step). They are
+  # counted and kept in the artifacts folder; a crash still stops the run.
+  local opts=(-fork=1 -ignore_timeouts=1 -ignore_ooms=1 -max_total_time="$secs" -timeout=5
+              -rss_limit_mb=2048 -artifact_prefix="$artifacts/")
   [ "$t" = case ] && opts+=(-dict=fuzz/case.dict -max_len=8192)
   [ "$t" = stl ] && opts+=(-max_len=16384)
   [ "$t" = checkpoint ] && opts+=(-max_len=32768)
@@ -91,11 +94,15 @@ run_target() {
   local rc=0 start=$SECONDS
   nice -n 15 timeout -k 10 $((secs + 120)) "$build/fuzz/fuzz_$t" "${opts[@]}" "$@" \
     "$corpus" "$build/seeds/$t" >"$log" 2>&1 || rc=$?
-  local execs cov
-  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
-  printf '%s target=%s seconds=%s wall=%s execs=%s cov=%s corpus=%s exit=%s\n' \
-    "$(date -u +%FT%TZ)" "$t" "$secs" $((SECONDS - start)) "${execs:-?}" "${cov:-?}" \
+  # The last progress line of fork mode: "#EXECS: cov: N ft: N corp: N exec/s N
+  # oom/timeout/crash: A/B/C time: Ss job: J dft_time: 0".
+  local last execs cov slow
+  last=$(grep -E '^#[0-9]+: cov:' "$log" | tail -1 || true)
+  execs=$(sed -E 's/^#([0-9]+):.*/\1/' <<<"$last")
+  cov=$(sed -E 's/.* cov: ([0-9]+) .*/\1/' <<<"$last")
+  slow=$(sed -E 's/.*oom\/timeout\/crash: ([0-9]+\/[0-9]+\/[0-9]+).*/\1/' <<<"$last")
+  printf '%s target=%s seconds=%s wall=%s execs=%s cov=%s oom/timeout/crash=%s corpus=%s exit=%s\n' \
+    "$(date -u +%FT%TZ)" "$t" "$secs" $((SECONDS - start)) "${execs:-0}" "${cov:-?}" "${slow:-?}" \
     "$(find "$corpus" -type f | wc -l)" "$rc" | tee -a "$build/fuzz-stats.txt" >&2
   if [ "$rc" -ne 0 ]; then
     grep -E 'ERROR|runtime error|SUMMARY|Test unit written' "$log" | head -20 >&2
