@@ -574,10 +574,15 @@ adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_err
   if (!o->csv || o->csv_fd < 0) return ADEM_OK;
   char *row = adem_output_csv_row(w, &o->track);
   if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  off_t before = lseek(o->csv_fd, 0, SEEK_END);
   int e = write_whole(o->csv_fd, row, strlen(row));
   free(row);
-  if (e) return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(e));
-  return ADEM_OK;
+  if (!e) return ADEM_OK;
+  /* A full disk may have taken part of the row: cut it off, so that the file keeps whole rows. */
+  if (before >= 0 && ftruncate(o->csv_fd, before) != 0)
+    adem_log(ADEM_LOG_WARN, "%s ends in a partial row that could not be removed: %s", o->csv_path,
+             strerror(errno));
+  return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(e));
 }
 
 void adem_output_close(adem_output *o) {
