@@ -5,7 +5,8 @@
 #       ctest labels unit, cli, golden and fuzz (the fuzz regression inputs). Any report fails.
 # tsan: clang with -fsanitize=thread and LLVM's OpenMP runtime (libomp) in build-tsan, with the
 #       Archer tool (libarcher.so) that tells TSan about OpenMP's barriers and tasks; runs the
-#       thread-determinism test (golden_test_threads) with 1, 2 and 3 threads. GCC's libgomp is
+#       golden tests, which compare 1, 2 and 3 threads bit for bit (test_threads, and the
+#       mesh-wall, stage and pour runs of test_mesh_restart and test_stages) and restarts. GCC's libgomp is
 #       not instrumented and has no such tool: TSan would see its barriers as races, hence
 #       libomp. libomp itself is not instrumented either: tests/tools/tsan.supp ignores what it
 #       does inside itself (its own mutexes), nothing in adem's code.
@@ -61,15 +62,15 @@ run_tsan() {
   local t1=$SECONDS
   local archer
   archer=$(ls /usr/lib/llvm-*/lib/libarcher.so 2>/dev/null | head -1 || true)
-  echo "sanitize.sh: tsan build ($((t1 - t0)) s); golden_test_threads with ${archer:-no Archer}" >&2
+  echo "sanitize.sh: tsan build ($((t1 - t0)) s); ctest -L golden with ${archer:-no Archer}" >&2
   # Clang 14's TSan wants the old mmap layout: setarch -R turns address randomisation off for
   # the test (newer kernels randomise more than its shadow memory allows).
   local setarch=()
   if setarch "$(uname -m)" -R true 2>/dev/null; then setarch=(setarch "$(uname -m)" -R); fi
   OMP_TOOL_LIBRARIES=$archer ARCHER_OPTIONS=verbose=1 \
   TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tools/tsan.supp" \
-    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -R '^golden_test_threads$' --output-on-failure
-  echo "sanitize.sh: tsan test took $((SECONDS - t1)) s" >&2
+    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -L golden -j"$jobs" --output-on-failure
+  echo "sanitize.sh: tsan tests took $((SECONDS - t1)) s" >&2
 }
 
 install_missing
