@@ -515,6 +515,9 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   for (size_t i = 0; i < p->n; ++i)
     if (p->material[i] >= w->nmaterials || (w->ngroups > 0 && p->group[i] >= w->ngroups))
       goto inconsistent;
+  for (int k = 0; k < w->nplanes; ++k)
+    if (w->planes[k].def.material < 0 || w->planes[k].def.material >= w->nmaterials)
+      goto inconsistent;
   c->dt = w->dt;
   /* The stage in force: its materials, walls and settings, replayed stage start by stage start
    * as the run made them (walls that started a new motion start it from where they were). */
@@ -534,7 +537,7 @@ truncated:
   return bad_file(err, path, "its contents are cut short or damaged");
 inconsistent:
   adem_case_free(c);
-  return bad_file(err, path, "its particle or pair indices are out of range");
+  return bad_file(err, path, "its particle, pair or wall indices are out of range");
 mismatch: {
   char why[ADEM_MSG_MAX];
   snprintf(why, sizeof why, "%s", err ? err->message : "its stage or pour state is damaged");
