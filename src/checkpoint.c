@@ -518,6 +518,14 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
   for (int k = 0; k < w->nplanes; ++k)
     if (w->planes[k].def.material < 0 || w->planes[k].def.material >= w->nmaterials)
       goto inconsistent;
+  /* What sizes the cell grid and the step must be finite and positive (a zero cell size would
+   * never fit the grid), as the case loader requires of them. */
+  if (!(w->dt > 0.0) || !isfinite(w->dt) || !(w->nb.skin_fraction > 0.0) ||
+      !isfinite(w->nb.skin_fraction) || !(w->nb.skin >= 0.0) || !isfinite(w->nb.skin))
+    goto not_finite;
+  for (size_t i = 0; i < p->n; ++i)
+    if (!(p->radius[i] > 0.0) || !isfinite(p->radius[i]) || !v3_isfinite(p->pos[i]))
+      goto not_finite;
   c->dt = w->dt;
   /* The stage in force: its materials, walls and settings, replayed stage start by stage start
    * as the run made them (walls that started a new motion start it from where they were). */
@@ -535,6 +543,9 @@ static adem_status restore(ck_reader *rd, const char *path, adem_case **out, ade
 truncated:
   adem_case_free(c);
   return bad_file(err, path, "its contents are cut short or damaged");
+not_finite:
+  adem_case_free(c);
+  return bad_file(err, path, "its time step, skin, radii or positions are not finite and positive");
 inconsistent:
   adem_case_free(c);
   return bad_file(err, path, "its particle, pair or wall indices are out of range");
