@@ -91,7 +91,8 @@ run_target() {
   [ "$t" = stl ] && opts+=(-max_len=16384)
   [ "$t" = checkpoint ] && opts+=(-max_len=32768)
   echo "fuzz.sh: fuzzing $t for $secs s (log: $log)" >&2
-  local rc=0 start=$SECONDS
+  local rc=0 start=$SECONDS marker=$build/logs/.start_$t
+  touch "$marker"
   nice -n 15 timeout -k 10 $((secs + 120)) "$build/fuzz/fuzz_$t" "${opts[@]}" "$@" \
     "$corpus" "$build/seeds/$t" >"$log" 2>&1 || rc=$?
   # The last progress line of fork mode: "#EXECS: cov: N ft: N corp: N exec/s N
@@ -104,6 +105,10 @@ run_target() {
   printf '%s target=%s seconds=%s wall=%s execs=%s cov=%s oom/timeout/crash=%s corpus=%s exit=%s\n' \
     "$(date -u +%FT%TZ)" "$t" "$secs" $((SECONDS - start)) "${execs:-0}" "${cov:-?}" "${slow:-?}" \
     "$(find "$corpus" -type f | wc -l)" "$rc" | tee -a "$build/fuzz-stats.txt" >&2
+  # A hang is a timeout too: every slow input of this run must be looked at.
+  local slow_files
+  slow_files=$(find "$artifacts" -newer "$marker" \( -name 'timeout-*' -o -name 'oom-*' -o -name 'slow-unit-*' \) | sort)
+  [ -z "$slow_files" ] || printf 'fuzz.sh: slow inputs of this run (look at each; a hang is one too):\n%s\n' "$slow_files" >&2
   if [ "$rc" -ne 0 ]; then
     grep -E 'ERROR|runtime error|SUMMARY|Test unit written' "$log" | head -20 >&2
     echo "fuzz.sh: $t failed; fix it and keep the input in fuzz/regressions/$t/" >&2
