@@ -101,16 +101,20 @@ static adem_status grow_u32(uint32_t **p, size_t *cap, size_t need) {
   return ADEM_OK;
 }
 
+/* One cell coordinate, clamped to 0 .. dim - 1 before the conversion to int: a position far
+ * outside the grid (or NaN, which the step then reports) must not overflow the int. */
+static inline int cell_clamp(double u, int dim) {
+  if (!(u >= 0.0)) return 0;
+  if (u >= (double)(dim - 1)) return dim - 1;
+  return (int)u;
+}
+
 /* Cell coordinates of a point, clamped to the grid. */
 static inline void cell_coords(const adem_neighbors *nb, adem_vec3 x, int c[3]) {
   double inv = 1.0 / nb->cell_size;
-  c[0] = (int)((x.x - nb->origin.x) * inv);
-  c[1] = (int)((x.y - nb->origin.y) * inv);
-  c[2] = (int)((x.z - nb->origin.z) * inv);
-  for (int d = 0; d < 3; ++d) {
-    if (c[d] >= nb->dims[d]) c[d] = nb->dims[d] - 1;
-    if (c[d] < 0) c[d] = 0;
-  }
+  c[0] = cell_clamp((x.x - nb->origin.x) * inv, nb->dims[0]);
+  c[1] = cell_clamp((x.y - nb->origin.y) * inv, nb->dims[1]);
+  c[2] = cell_clamp((x.z - nb->origin.z) * inv, nb->dims[2]);
 }
 
 /* Lays the grid over the particles' bounding box and sorts particles by cell. */

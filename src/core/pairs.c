@@ -114,10 +114,11 @@ adem_status adem_mesh_pairs_load(adem_reader *rd, adem_mesh_pairs *pm, size_t np
 }
 
 bool adem_mesh_pairs_consistent(const adem_mesh_pairs *pm, size_t n, size_t ntris) {
-  if (pm->l.n == 0) return true;
-  if (!pm->start || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
+  if (!pm->start) return pm->l.n == 0;
+  /* The stepper walks every particle's range, contacts or not: all n + 1 bounds must be there. */
+  if (pm->start_cap < n + 1 || pm->start[0] != 0 || pm->start[n] != pm->l.n) return false;
   for (size_t i = 0; i < n; ++i) {
-    if (pm->start[i + 1] < pm->start[i]) return false;
+    if (pm->start[i + 1] < pm->start[i] || pm->start[i + 1] > pm->l.n) return false;
     for (size_t k = pm->start[i]; k < pm->start[i + 1]; ++k)
       if (pm->l.a[k] != i || pm->l.b[k] >= ntris || (pm->l.touching[k] && pm->owner[k] >= ntris))
         return false;

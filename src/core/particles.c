@@ -89,7 +89,7 @@ void adem_particles_drift(adem_particles *p, double dt, int nthreads) {
 }
 
 void adem_particles_mark_build(adem_particles *p) {
-  memcpy(p->pos_at_build, p->pos, p->n * sizeof *p->pos);
+  if (p->n) memcpy(p->pos_at_build, p->pos, p->n * sizeof *p->pos); /* none yet: both NULL */
 }
 
 void adem_particles_save(adem_writer *wr, const adem_particles *p) {

@@ -752,7 +752,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   adem_get_array(rd, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
   if (rd->failed) return damaged(err, cut);
   /* Indices must be in range before the gather lists and the stepper use them. */
-  const char *bad = "its particle or pair indices are out of range";
+  const char *bad = "its particle, pair or wall indices are out of range";
   const adem_particles *p = &w->p;
   for (size_t k = 0; k < w->pp.n; ++k)
     if (w->pp.a[k] >= p->n || w->pp.b[k] >= p->n) return damaged(err, bad);
@@ -762,6 +762,18 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   for (size_t i = 0; i < p->n; ++i)
     if (p->material[i] >= w->mat.n || (w->ngroups > 0 && p->group[i] >= w->ngroups))
       return damaged(err, bad);
+  for (int k = 0; k < w->walls.nplanes; ++k)
+    if (w->walls.planes[k].def.material < 0 || w->walls.planes[k].def.material >= w->mat.n)
+      return damaged(err, "its particle, pair or wall indices are out of range");
+  /* What sizes the cell grid and the step must be finite and positive (a zero cell size would
+   * never fit the grid), as the case loader requires of them. */
+  const char *nonfinite = "its time step, skin, radii or positions are not finite and positive";
+  if (!(w->dt > 0.0) || !isfinite(w->dt) || !(w->nb.skin_fraction > 0.0) ||
+      !isfinite(w->nb.skin_fraction) || !(w->nb.skin >= 0.0) || !isfinite(w->nb.skin))
+    return damaged(err, nonfinite);
+  for (size_t i = 0; i < p->n; ++i)
+    if (!(p->radius[i] > 0.0) || !isfinite(p->radius[i]) || !v3_isfinite(p->pos[i]))
+      return damaged(err, nonfinite);
   return ADEM_OK;
 }
 

@@ -378,7 +378,8 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
     if (!end) break; /* a partial last row is dropped */
     char *num_end;
     double t = strtod(text + keep, &num_end);
-    if (num_end == text + keep || !(t <= t_resume)) break;
+    /* strtod skips blank lines: a time read past this row's end is not this row's. */
+    if (num_end == text + keep || num_end > end || !(t <= t_resume)) break;
     keep = (size_t)(end - text) + 1;
   }
   adem_status st = ADEM_OK;
@@ -565,10 +566,15 @@ adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_err
   if (!o->csv || o->csv_fd < 0) return ADEM_OK;
   char *row = adem_output_csv_row(w, &o->track);
   if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  off_t before = lseek(o->csv_fd, 0, SEEK_END);
   int e = write_whole(o->csv_fd, row, strlen(row));
   free(row);
-  if (e) return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(e));
-  return ADEM_OK;
+  if (!e) return ADEM_OK;
+  /* A full disk may have taken part of the row: cut it off, so that the file keeps whole rows. */
+  if (before >= 0 && ftruncate(o->csv_fd, before) != 0)
+    adem_log(ADEM_LOG_WARN, "%s ends in a partial row that could not be removed: %s", o->csv_path,
+             strerror(errno));
+  return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", o->csv_path, strerror(e));
 }
 
 void adem_output_close(adem_output *o) {
