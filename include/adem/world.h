@@ -154,6 +154,9 @@ void adem_world_set_threads(adem_world *w, int nthreads); /* results do not depe
 int adem_default_thread_count(void);
 void adem_world_set_skin(adem_world *w, double skin_fraction); /* skin as a fraction of max diameter */
 void adem_world_set_max_overlap_ratio(adem_world *w, double ratio);
+/* Overlaps allowed at the start, as a fraction of the smaller radius (default 0: none): for a
+ * settled bed made by another run or code. Larger ones are refused, naming the pair. */
+void adem_world_set_initial_overlap(adem_world *w, double ratio);
 void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape check */
 /* Neighbour search: a cell grid (default), or every pair (O(N^2): a two-body study is faster
  * without a grid). Results are the same. */

@@ -329,6 +329,10 @@ void adem_world_set_skin(adem_world *w, double skin_fraction) {
   w->prepared = false;
 }
 void adem_world_set_max_overlap_ratio(adem_world *w, double ratio) { w->max_overlap_ratio = ratio; }
+void adem_world_set_initial_overlap(adem_world *w, double ratio) {
+  w->initial_overlap = ratio > 0.0 ? ratio : 0.0;
+  w->prepared = false;
+}
 void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi) {
   w->has_domain = true;
   w->domain_lo = lo;
@@ -422,7 +426,7 @@ static adem_status check_initial_mesh(const adem_world *w, adem_error *err) {
       adem_triangle_feature f;
       double d = sqrt(adem_triangle_distance2(&w->walls.mesh, t, p->pos[i], &q, &f));
       double overlap = p->radius[i] - d;
-      if (overlap > 1e-9 * p->radius[i])
+      if (overlap > fmax(1e-9, w->initial_overlap) * p->radius[i])
         return adem_error_set(err, ADEM_ERR_INPUT,
                               "particle id %llu at (%g, %g, %g) overlaps mesh group '%s' (triangle "
                               "%u) by %g m at the start; move it off the wall or shrink it",
@@ -439,14 +443,16 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
     size_t i = w->pp.a[k], j = w->pp.b[k];
     double dist = v3_norm(v3_sub(p->pos[j], p->pos[i]));
     double overlap = p->radius[i] + p->radius[j] - dist;
-    double tol = 1e-9 * fmin(p->radius[i], p->radius[j]);
+    double tol = fmax(1e-9, w->initial_overlap) * fmin(p->radius[i], p->radius[j]);
     if (overlap > tol)
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "initial particles overlap: id %llu at (%g, %g, %g) and id %llu at "
-                            "(%g, %g, %g) overlap by %g m; move them apart or shrink them",
+                            "(%g, %g, %g) overlap by %g m (%.3g of the smaller radius, allowed "
+                            "%.3g); move them apart or shrink them, or allow overlaps from a "
+                            "settled bed with limits.initial_overlap",
                             (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
                             (unsigned long long)p->id[j], p->pos[j].x, p->pos[j].y, p->pos[j].z,
-                            overlap);
+                            overlap, overlap / fmin(p->radius[i], p->radius[j]), w->initial_overlap);
   }
   for (size_t i = 0; i < p->n; ++i)
     for (int k = 0; k < w->walls.nplanes; ++k) {

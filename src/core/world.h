@@ -45,6 +45,7 @@ struct adem_world {
 
   /* safety limits */
   double max_overlap_ratio; /* stop when a contact overlaps more than this fraction */
+  double initial_overlap;   /* overlap allowed at prepare, fraction of the smaller radius */
   bool has_domain;
   adem_vec3 domain_lo, domain_hi;
 

@@ -669,7 +669,8 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
-/* An explicit list of spheres; none of them may overlap another of the list. */
+/* An explicit list of spheres; none of them may overlap another of the list unless
+ * limits.initial_overlap accepts some overlap (then the world checks the depth at prepare). */
 static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int group) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, set, "spheres", &l);
@@ -688,7 +689,7 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
     if ((st = push_sphere(ctx, x, r, v, w))) return st;
     rmax = fmax(rmax, r);
   }
-  if (l.n > 1) {
+  if (l.n > 1 && ctx->initial_overlap <= 0.0) {
     adem_vec3 lo = ctx->pos[first], hi = lo;
     for (size_t i = first; i < ctx->n; ++i) {
       adem_vec3 p = ctx->pos[i];
@@ -708,7 +709,8 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
         snprintf(pb, sizeof pb, "%.240s[%zu]", l.path, b);
         adem_yaml_where_short(ctx, na, first_at, sizeof first_at);
         st = adem_yaml_fail(ctx, nb, pb,
-                  "overlaps %s (at %s): centre distance %g m < sum of radii %g m", pa, first_at,
+                  "overlaps %s (at %s): centre distance %g m < sum of radii %g m (a settled "
+                  "bed may overlap: set limits.initial_overlap)", pa, first_at,
                   v3_norm(v3_sub(ctx->pos[i], ctx->pos[j])), ctx->rad[i] + ctx->rad[j]);
       } else if (adem_insert_grid_add(&g, ctx->pos, ctx->rad, i)) {
         st = adem_yaml_nomem(ctx);
@@ -1453,6 +1455,14 @@ static adem_status build(case_ctx *ctx) {
   if ((st = build_interactions(ctx, &root))) return st;
   if ((st = build_groups(ctx, &root))) return st;
   if ((st = build_walls(ctx, &root))) return st;
+  /* Limits first: an explicit list may overlap by what limits.initial_overlap accepts. */
+  double skin, overlap, initial = 0.0;
+  if ((st = adem_yaml_get_map(ctx, &root, "limits", &limits))) return st;
+  if ((st = adem_yaml_get_number(ctx, &limits, "max_overlap_ratio", &overlap, NULL))) return st;
+  adem_world_set_max_overlap_ratio(ctx->w, overlap);
+  if ((st = adem_yaml_get_number(ctx, &limits, "initial_overlap", &initial, NULL))) return st;
+  adem_world_set_initial_overlap(ctx->w, initial);
+  ctx->initial_overlap = initial;
   if ((st = build_particles(ctx, &root))) return st;
   if ((st = build_pours(ctx, &root))) return st;
 
@@ -1460,13 +1470,9 @@ static adem_status build(case_ctx *ctx) {
   if ((st = adem_yaml_get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
   adem_world_set_gravity(ctx->w, g);
 
-  double skin, overlap;
   if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
   if ((st = adem_yaml_get_number(ctx, &nb, "skin", &skin, NULL))) return st;
   adem_world_set_skin(ctx->w, skin);
-  if ((st = adem_yaml_get_map(ctx, &root, "limits", &limits))) return st;
-  if ((st = adem_yaml_get_number(ctx, &limits, "max_overlap_ratio", &overlap, NULL))) return st;
-  adem_world_set_max_overlap_ratio(ctx->w, overlap);
 
   adem_output_settings *o = &c->output;
   if ((st = adem_yaml_get_map(ctx, &root, "output", &out))) return st;

@@ -49,6 +49,7 @@ typedef struct case_ctx {
   double vmax;      /* largest initial speed of a particle or a plane wall */
   bool has_box;     /* bounding box of particles and walls */
   adem_vec3 box_lo, box_hi;
+  double initial_overlap; /* limits.initial_overlap, read before the particles */
 } case_ctx;
 
 /* A mapping being read: its node (NULL when the section is absent) and where it sits. */

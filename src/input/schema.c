@@ -181,6 +181,7 @@ static const adem_schema_entry base_schema[] = {
 
     {"limits", NULL, MAP, "", NULL, NULL, .doc = "Safety limits that stop a run that has gone wrong."},
     {"limits.max_overlap_ratio", NULL, NUM, "", "0.2", NULL, GT_LE(0, 1), .doc = "Stop the run when a contact's overlap exceeds this fraction of the smaller radius."},
+    {"limits.initial_overlap", NULL, NUM, "", "0", NULL, .lo = 0, .hi = 0.5, .range = ADEM_RANGE_MIN | ADEM_RANGE_MAX, .doc = "Overlaps allowed between particles (and with mesh walls) at the start, as a fraction of the smaller radius: for a bed settled by another run or code. 0 refuses any."},
 
     {"output", NULL, MAP, "", NULL, NULL, .doc = "What a run writes; an interval of 0 switches that output off."},
     {"output.dir", NULL, STR, "", NULL, "`out/<name>`", .doc = "Output directory (created if missing)."},

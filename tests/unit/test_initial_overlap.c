@@ -1,0 +1,54 @@
+/* A case may start from overlapping positions (a bed settled by another code) only when it says
+ * how much overlap it accepts: limits.initial_overlap, a fraction of the smaller radius. Two
+ * spheres overlapping by 5% of their radius: refused by default (the message names the pair and
+ * the key), accepted with 0.06, refused again with 0.04. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <cmocka.h>
+
+#include <string.h>
+
+#include "adem/adem.h"
+#include "case_text.h"
+
+static const char *text =
+    "materials: [{name: m, density: 1000, youngs_modulus: 1e7, poisson_ratio: 0.3}]\n"
+    "particles:\n"
+    "  - type: list\n"
+    "    material: m\n"
+    "    spheres:\n"
+    "      - {position: [0, 0, 0], radius: 0.01}\n"
+    "      - {position: [0.0195, 0, 0], radius: 0.01}\n"
+    "gravity: [0, 0, 0]\n"
+    "time: {end: 0.001}\n";
+
+static adem_status prepare_with(const char *set, adem_error *err) {
+  adem_case *c = NULL;
+  const char *sets[1] = {set};
+  adem_status st = adem_case_load_string(text, "overlap.yaml", sets, set ? 1 : 0, &c, err);
+  if (!st) st = adem_world_prepare(c->world, err);
+  if (!st) st = adem_world_step(c->world, 10, err); /* pushed apart, no blow-up */
+  adem_case_free(c);
+  return st;
+}
+
+static void test_initial_overlap(void **state) {
+  (void)state;
+  adem_error err;
+  assert_int_equal(prepare_with(NULL, &err), ADEM_ERR_INPUT);
+  printf("# %s\n", err.message);
+  assert_contains(err.message, "spheres[1]");
+  assert_contains(err.message, "limits.initial_overlap");
+  assert_int_equal(prepare_with("limits.initial_overlap=0.06", &err), ADEM_OK);
+  assert_int_equal(prepare_with("limits.initial_overlap=0.04", &err), ADEM_ERR_INPUT);
+  assert_int_equal(prepare_with("limits.initial_overlap=0.7", &err), ADEM_ERR_INPUT); /* > 0.5 */
+  printf("# %s\n", err.message);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_initial_overlap)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
