@@ -5,8 +5,8 @@
 # MPI ranks, interleaved (every repetition runs every case of every code before the next
 # repetition starts), and prints medians: million particle-steps per second, contacts per
 # particle, neighbour-list builds and net bytes per particle = (sum over ranks of the peak RSS -
-# the same for an "empty" run: same input, same box, one sphere) / (N - 1). adem joins through the hook
-# below once bench_bed reads a data file.
+# the same for an "empty" run: same input, same box, one sphere) / (N - 1). adem runs
+# bench/bench_bed.c on the same data file with OpenMP threads instead of ranks.
 #
 #   bench/peers/run_peers.sh                  # the full comparison (100,000 spheres)
 #   PEERS_N=10000 PEERS_REPS=1 bench/peers/run_peers.sh     # a small correctness run
@@ -20,8 +20,8 @@
 #   PEERS_STEPS [1000]        timed steps
 #   PEERS_NP ["1 2"]          MPI ranks (LAMMPS and LIGGGHTS) / OpenMP threads (adem)
 #   PEERS_BEDS ["hertz jkr"]  which beds
-#   PEERS_CODES ["adem lammps liggghts"]  adem runs only when PEERS_ADEM_BENCH is set
-#   PEERS_ADEM_BENCH []       path of adem's bench_bed (see the hook)
+#   PEERS_CODES ["adem lammps liggghts"]
+#   PEERS_ADEM_BENCH [build/bench/bench_bed]  adem's bench_bed (cmake --build build first)
 #   PEERS_CHECK [0]           1: verification runs (walls record forces; never use for timing)
 #   PEERS_COUNT_REP [1]       the repetition whose runs count contacts (the count allocates a
 #                             neighbour list, so the other repetitions give the memory figures)
@@ -47,6 +47,7 @@ NICE=${PEERS_NICE:-10}
 OUT=${PEERS_OUT:-$here/runs/$(date +%Y%m%d-%H%M%S)}
 LMP=${PEERS_LMP:-lmp}
 LIGGGHTS=${PEERS_LIGGGHTS:-liggghts}
+ADEM_BENCH=${PEERS_ADEM_BENCH:-$here/../../build/bench/bench_bed}
 
 # --- 1. the codes: Debian's lammps (lmp, 29Sep2021 in bookworm) and liggghts (3.8.0) ---------
 need=""
@@ -110,26 +111,20 @@ run_code() {
   esac
 }
 
-# ---- HOOK: adem ------------------------------------------------------------------------------
-# Filled in when bench/bench_bed.c reads a data file (`bench_bed --data FILE`). Contract, so that
-# the parser and the table need no change: run on ONE process with NP OpenMP threads under
-# rss.sh, relax RELAX steps untimed, time STEPS steps, and write to PREFIX.log the lines
-#   PEERS timed <STEPS>
-#   PEERS particles <N>
-#   PEERS loop_seconds <wall seconds of the timed steps>
-#   PEERS rebuilds <neighbour-list builds during the timed steps>
-#   PEERS contacts_per_particle <2 * pair contacts / N + wall contacts / N>  (when $count = 1)
-# With physics set to match (docs/performance.md): Hertz or simplified JKR (gamma = PEERS_GAMMA),
-# COR, friction, rolling model C with eta_r = PEERS_ROLLING and no rolling damping (as epsd2 and
-# the sds settings here), 5 walls of the particles' material, skin PEERS_SKIN, dt PEERS_DT.
-# The "empty" run (FILE = emptyN.data, one sphere) must run the same code path.
+# ---- adem -----------------------------------------------------------------------------------
+# bench/bench_bed.c --data: one process with NP OpenMP threads under rss.sh; relaxes RELAX steps
+# untimed, times STEPS steps and writes "PEERS key value" lines (timed, particles, loop_seconds,
+# rebuilds, contacts_per_particle, ...) to PREFIX.log. Physics as the peers' (docs/performance.md):
+# Hertz or simplified JKR (gamma = PEERS_GAMMA) between spheres, Hertz walls, COR, friction,
+# rolling model C with eta_r = PEERS_ROLLING and no rolling damping, skin PEERS_SKIN, dt PEERS_DT.
 run_adem() {
   local bed=$1 np=$2 prefix=$3 file=$4
-  [ -n "${PEERS_ADEM_BENCH:-}" ] || return 3
-  # Proposed call; adjust to bench_bed's options when they exist:
-  OMP_NUM_THREADS=$np nice -n "$NICE" "$here/rss.sh" "$prefix.rss" "$PEERS_ADEM_BENCH" \
+  [ -x "$ADEM_BENCH" ] || return 3
+  OMP_NUM_THREADS=$np nice -n "$NICE" "$here/rss.sh" "$prefix.rss" "$ADEM_BENCH" \
     --data "$file" --normal "$bed" --gamma "$PEERS_GAMMA" --rolling model_c \
     --rolling-friction "$PEERS_ROLLING" --skin "$PEERS_SKIN" --dt "$PEERS_DT" \
+    --young "$PEERS_YOUNG" --poisson "$PEERS_POISSON" --restitution "$PEERS_COR" \
+    --friction "$PEERS_FRICTION" --gravity "$PEERS_GRAVITY" \
     --relax "$RELAX" --steps "$STEPS" --threads "$np" > "$prefix.log" 2> "$prefix.out"
 }
 # ---- end of the adem hook ---------------------------------------------------------------------
@@ -166,7 +161,9 @@ for rep in $(seq 1 "$REPS"); do
   for bed in $BEDS; do
     for np in $NPS; do
       for code in $CODES; do
-        if [ "$code" = adem ] && [ -z "${PEERS_ADEM_BENCH:-}" ]; then continue; fi
+        if [ "$code" = adem ] && [ ! -x "$ADEM_BENCH" ]; then
+          echo "run_peers: no $ADEM_BENCH (cmake --build build): adem skipped" >&2; continue
+        fi
         tag=$code-$bed-np$np-r$rep
         echo "run_peers: $tag (load $(cut -d' ' -f1 /proc/loadavg))" >&2
         run_code "$code" "$bed" "$np" "$OUT/logs/$tag" "$data" || { echo "run_peers: $tag failed, see $OUT/logs/$tag.out" >&2; exit 1; }

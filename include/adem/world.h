@@ -294,6 +294,9 @@ int adem_world_mesh_wall_count(const adem_world *w);
 void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
                            adem_vec3 *wall_force, adem_vec3 *wall_torque);
 
+/* Neighbour-list builds since the world was made (performance figures). */
+uint64_t adem_world_neighbor_builds(const adem_world *w);
+
 /* Memory: bytes per particle and per candidate pair of the world's arrays. */
 size_t adem_world_bytes_per_particle(void);
 size_t adem_world_bytes_per_pair(void);

@@ -945,6 +945,8 @@ void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
   }
 }
 
+uint64_t adem_world_neighbor_builds(const adem_world *w) { return w->nb.rebuilds; }
+
 size_t adem_world_bytes_per_particle(void) {
   /* the particle table and the per-particle entries of the neighbour and mesh-slot ranges */
   return adem_soa_item_bytes(adem_particles_layout()) + 2 * sizeof(size_t) + sizeof(size_t);
