@@ -15,7 +15,8 @@
 
 static const char *const main_help =
     "adem " ADEM_VERSION_STRING ": a Discrete Element Method engine for adhesive and granular spheres\n"
-    "(Hertz and simplified JKR contacts, friction, rolling resistance, plane walls).\n"
+    "(Hertz and simplified JKR contacts, friction, rolling resistance; plane, box and\n"
+    "triangle-mesh walls with prescribed motion; pours and staged runs).\n"
     "\n"
     "Usage:\n"
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"

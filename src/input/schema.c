@@ -44,7 +44,7 @@ static const adem_schema_entry base_schema[] = {
     {"materials[].poisson_ratio", NULL, NUM, "", NULL, NULL, GT_LT(-1, 0.5), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `rigid: true`", .doc = "Poisson's ratio nu."},
     {"materials[].restitution", NULL, NUM, "", "0.5", NULL, GT_LE(0, 1), .doc = "Coefficient of restitution e of a collision between two spheres of this material."},
     {"materials[].friction", NULL, NUM, "", "0.5", NULL, GE(0), .doc = "Sliding friction coefficient mu_s."},
-    {"materials[].stiffness_factor", NULL, NUM, "", "1", NULL, GT_LE(0, 1), .doc = "Stiffness reduction f = E_mod/E; surface energy is scaled by f^(2/5) to keep the pull-off force."},
+    {"materials[].stiffness_factor", NULL, NUM, "", "1", NULL, GT_LE(0, 1), .doc = "Stiffness reduction f = E_mod/E; surface energy is scaled by f^(2/5) to keep the pull-off force. Without adhesion (Hertz, no surface energy) it is the same as giving `youngs_modulus` f E."},
     {"materials[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
     {"materials[].rigid", NULL, BOOL, "", "false", NULL, .doc = "`true`: infinite Young's modulus; for wall materials only."},
 
@@ -557,7 +557,9 @@ void adem_schema_write_markdown(FILE *f) {
         "checkpoint keeps that folder as an absolute path, so `adem run --resume` works from "
         "anywhere). The transform is x' = R (scale x) + translate, R the `rotate` entries in order. "
         "Each group (the file, or each `solid` of an ASCII file with several) gets CSV columns "
-        "`GROUP_fx_N` ... and `GROUP_tx_Nm` ...: the force of the particles on it and its torque "
+        "`GROUP_fx_N` ... and `GROUP_tx_Nm` ... (a dot of a group's or a box plane's name is "
+        "written `__`: `hopper.funnel` gives `hopper__funnel_fz_N`, a name numpy's "
+        "`genfromtxt(names=True)` keeps; it drops a `-`, so prefer `_` in names): the force of the particles on it and its torque "
         "about `torque_about` (default: the group's area centroid), the point carried with the "
         "wall's motion; a file with several groups also gets the columns of its total, its torque "
         "about the file's centroid. A particle cutting into a mesh face at the start is an "

@@ -246,16 +246,27 @@ static char *sb_finish(strbuf *b) {
   return b->s;
 }
 
-/* Mesh loads: force and torque on every group, then on every file with several groups (a file
- * of one group would repeat its columns). Names from the case: one CSV field per column. */
+/* A wall's name as the start of CSV column names: one CSV field per column, and names that
+ * numpy's genfromtxt(names=True) keeps (it drops every character but letters, digits and `_`):
+ * the dot of a mesh group or a box's plane (`hopper.funnel`, `box.xmin`) becomes `__`. */
 static void csv_field_name(char *buf, size_t n, const char *name) {
-  snprintf(buf, n, "%s", name);
-  for (char *c = buf; *c; ++c)
-    if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
+  size_t k = 0;
+  for (const char *c = name; *c && k + 2 < n; ++c) {
+    if (*c == '.') {
+      buf[k++] = '_';
+      buf[k++] = '_';
+    } else {
+      buf[k++] = (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') ? '_' : *c;
+    }
+  }
+  if (n) buf[k < n ? k : n - 1] = '\0';
 }
 
+/* Mesh loads: force and torque on every group, then on every file with several groups (a file
+ * of one group would repeat its columns). */
+
 static void mesh_csv_header(strbuf *b, const adem_world *w) {
-  char name[ADEM_NAME_MAX];
+  char name[2 * ADEM_NAME_MAX];
   for (int g = 0; g < w->walls.mesh.ngroups + w->walls.nmesh_walls; ++g) {
     bool group = g < w->walls.mesh.ngroups;
     const adem_mesh_wall *mw = group ? NULL : &w->walls.mesh_walls[g - w->walls.mesh.ngroups];
@@ -290,11 +301,9 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
                 "contacts_pw,max_overlap_ratio");
   for (int k = 0; k < w->walls.nplanes; ++k) {
     /* Plane names come from the case file: keep the header one CSV field per column. */
-    char name[ADEM_NAME_MAX];
-    snprintf(name, sizeof name, "%s", w->walls.planes[k].def.name);
+    char name[2 * ADEM_NAME_MAX];
+    csv_field_name(name, sizeof name, w->walls.planes[k].def.name);
     if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
-    for (char *c = name; *c; ++c)
-      if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
     sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
   }
   mesh_csv_header(&b, w);

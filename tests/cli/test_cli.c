@@ -91,6 +91,7 @@ static void test_help_and_version(void **state) {
   char *out;
   assert_int_equal(adem(&out, "--help"), 0);
   assert_mentions(out, "exit status");
+  assert_mentions(out, "triangle-mesh walls");
   assert_mentions(out, "adem run");
   assert_int_equal(adem(&out, "run --help"), 0);
   assert_mentions(out, "--resume");
@@ -110,6 +111,21 @@ static void test_help_and_version(void **state) {
 static void test_unknown_key(void **state) {
   (void)state;
   expect_bad_case("name: cli\n", "name: cli\ncolour: red\n", "colour", NULL);
+  /* other codes' names for our keys get the key, where edit distance would not find it */
+  expect_bad_case("    friction: 0.3\n", "    friction: 0.3\n    rolling_resistance: 0.2\n",
+                  "rolling_resistance", "did you mean `rolling_friction`");
+  expect_bad_case("    restitution: 0.5\n", "    coefficient_of_restitution: 0.5\n",
+                  "coefficient_of_restitution", "did you mean `restitution`");
+  expect_bad_case("    youngs_modulus: 1.0e7\n", "    youngs: 1.0e7\n", "youngs",
+                  "did you mean `youngs_modulus`");
+  /* a synonym is offered only where its key is allowed: `time` has no rolling_friction */
+  char *text = replaced(base_case, "  end: 0.001\n", "  end: 0.001\n  rolling_resistance: 1\n");
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 2);
+  assert_false(mentions(out, "did you mean"));
+  free(text);
+  free(path);
 }
 
 static void test_wrong_type(void **state) {
