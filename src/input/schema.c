@@ -187,8 +187,8 @@ static const adem_schema_entry base_schema[] = {
     {"output.frame_interval", NULL, NUM, "s", NULL, "time.end / 100", GE(0), .doc = "Simulated time between VTU frames."},
     {"output.csv_interval", NULL, NUM, "s", NULL, "time.end / 1000", GE(0), .doc = "Simulated time between rows of the CSV time series."},
     {"output.checkpoint_interval", NULL, NUM, "s", NULL, "time.end / 10", GE(0), .doc = "Simulated time between checkpoint rewrites."},
-    {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run."},
-    {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run: the load along gravity on every mesh group and plane against time, with the particles' weight."},
+    {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run, however it ends (done, stopped by Ctrl-C or SIGTERM, failed, or resumed to its end)."},
+    {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run, however it ends: the load along gravity on every mesh group and plane against time, with the particles' weight."},
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
 

@@ -110,6 +110,32 @@ static adem_status plot_loads(const adem_case *c, const char *dir, bool have_csv
   return st;
 }
 
+/* output.plot and output.plot_loads: energy.png and loads.png from the CSV in dir. */
+static adem_status write_plots(const adem_case *c, const char *dir, adem_error *err) {
+  if (!c->output.plot && !c->output.plot_loads) return ADEM_OK;
+  bool have_csv = adem_stages_output_on(c, 1);
+  adem_status st = ADEM_OK;
+  if (c->output.plot) {
+    if (!have_csv) {
+      adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
+    } else {
+      char *csv = adem_file_join(dir, "timeseries.csv");
+      char *png = adem_file_join(dir, "energy.png");
+      if (csv && png) {
+        char title[ADEM_NAME_MAX + 32];
+        snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");
+        st = adem_output_plot_energy(csv, png, title, err);
+      } else {
+        st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+      }
+      free(csv);
+      free(png);
+    }
+  }
+  if (!st && c->output.plot_loads) st = plot_loads(c, dir, have_csv, err);
+  return st;
+}
+
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
   adem_run_options opt = opt_in ? *opt_in : adem_default_run_options();
   adem_world *w = c->world;
@@ -137,7 +163,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   const uint64_t step0 = w->step;
   if (resume && step0 >= total) {
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
-    return ADEM_OK;
+    return write_plots(c, dir, err);
   }
   /* Frames 0, k, 2k, ... up to this step (k of each stage) were written before the checkpoint. */
   size_t frames_done = resume ? (size_t)adem_stages_frames_done(c, step0) : 0;
@@ -223,24 +249,18 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     }
   }
   adem_output_close(&out);
-  if (!st && c->output.plot) {
-    if (k_csv == 0) {
-      adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
-    } else {
-      char *csv = adem_file_join(dir, "timeseries.csv");
-      char *png = adem_file_join(dir, "energy.png");
-      if (csv && png) {
-        char title[ADEM_NAME_MAX + 32];
-        snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");
-        st = adem_output_plot_energy(csv, png, title, err);
-      } else {
-        st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-      }
-      free(csv);
-      free(png);
+  /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
+   * failed (they show how it went wrong). A plot that fails then is a warning only. */
+  if (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME) {
+    adem_error perr = {ADEM_OK, ""};
+    adem_status pst = write_plots(c, dir, &perr);
+    if (pst && !st) {
+      st = pst;
+      if (err) *err = perr;
+    } else if (pst) {
+      adem_log(ADEM_LOG_WARN, "%s", perr.message);
     }
   }
-  if (!st && c->output.plot_loads) st = plot_loads(c, dir, k_csv > 0, err);
   free(ckpt_path);
   return st;
 }
