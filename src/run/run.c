@@ -55,8 +55,9 @@ static uint64_t next_event(uint64_t step, uint64_t total, const uint64_t *period
   return next;
 }
 
+/* Samples the run for its ETA and calls the progress hook. */
 static void report(const adem_run_options *opt, const adem_world *w, double end_time,
-                   uint64_t total, uint64_t step0, double t0) {
+                   uint64_t total, double t0, adem_eta *eta) {
   if (!opt->progress) return;
   adem_progress p;
   memset(&p, 0, sizeof p);
@@ -65,14 +66,13 @@ static void report(const adem_run_options *opt, const adem_world *w, double end_
   p.step = w->step;
   p.total_steps = total;
   p.wall_seconds = wall_now() - t0;
-  uint64_t done = w->step - step0;
-  p.steps_per_second = p.wall_seconds > 0.0 ? (double)done / p.wall_seconds : 0.0;
-  p.eta_seconds = -1.0;
-  if (done > 0 && p.steps_per_second > 0.0)
-    p.eta_seconds = (double)(total > w->step ? total - w->step : 0) / p.steps_per_second;
   for (size_t k = 0; k < w->pp.n; ++k) p.contacts += w->pp.touching[k];
   for (size_t k = 0; k < w->pw.n; ++k) p.contacts += w->pw.touching[k];
   for (size_t k = 0; k < w->pm.l.n; ++k) p.contacts += w->pm.l.touching[k];
+  p.particles = w->p.n;
+  adem_eta_add(eta, p.wall_seconds, w->step, p.contacts, p.particles);
+  p.steps_per_second = adem_eta_rate(eta);
+  p.eta_seconds = adem_eta_seconds(eta, total, &p.eta_rough);
   opt->progress(&p, opt->progress_user);
 }
 
@@ -189,7 +189,9 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   }
   const double t0 = wall_now();
   double last_report = t0;
-  report(&opt, w, c->end_time, total, step0, t0);
+  adem_eta eta;
+  adem_eta_init(&eta);
+  report(&opt, w, c->end_time, total, t0, &eta);
   uint64_t chunk_cap = RUN_MAX_CHUNK;
 
   while (!st && w->step < total) {
@@ -235,7 +237,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
     double now = wall_now();
     if (now - last_report >= RUN_PROGRESS_SECONDS || last) {
-      report(&opt, w, c->end_time, total, step0, t0);
+      report(&opt, w, c->end_time, total, t0, &eta);
       last_report = now;
     }
     if (!last && opt.stop_flag && *opt.stop_flag) {
