@@ -586,6 +586,11 @@ void adem_schema_write_markdown(FILE *f) {
               lw->doc);
     }
   fputs("\n", f);
+  /* The rule lives in the parameter's row; `adem check` prints what each pair uses by it. */
+  fprintf(f, "**Which values a pair uses.** Restitution and friction: the mean of the two "
+             "materials', or the interaction entry's. `rolling_friction`: %s `adem check` prints "
+             "the e_c or eta_r of every pair and where it comes from.\n\n",
+          adem_law_param_get(ADEM_PARAM_ROLLING_FRICTION)->doc);
 
   fputs("## Top-level keys\n\n", f);
   md_header(f);

@@ -69,6 +69,38 @@ static void print_jkr(FILE *f, const adem_world *w, int a, int b, bool wall, con
   }
 }
 
+/* The rolling friction eta_r a pair's rolling law uses (the rule of the rolling_friction row in
+ * adem/laws.h): BROF's e_c = min(eta_i r_i, eta_j r_j), models A and C the mean eta_r with
+ * R_r = r_i r_j/(r_i + r_j); on a wall the particle's eta_r with r_i, the wall material's unused;
+ * an interaction entry's value replaces both sides'. */
+static void print_rolling_friction(FILE *f, const adem_world *w, int a, int b, bool wall) {
+  const adem_interaction *it = adem_world_interaction(w, a, b);
+  const adem_law *law = adem_law_get(ADEM_SLOT_ROLLING, (int)it->rolling);
+  if (!law || !adem_law_reads(law, "rolling_friction")) return;
+  const int k = ADEM_PARAM_ROLLING_FRICTION;
+  double ea = it->pp.param_a[k], eb = it->pp.param_b[k];
+  const char *na = w->mat.m[a].def.name, *nb = w->mat.m[b].def.name;
+  bool brof = it->rolling == ADEM_ROLLING_BROF;
+  char from[2 * ADEM_NAME_MAX + 96];
+  if (it->set_param[k])
+    snprintf(from, sizeof from, "the interaction entry's value, for both sides");
+  else if (wall)
+    snprintf(from, sizeof from, "`%s`'s value; the wall material `%s`'s (%g) is not used", na, nb,
+             w->mat.m[b].def.param[k]);
+  else if (a == b)
+    snprintf(from, sizeof from, "`%s`'s value", na);
+  else
+    snprintf(from, sizeof from, "`%s`'s and `%s`'s values", na, nb);
+  if (wall)
+    fprintf(f, "  %-26s rolling friction eta_r = %g, e_c = %g r_i (%s)\n", "", ea, ea, from);
+  else if (brof)
+    fprintf(f, "  %-26s rolling friction e_c = min(%g r_i, %g r_j) (BROF, I9: %s)\n", "", ea, eb,
+            from);
+  else
+    fprintf(f, "  %-26s rolling friction eta_r = %g%s, R_r = r_i r_j/(r_i + r_j) (%s)\n", "",
+            0.5 * (ea + eb), ea == eb ? "" : " (the mean)", from);
+}
+
 static void print_pair(FILE *f, const adem_world *w, int a, int b, bool wall, const double *rmin,
                        const double *rmax, double v_ref) {
   const adem_interaction *it = adem_world_interaction(w, a, b);
@@ -92,6 +124,10 @@ static void print_pair(FILE *f, const adem_world *w, int a, int b, bool wall, co
   if (it->pp.E != it->pp.E_real)
     fprintf(f, "  %-26s real material: E* = %.4g Pa, G* = %.4g Pa (stiffness reduced, H24)\n", "",
            it->pp.E_real, it->pp.G_real);
+  print_rolling_friction(f, w, a, b, wall);
+  if (it->set_restitution || it->set_friction)
+    fprintf(f, "  %-26s %s from the interaction entry (not the materials' mean)\n", "",
+            !it->set_friction ? "e" : !it->set_restitution ? "mu" : "e and mu");
   print_jkr(f, w, a, b, wall, rmin, v_ref);
 }
 
