@@ -332,6 +332,50 @@ static adem_status build_groups(case_ctx *ctx, const map_cursor *root) {
 
 /* ---- wall motion and mesh walls ---- */
 
+/* A table of rows [t, x, y, z] under key `key` of mo (absent: *n = 0), times strictly
+ * increasing; fresh arrays in *time and *xyz. `what` names the three columns in messages. */
+static adem_status read_table(case_ctx *ctx, const map_cursor *mo, const char *key,
+                              const char *what, double **time, adem_vec3 **xyz, size_t *n,
+                              yaml_node_t **node) {
+  const adem_schema_entry *e;
+  yaml_node_t *table;
+  char path[KEY_PATH_MAX];
+  *n = 0;
+  adem_status st = adem_yaml_lookup(ctx, mo, key, &e, &table, path);
+  *node = table && !adem_yaml_is_null(table) ? table : NULL;
+  if (st || !*node) return st;
+  if (table->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, table, path);
+  size_t rows = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
+  if (rows == 0) return adem_yaml_fail(ctx, table, path, "needs at least 1 row [t, %s]", what);
+  *time = malloc(rows * sizeof **time);
+  *xyz = malloc(rows * sizeof **xyz);
+  if (!*time || !*xyz) return adem_yaml_nomem(ctx);
+  for (size_t k = 0; k < rows; ++k) {
+    yaml_node_t *row = adem_yaml_node_at(ctx, table->data.sequence.items.start[k]);
+    char rp[KEY_PATH_MAX + 24], t[128];
+    snprintf(rp, sizeof rp, "%s[%zu]", path, k);
+    double x[4];
+    bool ok = row->type == YAML_SEQUENCE_NODE &&
+              row->data.sequence.items.top - row->data.sequence.items.start == 4;
+    for (int j = 0; ok && j < 4; ++j)
+      ok = adem_yaml_parse_number(adem_yaml_node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
+    if (!ok) {
+      adem_yaml_node_text(row, t, sizeof t);
+      return adem_yaml_fail(ctx, row, rp, "expected a row [t, %s] of 4 numbers (%s), got %s", what,
+                            e->unit, t);
+    }
+    if (k > 0 && !(x[0] > (*time)[k - 1]))
+      return adem_yaml_fail(ctx, row, rp,
+                  "the table is not ordered in time: t = %g s does not come after t = %g s of "
+                  "the row before; times must increase strictly",
+                  x[0], (*time)[k - 1]);
+    (*time)[k] = x[0];
+    (*xyz)[k] = v3(x[1], x[2], x[3]);
+  }
+  *n = rows;
+  return ADEM_OK;
+}
+
 /* A prescribed motion read from `motion` (absent: *given = false). The table's arrays are
  * allocated into *time and *vel (free them); def points into them. */
 static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motion_def *def,
@@ -345,44 +389,29 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   if (st || !mo.node) return st;
   *given = true;
   *at = mo.node;
-  yaml_node_t *vnode;
+  yaml_node_t *vnode, *table, *positions;
   adem_vec3 v;
-  if ((st = adem_yaml_get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
-  const adem_schema_entry *e;
-  yaml_node_t *table;
   char path[KEY_PATH_MAX];
-  if ((st = adem_yaml_lookup(ctx, &mo, "table", &e, &table, path))) return st;
-  if (table && !adem_yaml_is_null(table)) {
-    if (vnode)
-      return adem_yaml_fail(ctx, table, path, "give either `velocity` (constant) or `table`, not both");
-    if (table->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, table, path);
-    size_t n = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
-    if (n == 0) return adem_yaml_fail(ctx, table, path, "needs at least 1 row [t, vx, vy, vz]");
-    *time = malloc(n * sizeof **time);
-    *vel = malloc(n * sizeof **vel);
-    if (!*time || !*vel) return adem_yaml_nomem(ctx);
-    for (size_t k = 0; k < n; ++k) {
-      yaml_node_t *row = adem_yaml_node_at(ctx, table->data.sequence.items.start[k]);
-      char rp[KEY_PATH_MAX + 24], t[128];
-      snprintf(rp, sizeof rp, "%s[%zu]", path, k);
-      double x[4];
-      bool ok = row->type == YAML_SEQUENCE_NODE &&
-                row->data.sequence.items.top - row->data.sequence.items.start == 4;
-      for (int j = 0; ok && j < 4; ++j)
-        ok = adem_yaml_parse_number(adem_yaml_node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
-      if (!ok) {
-        adem_yaml_node_text(row, t, sizeof t);
-        return adem_yaml_fail(ctx, row, rp, "expected a row [t, vx, vy, vz] of 4 numbers (s, m/s), got %s", t);
-      }
-      if (k > 0 && !(x[0] > (*time)[k - 1]))
-        return adem_yaml_fail(ctx, row, rp,
-                    "the table is not ordered in time: t = %g s does not come after t = %g s of "
-                    "the row before; times must increase strictly",
-                    x[0], (*time)[k - 1]);
-      (*time)[k] = x[0];
-      (*vel)[k] = v3(x[1], x[2], x[3]);
-    }
+  if ((st = adem_yaml_get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
+  size_t n = 0;
+  if ((st = read_table(ctx, &mo, "table", "vx, vy, vz", time, vel, &n, &table))) return st;
+  if (!table && (st = read_table(ctx, &mo, "positions", "x, y, z", time, vel, &n, &positions)))
+    return st;
+  if (table) positions = adem_yaml_map_get(ctx, mo.node, "positions");
+  int ngiven = (vnode != NULL) + (table != NULL) + (positions != NULL && !adem_yaml_is_null(positions));
+  if (ngiven > 1) {
+    yaml_node_t *second = table && vnode ? table : positions;
+    adem_yaml_join(path, sizeof path, mo.path, second == table ? "table" : "positions");
+    return adem_yaml_fail(ctx, second, path,
+                          "give one translation: `velocity` (constant), `table` (velocities) or "
+                          "`positions` (displacements), not %s",
+                          ngiven == 3 ? "all three" : "two of them");
+  }
+  if (table) {
     def->n = n;
+  } else if (positions) {
+    def->n = n;
+    def->position = *vel; /* displacements */
   } else if (vnode) {
     *time = malloc(sizeof **time);
     *vel = malloc(sizeof **vel);
@@ -392,8 +421,14 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
     def->n = 1;
   }
   def->time = *time;
-  def->velocity = *vel;
-  for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
+  if (def->position) {
+    for (size_t k = 0; k + 1 < def->n; ++k)
+      ctx->vmax = fmax(ctx->vmax, v3_norm(v3_sub((*vel)[k + 1], (*vel)[k])) /
+                                      ((*time)[k + 1] - (*time)[k]));
+  } else {
+    def->velocity = *vel;
+    for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
+  }
   if ((st = adem_yaml_get_map(ctx, &mo, "rotation", &rot))) return st;
   if (rot.node) {
     yaml_node_t *axis_node;

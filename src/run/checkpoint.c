@@ -27,7 +27,7 @@
 #define CKPT_MAGIC "ADEMCKPT"
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 4u
+#define CKPT_VERSION 5u
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
