@@ -29,6 +29,8 @@ typedef struct adem_output_settings {
 /* Particles poured while running (src/insert.h) and consecutive stages (src/stages.h). */
 typedef struct adem_pours adem_pours;
 typedef struct adem_stages adem_stages;
+/* Named regions (src/insert.h): output.regions, and the regions random sets were filled in. */
+typedef struct adem_regions adem_regions;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
 typedef struct adem_case {
@@ -47,6 +49,8 @@ typedef struct adem_case {
   uint64_t seed;
   adem_pours *pours;          /* NULL: nothing is poured */
   adem_stages *stages;        /* NULL: one stage, the case as written */
+  adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
+  adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */

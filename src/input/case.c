@@ -902,6 +902,51 @@ static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, con
   return ADEM_OK;
 }
 
+/* A mapping with a `shape` (its variant) and that shape's keys: a box, a cylinder or the inside
+ * of a closed STL surface. *word names its kind for messages. */
+static adem_status read_region_map(case_ctx *ctx, const map_cursor *rm, adem_region *r,
+                                   const char **word) {
+  adem_error werr = {ADEM_OK, ""};
+  char path[KEY_PATH_MAX];
+  adem_vec3 lo, hi;
+  yaml_node_t *hi_node;
+  adem_status st;
+  if (!strcmp(rm->variant, "box")) {
+    *word = "box";
+    if ((st = adem_yaml_get_vec3(ctx, rm, "min", &lo, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "max", &hi, &hi_node))) return st;
+    if ((st = check_box(ctx, lo, hi, hi_node, rm))) return st;
+    adem_insert_region_box(r, lo, hi);
+  } else if (!strcmp(rm->variant, "cylinder")) {
+    *word = "cylinder";
+    adem_vec3 a, b;
+    double radius = 0.0;
+    yaml_node_t *end_node;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "start", &a, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "end", &b, &end_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, rm, "radius", &radius, NULL))) return st;
+    if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
+      adem_yaml_join(path, sizeof path, rm->path, "end");
+      return adem_yaml_fail(ctx, end_node, path, "%s", werr.message);
+    }
+  } else {
+    *word = "mesh region";
+    char file[ADEM_PATH_MAX];
+    yaml_node_t *file_node;
+    adem_mesh_transform tf = adem_default_mesh_transform();
+    if ((st = adem_yaml_get_string(ctx, rm, "file", file, sizeof file, &file_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, rm, "scale", &tf.scale, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "translate", &tf.translation, NULL))) return st;
+    char *resolved = mesh_path(ctx, file);
+    if (!resolved) return adem_yaml_nomem(ctx);
+    st = adem_insert_region_mesh(r, resolved, &tf, &werr);
+    free(resolved);
+    adem_yaml_join(path, sizeof path, rm->path, "file");
+    if (st) return werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
+  }
+  return ADEM_OK;
+}
+
 /* The region of a random set (`region`, or the box `min`/`max`: box_keys) or of a pour. *word
  * names its kind for messages. */
 static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys, adem_region *r,
@@ -936,41 +981,7 @@ static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys
       return ADEM_OK;
     }
   }
-  adem_error werr = {ADEM_OK, ""};
-  if (!strcmp(rm.variant, "box")) {
-    *word = "box";
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "min", &lo, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "max", &hi, &hi_node))) return st;
-    if ((st = check_box(ctx, lo, hi, hi_node, &rm))) return st;
-    adem_insert_region_box(r, lo, hi);
-  } else if (!strcmp(rm.variant, "cylinder")) {
-    *word = "cylinder";
-    adem_vec3 a, b;
-    double radius = 0.0;
-    yaml_node_t *end_node;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "start", &a, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "end", &b, &end_node))) return st;
-    if ((st = adem_yaml_get_number(ctx, &rm, "radius", &radius, NULL))) return st;
-    if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
-      adem_yaml_join(path, sizeof path, rm.path, "end");
-      return adem_yaml_fail(ctx, end_node, path, "%s", werr.message);
-    }
-  } else {
-    *word = "mesh region";
-    char file[ADEM_PATH_MAX];
-    yaml_node_t *file_node;
-    adem_mesh_transform tf = adem_default_mesh_transform();
-    if ((st = adem_yaml_get_string(ctx, &rm, "file", file, sizeof file, &file_node))) return st;
-    if ((st = adem_yaml_get_number(ctx, &rm, "scale", &tf.scale, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "translate", &tf.translation, NULL))) return st;
-    char *resolved = mesh_path(ctx, file);
-    if (!resolved) return adem_yaml_nomem(ctx);
-    st = adem_insert_region_mesh(r, resolved, &tf, &werr);
-    free(resolved);
-    adem_yaml_join(path, sizeof path, rm.path, "file");
-    if (st) return werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
-  }
-  return ADEM_OK;
+  return read_region_map(ctx, &rm, r, word);
 }
 
 /* A random non-overlapping fill of a box, cylinder or closed mesh, up to a count or a solid
@@ -1035,6 +1046,13 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   }
   adem_insert_fill_result_free(&res);
   adem_insert_dist_free(&dist);
+  if (!st) { /* kept for `adem check`'s look at it against the walls */
+    char where[KEY_PATH_MAX + 16];
+    snprintf(where, sizeof where, "%s%s", m->path,
+             adem_yaml_map_get(ctx, m->node, "region") ? ".region" : " (min, max)");
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_regions_add(&ctx->c->fills, word, where, &reg, &werr)) st = adem_yaml_nomem(ctx);
+  }
   adem_insert_region_free(&reg);
   if (st) return st;
   return flush_spheres(ctx, first, mat, group, m->node, m->path);
@@ -1472,6 +1490,33 @@ static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
   return ADEM_OK;
 }
 
+/* output.regions: named regions whose particles each CSV row counts. */
+static adem_status read_output_regions(case_ctx *ctx, const map_cursor *out) {
+  list_cursor l;
+  adem_status st = adem_yaml_get_list(ctx, out, "regions", &l);
+  for (size_t i = 0; i < l.n && !st; ++i) {
+    map_cursor m;
+    char name[ADEM_NAME_MAX], path[KEY_PATH_MAX];
+    yaml_node_t *name_node;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", name, sizeof name, &name_node))) break;
+    for (int k = 0; ctx->c->regions && k < ctx->c->regions->n; ++k)
+      if (!strcmp(ctx->c->regions->r[k].name, name)) {
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        return adem_yaml_fail(ctx, name_node, path, "duplicate region name `%s` (also %s)", name,
+                              ctx->c->regions->r[k].where);
+      }
+    adem_region reg;
+    memset(&reg, 0, sizeof reg);
+    const char *word = "";
+    if ((st = read_region_map(ctx, &m, &reg, &word))) break;
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_regions_add(&ctx->c->regions, name, m.path, &reg, &werr)) st = adem_yaml_nomem(ctx);
+    adem_insert_region_free(&reg);
+  }
+  return st;
+}
+
 static adem_status build(case_ctx *ctx) {
   adem_case *c = ctx->c;
   map_cursor root, time, nb, limits, out, domain;
@@ -1519,6 +1564,7 @@ static adem_status build(case_ctx *ctx) {
   if ((st = adem_yaml_get_bool(ctx, &out, "plot_loads", &plot))) return st;
   o->plot_loads = plot;
   if ((st = read_track(ctx, &out))) return st;
+  if ((st = read_output_regions(ctx, &out))) return st;
   if ((st = build_stages(ctx, &root))) return st;
 
   if ((st = adem_yaml_get_map(ctx, &root, "domain", &domain))) return st;
@@ -1845,6 +1891,8 @@ void adem_case_free(adem_case *c) {
   adem_world_free(c->world);
   adem_pours_free(c->pours);
   adem_stages_free(c->stages);
+  adem_regions_free(c->regions);
+  adem_regions_free(c->fills);
   free(c->source);
   if (c->sets)
     for (int k = 0; k < c->nsets; ++k) free(c->sets[k]);

@@ -190,6 +190,17 @@ static const adem_schema_entry base_schema[] = {
     {"output.checkpoint_interval", NULL, NUM, "s", NULL, "time.end / 10", GE(0), .doc = "Simulated time between checkpoint rewrites."},
     {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run, however it ends (done, stopped by Ctrl-C or SIGTERM, failed, or resumed to its end)."},
     {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run, however it ends: the load along gravity on every mesh group and plane against time, with the particles' weight."},
+    {"output.regions", NULL, LIST, "", NULL, NULL, .discriminator = "shape", .doc = "Named regions whose particles are counted in every CSV row: columns `NAME_count` (particles whose centre is inside) and `NAME_mass_kg` (their mass). E.g. the hopper above its outlet and the space under it make a discharge rate and a jam plain to see (docs/insertion-and-stages.md)."},
+    {"output.regions[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; the start of the region's CSV columns."},
+    {"output.regions[].shape", NULL, ENUM, "", NULL, NULL, REQ, .choices = "box|cylinder|mesh", .doc = "`box`: axis-aligned box; `cylinder`: any axis; `mesh`: the inside of a closed STL surface (ray parity)."},
+    {"output.regions[].min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
+    {"output.regions[].max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
+    {"output.regions[].start", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of one end disc."},
+    {"output.regions[].end", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of the other end disc."},
+    {"output.regions[].radius", "cylinder", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Radius of the cylinder."},
+    {"output.regions[].file", "mesh", STR, "", NULL, NULL, REQ, .doc = "Closed STL surface; a relative path is taken from the folder of the case file."},
+    {"output.regions[].scale", "mesh", NUM, "", "1", NULL, GT(0), .doc = "Factor from file units to metres, applied first."},
+    {"output.regions[].translate", "mesh", VEC3, "m", "[0, 0, 0]", NULL, .doc = "Translation applied after the scale."},
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
 

@@ -295,7 +295,8 @@ static void mesh_csv_row(strbuf *b, const adem_world *w) {
   free(f);
 }
 
-char *adem_output_csv_header(const adem_world *w, const adem_output_track *track) {
+char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
+                             const adem_output_extra *extra) {
   strbuf b = {0};
   sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
                 "contacts_pw,max_overlap_ratio");
@@ -314,11 +315,17 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
     sb_printf(&b, ",p%llu_omega_x_rad_s,p%llu_omega_y_rad_s,p%llu_omega_z_rad_s,p%llu_distance_m", id,
               id, id, id);
   }
+  for (int k = 0; extra && k < extra->n; ++k) {
+    char name[2 * ADEM_NAME_MAX + 16];
+    csv_field_name(name, sizeof name, extra->name[k]);
+    sb_printf(&b, ",%s", name);
+  }
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
 
-char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
+char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
+                          const adem_output_extra *extra) {
   adem_diagnostics d = adem_world_diagnostics(w);
   strbuf b = {0};
   /* %.17g: the times read back on resume compare exactly with the checkpoint's. */
@@ -346,6 +353,7 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
     sb_printf(&b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", t.x, t.y, t.z, o.x, o.y, o.z,
               p->path_length[i]);
   }
+  for (int k = 0; extra && k < extra->n; ++k) sb_printf(&b, ",%.17g", extra->value[k]);
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
@@ -507,10 +515,12 @@ static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_er
 
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, const adem_output_track *track, adem_error *err) {
+                             double t_resume, const adem_output_track *track,
+                             const adem_output_extra *extra, adem_error *err) {
   memset(o, 0, sizeof *o);
   o->csv_fd = -1;
   if (track) o->track = *track;
+  if (extra) o->extra = *extra;
   o->frames = frames;
   o->csv = csv;
   adem_status st = adem_fileio_mkdir_p(dir, err);
@@ -539,7 +549,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   }
   free(frames_dir);
   if (!st && csv) {
-    char *header = adem_output_csv_header(w, &o->track);
+    char *header = adem_output_csv_header(w, &o->track, &o->extra);
     if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     else if (resume) st = csv_truncate(o->csv_path, header, t_resume, err);
     else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
@@ -572,7 +582,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
 
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err) {
   if (!o->csv || o->csv_fd < 0) return ADEM_OK;
-  char *row = adem_output_csv_row(w, &o->track);
+  char *row = adem_output_csv_row(w, &o->track, &o->extra);
   if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   int e = write_whole(o->csv_fd, row, strlen(row));
   free(row);

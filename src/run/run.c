@@ -14,6 +14,7 @@
 #include "adem/adem.h"
 #include "files.h"
 #include "fileio.h"
+#include "insert.h"
 #include "log.h"
 #include "output.h"
 #include "schedule.h"
@@ -136,6 +137,59 @@ static adem_status write_plots(const adem_case *c, const char *dir, adem_error *
   return st;
 }
 
+/* output.regions: columns NAME_count and NAME_mass_kg of each region. */
+typedef struct region_columns {
+  int n;
+  char (*names)[ADEM_NAME_MAX + 16];
+  const char **name;
+  double *value, *count, *mass;
+} region_columns;
+
+static void region_columns_free(region_columns *rc) {
+  free(rc->names);
+  free(rc->name);
+  free(rc->value);
+  free(rc->count);
+  free(rc->mass);
+  memset(rc, 0, sizeof *rc);
+}
+
+static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
+  memset(rc, 0, sizeof *rc);
+  int nr = rs ? rs->n : 0;
+  rc->n = 2 * nr;
+  size_t m = (size_t)(nr > 0 ? nr : 1);
+  rc->names = calloc(2 * m, sizeof *rc->names);
+  rc->name = calloc(2 * m, sizeof *rc->name);
+  rc->value = calloc(2 * m, sizeof *rc->value);
+  rc->count = calloc(m, sizeof *rc->count);
+  rc->mass = calloc(m, sizeof *rc->mass);
+  if (!rc->names || !rc->name || !rc->value || !rc->count || !rc->mass) {
+    region_columns_free(rc);
+    return false;
+  }
+  for (int k = 0; k < nr; ++k) {
+    snprintf(rc->names[2 * k], sizeof rc->names[0], "%s_count", rs->r[k].name);
+    snprintf(rc->names[2 * k + 1], sizeof rc->names[0], "%s_mass_kg", rs->r[k].name);
+    rc->name[2 * k] = rc->names[2 * k];
+    rc->name[2 * k + 1] = rc->names[2 * k + 1];
+  }
+  return true;
+}
+
+/* A CSV row with the regions' counts and masses now. */
+static adem_status csv_row(adem_output *out, const adem_case *c, region_columns *rc,
+                           adem_error *err) {
+  if (rc->n > 0) {
+    adem_regions_count(c->regions, c->world, rc->count, rc->mass);
+    for (int k = 0; k < rc->n / 2; ++k) {
+      rc->value[2 * k] = rc->count[k];
+      rc->value[2 * k + 1] = rc->mass[k];
+    }
+  }
+  return adem_output_csv_append(out, c->world, err);
+}
+
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
   adem_run_options opt = opt_in ? *opt_in : adem_default_run_options();
   adem_world *w = c->world;
@@ -170,13 +224,21 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   adem_output out;
   adem_output_track track = {c->output.ntrack, c->output.track};
+  region_columns rc;
+  if (!region_columns_make(&rc, c->regions))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_output_extra extra = {rc.n, rc.name, rc.value};
   st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
                         resume, frames_done,
-                        (double)k_frame * dt, w->time, &track, err);
-  if (st) return st;
+                        (double)k_frame * dt, w->time, &track, &extra, err);
+  if (st) {
+    region_columns_free(&rc);
+    return st;
+  }
   char *ckpt_path = adem_file_join(dir, "checkpoint");
   if (!ckpt_path) {
     adem_output_close(&out);
+    region_columns_free(&rc);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   bool have_ckpt = resume;
@@ -184,7 +246,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   if (!resume) {
     st = adem_output_frame(&out, w, err);
-    if (!st) st = adem_output_csv_append(&out, w, err);
+    if (!st) st = csv_row(&out, c, &rc, err);
     if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
   }
   const double t0 = wall_now();
@@ -216,7 +278,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     uint64_t s = w->step;
     bool last = s >= total;
     if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
-    if (!st && (last || due(s, k_csv))) st = adem_output_csv_append(&out, w, err);
+    if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
     bool ckpt_due = last || due(s, k_ckpt);
     /* Stage starts and pour batches follow the outputs of their step and precede its
      * checkpoint: a resumed run finds them done. */
@@ -251,6 +313,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     }
   }
   adem_output_close(&out);
+  region_columns_free(&rc);
   /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
    * failed (they show how it went wrong). A plot that fails then is a warning only. */
   if (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME) {
