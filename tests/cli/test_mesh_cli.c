@@ -208,6 +208,60 @@ static void test_bad_motion(void **state) {
   free(text);
 }
 
+/* Claim: `adem check` shows the geometry: each mesh group's box, where the moving lid is at the
+ * start, at its table's knot and at the end (the integral of its velocity table: -1 mm at
+ * 2 ms), and warns about fill regions that cross a mesh or a plane or lie outside
+ * the closed mesh that could hold them; a region inside the box is clear. */
+static void test_check_geometry(void **state) {
+  (void)state;
+  char *path = write_case("geom.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "box                      12 triangles, (0, 0, 0) .. (0.1, 0.1, 0.1) m");
+  /* the end is the last step's time, at or just after time.end */
+  assert_mentions(out, "lid (mesh group, centre of its box): (0.05, 0.05, 0.09) at 0 s, "
+                       "(0.05, 0.05, 0.089) at 0.002 s, (0.05, 0.05, 0.08");
+  assert_mentions(out, "s (end)");
+  free(path);
+  const char *fill =
+      "  - type: random\n"
+      "    material: glass\n"
+      "    count: 1\n"
+      "    radius: {distribution: constant, value: 0.002}\n";
+  const struct {
+    const char *region, *word1, *word2;
+  } cases[] = {
+      {"    region: {shape: box, min: [0.01, 0.01, 0.01], max: [0.03, 0.03, 0.03]}\n",
+       "particles[1].region (a box): clear of every wall", NULL},
+      {"    region: {shape: box, min: [0.05, 0.05, 0.05], max: [0.2, 0.2, 0.08]}\n",
+       "particles[1].region (a box) crosses mesh group `box` (", "spheres may be placed on both sides"},
+      {"    region: {shape: cylinder, start: [0.5, 0.5, 0.5], end: [0.5, 0.5, 0.55], radius: 0.02}\n",
+       "particles[1].region (a cylinder) lies outside every closed mesh wall that could hold it (`box`)",
+       NULL},
+      {"    region: {shape: cylinder, start: [0.03, 0.03, 0.01], end: [0.03, 0.03, 0.05], radius: 0.01}\n",
+       "particles[1].region (a cylinder) crosses plane `shelf`", NULL},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    char add[1024];
+    snprintf(add, sizeof add, "%s%swalls:\n", fill, cases[k].region);
+    char *t1 = replaced(base_case, "walls:\n", add);
+    char *t2 = replaced(t1, "time:\n", "  - {type: plane, name: shelf, material: steel, point: [0, 0, 0.03],\n"
+                                        "     normal: [0, 0, 1], active: true}\n"
+                                        "time:\n");
+    /* the shelf is in the way of the first sphere only for the plane case */
+    char *t3 = k == 3 ? t2 : replaced(t2, "point: [0, 0, 0.03]", "point: [0, 0, -1]");
+    path = write_case("geom.yaml", t3);
+    adem(&out, "check '%s'", path);
+    assert_mentions(out, cases[k].word1);
+    if (cases[k].word2) assert_mentions(out, cases[k].word2);
+    if (k == 0) assert_false(mentions(out, "warning: particles[1]"));
+    free(path);
+    free(t1);
+    if (t3 != t2) free(t3);
+    free(t2);
+  }
+}
+
 /* Claim: a lid moved by a table of positions is exactly at the last row's displacement once the
  * table is over (bit for bit: its vertices are the loaded ones plus that displacement), and at
  * rest. */
@@ -255,7 +309,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_valid_mesh_case),  cmocka_unit_test(test_bad_ascii_stl),
       cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
-      cmocka_unit_test(test_bad_motion),      cmocka_unit_test(test_positions_motion),       cmocka_unit_test(test_particle_in_mesh),
+      cmocka_unit_test(test_bad_motion),      cmocka_unit_test(test_positions_motion),
+      cmocka_unit_test(test_check_geometry),       cmocka_unit_test(test_particle_in_mesh),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }
