@@ -18,7 +18,8 @@
 const char *const run_help =
     "Usage:\n"
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
-    "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
+    "  adem run --resume DIR/checkpoint [--set time.end=T] [--set output.X_interval=S]\n"
+    "                                   [--threads N] [--quiet]\n"
     "\n"
     "Simulates the case to its end time (time.end). In the output folder DIR it writes\n"
     "  frames/particles_NNNNNN.vtu  particle frames every output.frame_interval (ParaView)\n"
@@ -47,7 +48,12 @@ const char *const run_help =
     "                        results are identical for every N\n"
     "  --resume CHECKPOINT   continue an interrupted run from DIR/checkpoint (or DIR): the case\n"
     "                        is the one stored in the checkpoint, the output continues in DIR,\n"
-    "                        and the result is bit for bit that of an uninterrupted run\n"
+    "                        and the result is bit for bit that of an uninterrupted run. With\n"
+    "                        --set time.end=T a finished (or stopped) run goes on to a later\n"
+    "                        end, bit for bit as a run that had that end from the start (its\n"
+    "                        frames and rows continue on the same steps); --set may also change\n"
+    "                        output.frame_interval, output.csv_interval and\n"
+    "                        output.checkpoint_interval from the resume on, nothing else\n"
     "  -q, --quiet           print only warnings and errors, no progress\n"
     "  -h, --help            show this help\n"
     "\n"
@@ -61,6 +67,7 @@ const char *const run_help =
     "  adem run cases/pour.yaml\n"
     "  adem run cases/pour.yaml --set time.end=0.5 --set output.frame_interval=0.01 --out out/s\n"
     "  adem run --resume out/s/checkpoint --threads 4\n"
+    "  adem run --resume out/s --set time.end=1.0      # go on to t = 1 s\n"
     "\n"
     "Exit status: 0 done; 2 bad input or output folder; 3 the run failed (the message names the\n"
     "particle and the time; the output written before is kept); 4 a file could not be written;\n"
@@ -102,17 +109,18 @@ int cmd_run(int argc, char **argv) {
   adem_case *c = NULL;
   adem_status st;
   if (o.resume) {
-    if (o.case_path || o.nsets || o.out) {
+    if (o.case_path || o.out) {
       free(o.sets);
       return fail(EXIT_INPUT, "--resume continues the case stored in the checkpoint, in the "
-                              "checkpoint's folder: it takes no case file, --set or --out");
+                              "checkpoint's folder: it takes no case file or --out (--set may "
+                              "change time.end and the output intervals)");
     }
     char *path = checkpoint_path(o.resume);
     if (!path) {
       free(o.sets);
       return fail(EXIT_INTERNAL, "out of memory");
     }
-    st = adem_checkpoint_read(path, &c, &err);
+    st = adem_checkpoint_read_with(path, (const char *const *)o.sets, o.nsets, &c, &err);
     if (!st) {
       /* The output continues next to the checkpoint, wherever the folder has been moved. */
       const char *slash = strrchr(path, '/');

@@ -20,7 +20,7 @@ static const char *const main_help =
     "\n"
     "Usage:\n"
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
-    "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
+    "  adem run --resume DIR/checkpoint [--set time.end=T] [--threads N] [--quiet]\n"
     "  adem check CASE.yaml [--set key.path=value ...]\n"
     "  adem collide [--kind pair|wall] [--speed LIST] [--lambda LIST] [--ad LIST] ...\n"
     "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"

@@ -51,6 +51,11 @@ typedef struct adem_case {
   adem_stages *stages;        /* NULL: one stage, the case as written */
   adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
   adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
+  /* What adem_run has written up to the current step (kept in checkpoints, so that a resumed
+   * run, even one given a later end time, continues the files as one run would have). */
+  uint64_t frames_written;    /* frames at t = 0 and at every frame interval (not one written
+                                 only because the run ended at this step) */
+  int csv_last_extra;         /* 1: this step's CSV row was written only because the run ended */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */

@@ -78,6 +78,14 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err);
 adem_status adem_checkpoint_write(const adem_case *c, const char *path, adem_error *err);
 /* Rebuilds the case from a checkpoint so that adem_run continues bit for bit. */
 adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err);
+/* The same, changing what a resumed run may change ("key.path=value" as adem run --set):
+ * time.end (a later end continues the run bit for bit as if it had had that end from the start:
+ * outputs on the same steps, the default escape domain widened as that run's) and the output
+ * intervals output.frame_interval, output.csv_interval, output.checkpoint_interval (from the
+ * resume on). Any other key is ADEM_ERR_INPUT naming the keys that may change; so is an end
+ * before the checkpoint's time. The sets are kept with the case (a later resume keeps them). */
+adem_status adem_checkpoint_read_with(const char *path, const char *const *sets, int nsets,
+                                      adem_case **out, adem_error *err);
 /* A world made through the API (adem/world.h), set-up and state, written atomically; reading it
  * gives a world that steps on bit for bit as the one written would have. Only prepared worlds
  * (or worlds before their first step) can be written. */

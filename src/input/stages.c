@@ -189,24 +189,3 @@ bool adem_stages_output_on(const adem_case *c, int which) {
     if (adem_schedule_period(interval_of(&c->stages->s[k].config, c, which), dt) > 0) return true;
   return false;
 }
-
-uint64_t adem_stages_frames_done(const adem_case *c, uint64_t step) {
-  double dt = c->world->dt;
-  const adem_stages *s = c->stages;
-  if (!s || s->n == 0) {
-    uint64_t k = adem_schedule_period(c->output.frame_interval, dt);
-    return k ? step / k + 1 : 0;
-  }
-  if (!adem_stages_output_on(c, 0)) return 0;
-  /* Outputs at steps in (start_j, start_j+1] are written with stage j's interval (a stage is put
-   * in force after the outputs of its first step). */
-  uint64_t count = 1;
-  for (int j = 0; j < s->n; ++j) {
-    uint64_t a = adem_stages_start_step(c, j), b = adem_stages_start_step(c, j + 1);
-    if (b > step) b = step;
-    if (b <= a) continue;
-    uint64_t k = adem_schedule_period(s->s[j].config.frame_interval, dt);
-    if (k) count += b / k - a / k;
-  }
-  return count;
-}

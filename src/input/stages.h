@@ -81,9 +81,6 @@ uint64_t adem_stages_next_step(const adem_case *c, uint64_t step);
 adem_status adem_stages_events(adem_case *c, adem_error *err);
 /* True when some stage (or the case) writes that output: 0 frames, 1 CSV rows, 2 checkpoints. */
 bool adem_stages_output_on(const adem_case *c, int which);
-/* Frames written from step 0 through `step` (the frame at step 0 included), with each stage's
- * frame interval. */
-uint64_t adem_stages_frames_done(const adem_case *c, uint64_t step);
 int adem_stages_current(const adem_case *c);
 /* Puts stage `current` in force in a case just read from a checkpoint (no rebuild, no energy
  * change: the checkpoint holds that state). */

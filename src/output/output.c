@@ -372,9 +372,10 @@ static int write_whole(int fd, const char *s, size_t n) {
   return 0;
 }
 
-/* Keeps the header and the complete rows with time <= t_resume, rewritten atomically. */
+/* Keeps the header and the complete rows with time <= t_resume (< t_resume with drop_at),
+ * rewritten atomically. */
 static adem_status csv_truncate(const char *path, const char *header, double t_resume,
-                                adem_error *err) {
+                                bool drop_at, adem_error *err) {
   char *text = NULL;
   size_t len = 0;
   adem_error rd;
@@ -395,7 +396,7 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
     if (!end) break; /* a partial last row is dropped */
     char *num_end;
     double t = strtod(text + keep, &num_end);
-    if (num_end == text + keep || !(t <= t_resume)) break;
+    if (num_end == text + keep || !(drop_at ? t < t_resume : t <= t_resume)) break;
     keep = (size_t)(end - text) + 1;
   }
   adem_status st = ADEM_OK;
@@ -515,8 +516,9 @@ static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_er
 
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, const adem_output_track *track,
-                             const adem_output_extra *extra, adem_error *err) {
+                             double t_resume, bool drop_resume_row,
+                             const adem_output_track *track, const adem_output_extra *extra,
+                             adem_error *err) {
   memset(o, 0, sizeof *o);
   o->csv_fd = -1;
   if (track) o->track = *track;
@@ -551,7 +553,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   if (!st && csv) {
     char *header = adem_output_csv_header(w, &o->track, &o->extra);
     if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-    else if (resume) st = csv_truncate(o->csv_path, header, t_resume, err);
+    else if (resume) st = csv_truncate(o->csv_path, header, t_resume, drop_resume_row, err);
     else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
     free(header);
     if (!st) {

@@ -77,11 +77,13 @@ typedef struct adem_output {
 /* Creates dir (and dir/frames) and checks they can be written: ADEM_ERR_INPUT with a clear
  * message if not. A fresh run starts new PVD and CSV files. A resumed run (resume = true) keeps
  * the first frames_done PVD entries (missing ones are re-created with time k * frame_period) and
- * truncates the CSV to the rows with time <= t_resume, then appends. */
+ * truncates the CSV to the rows with time <= t_resume (< t_resume with drop_resume_row: the row
+ * of that time was the end of a run that now goes on), then appends. */
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, const adem_output_track *track,
-                             const adem_output_extra *extra, adem_error *err);
+                             double t_resume, bool drop_resume_row,
+                             const adem_output_track *track, const adem_output_extra *extra,
+                             adem_error *err);
 /* Writes frames/particles_NNNNNN.vtu and rewrites the PVD; with mesh walls also
  * frames/mesh_NNNNNN.vtu (face force and pressure) and mesh.pvd, the same times. */
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);

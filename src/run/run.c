@@ -219,8 +219,11 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
     return write_plots(c, dir, err);
   }
-  /* Frames 0, k, 2k, ... up to this step (k of each stage) were written before the checkpoint. */
-  size_t frames_done = resume ? (size_t)adem_stages_frames_done(c, step0) : 0;
+  /* The frames at t = 0 and at every interval up to this step were written before the
+   * checkpoint; a frame and a CSV row written only because an earlier run ended here are
+   * replaced by those of the run going on. */
+  size_t frames_done = resume ? (size_t)c->frames_written : 0;
+  bool drop_row = resume && c->csv_last_extra;
 
   adem_output out;
   adem_output_track track = {c->output.ntrack, c->output.track};
@@ -229,8 +232,8 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
   st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
-                        resume, frames_done,
-                        (double)k_frame * dt, w->time, &track, &extra, err);
+                        resume, frames_done, (double)k_frame * dt, w->time, drop_row, &track,
+                        &extra, err);
   if (st) {
     region_columns_free(&rc);
     return st;
@@ -246,6 +249,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   if (!resume) {
     st = adem_output_frame(&out, w, err);
+    c->frames_written = out.next_frame;
     if (!st) st = csv_row(&out, c, &rc, err);
     if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
   }
@@ -278,11 +282,14 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     uint64_t s = w->step;
     bool last = s >= total;
     if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
+    if (due(s, k_frame)) c->frames_written = out.next_frame;
     if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
+    c->csv_last_extra = last && !due(s, k_csv);
     bool ckpt_due = last || due(s, k_ckpt);
     /* Stage starts and pour batches follow the outputs of their step and precede its
-     * checkpoint: a resumed run finds them done. */
-    if (!st && !last) {
+     * checkpoint, the last step's too: a resumed run, even one given a later end, finds them
+     * done. */
+    if (!st) {
       st = adem_stages_events(c, err);
       k_frame = periods[0] = adem_schedule_period(c->output.frame_interval, dt);
       k_csv = periods[1] = adem_schedule_period(c->output.csv_interval, dt);

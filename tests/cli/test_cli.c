@@ -8,6 +8,8 @@
 #include <stdio.h>
 #include <cmocka.h>
 
+#include <math.h>
+
 #include "cli_run.h"
 
 /* A valid case: two glass spheres above a floor. Tests derive bad cases by replacing text. */
@@ -84,6 +86,16 @@ static void test_valid_case(void **state) {
   free(f);
   /* and it resumes from its final checkpoint without doing anything */
   assert_int_equal(adem(&out, "run --quiet --resume '%s/out_ok/checkpoint'", tmpdir), 0);
+  /* or goes on to a later end; other keys are refused, naming those that may change */
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set time.end=0.002", tmpdir), 0);
+  assert_mentions(out, "done: t = 0.002");
+  f = path_in_tmp("out_ok/timeseries.csv");
+  assert_true(fabs(csv_value(f, 22, "time_s") - 0.002) < 1e-5); /* the last step: at or just after */
+  free(f);
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set materials.glass.friction=0.1", tmpdir), 2);
+  assert_mentions(out, "may change only time.end");
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set time.end=0.0015", tmpdir), 2);
+  assert_mentions(out, "later end");
   free(path);
 }
 
