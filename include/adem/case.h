@@ -31,6 +31,8 @@ typedef struct adem_pours adem_pours;
 typedef struct adem_stages adem_stages;
 /* Named regions (src/insert.h): output.regions, and the regions random sets were filled in. */
 typedef struct adem_regions adem_regions;
+/* A run-until condition (src/until.h). */
+typedef struct adem_until adem_until;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
 typedef struct adem_case {
@@ -49,6 +51,7 @@ typedef struct adem_case {
   uint64_t seed;
   adem_pours *pours;          /* NULL: nothing is poured */
   adem_stages *stages;        /* NULL: one stage, the case as written */
+  adem_until *until;          /* time.until (NULL: the run lasts until time.end) */
   adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
   adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
   /* What adem_run has written up to the current step (kept in checkpoints, so that a resumed

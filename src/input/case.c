@@ -1164,6 +1164,86 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
+/* ---- run-until conditions ---- */
+
+/* `until` of parent (time, or a stage): *given false when absent. Walls must be built. */
+static adem_status read_until(case_ctx *ctx, const map_cursor *parent, adem_until_def *def,
+                              bool *given) {
+  map_cursor u, wl;
+  memset(def, 0, sizeof *def);
+  *given = false;
+  adem_status st = adem_yaml_get_map(ctx, parent, "until", &u);
+  if (st || !u.node) return st;
+  *given = true;
+  yaml_node_t *ke_node, *for_node, *interval_node;
+  char path[KEY_PATH_MAX];
+  if ((st = adem_yaml_get_number(ctx, &u, "kinetic_energy_per_particle", &def->kinetic, &ke_node)))
+    return st;
+  if (!ke_node) def->kinetic = 0.0;
+  if ((st = adem_yaml_get_map(ctx, &u, "wall_load", &wl))) return st;
+  if (wl.node) {
+    const adem_world *w = ctx->w;
+    yaml_node_t *wall_node, *dir_node;
+    def->load = true;
+    if ((st = adem_yaml_get_string(ctx, &wl, "wall", def->wall, sizeof def->wall, &wall_node)))
+      return st;
+    if ((st = adem_yaml_get_vec3(ctx, &wl, "direction", &def->direction, &dir_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, &wl, "tolerance", &def->tolerance, NULL))) return st;
+    def->wall_index = -1;
+    char names[600] = "";
+    suggestion sg = {def->wall, NULL, (size_t)-1};
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      if (def->wall_index < 0 && !strcmp(w->walls.planes[k].def.name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_PLANE;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.planes[k].def.name);
+      adem_yaml_suggest_try(&sg, w->walls.planes[k].def.name);
+    }
+    for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
+      if (def->wall_index < 0 && !strcmp(w->walls.mesh.groups[k].name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_MESH_GROUP;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.mesh.groups[k].name);
+      adem_yaml_suggest_try(&sg, w->walls.mesh.groups[k].name);
+    }
+    for (int k = 0; k < w->walls.nmesh_walls; ++k) {
+      if (w->walls.mesh_walls[k].count < 2) continue;
+      if (def->wall_index < 0 && !strcmp(w->walls.mesh_walls[k].name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_MESH_WALL;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.mesh_walls[k].name);
+      adem_yaml_suggest_try(&sg, w->walls.mesh_walls[k].name);
+    }
+    adem_yaml_join(path, sizeof path, wl.path, "wall");
+    if (def->wall_index < 0) {
+      if (sg.best)
+        return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; did you mean `%s`? The "
+                              "walls: %s", def->wall, sg.best, names[0] ? names : "none");
+      return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; the walls: %s", def->wall,
+                            names[0] ? names : "none");
+    }
+    if (!dir_node) def->direction = w->gravity; /* along gravity, as the loads plot */
+    double len = v3_norm(def->direction);
+    if (!(len > 0.0)) {
+      adem_yaml_join(path, sizeof path, wl.path, "direction");
+      return adem_yaml_fail(ctx, dir_node ? dir_node : wl.node, path,
+                            dir_node ? "must be a non-zero vector"
+                                     : "gravity is zero: give the direction of the load");
+    }
+    def->direction = v3_scale(def->direction, 1.0 / len);
+  }
+  if (!ke_node && !wl.node)
+    return adem_yaml_fail(ctx, u.node, u.path,
+                          "give a condition: `kinetic_energy_per_particle`, `wall_load` or both");
+  if ((st = adem_yaml_get_number(ctx, &u, "for", &def->hold, &for_node))) return st;
+  if ((st = adem_yaml_get_number(ctx, &u, "interval", &def->interval, &interval_node))) return st;
+  if (!interval_node) def->interval = def->hold > 0.0 ? def->hold / 10.0 : 0.0; /* 0: every step */
+  return ADEM_OK;
+}
+
 /* ---- stages ---- */
 
 /* Appends text to a growing string. */
@@ -1248,6 +1328,13 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
     adem_yaml_where(ctx, m.node, loc, sizeof loc);
     adem_error werr = {ADEM_OK, ""};
     if (adem_stages_add(&c->stages, name, duration, loc, &werr)) {
+      st = adem_yaml_nomem(ctx);
+      break;
+    }
+    adem_until_def ud;
+    bool has_until = false;
+    if ((st = read_until(ctx, &m, &ud, &has_until))) break;
+    if (has_until && adem_stages_set_until(c->stages, &ud, &werr)) {
       st = adem_yaml_nomem(ctx);
       break;
     }
@@ -1539,6 +1626,13 @@ static adem_status build(case_ctx *ctx) {
   adem_vec3 g;
   if ((st = adem_yaml_get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
   adem_world_set_gravity(ctx->w, g);
+  adem_until_def ud;
+  bool has_until = false;
+  if ((st = read_until(ctx, &time, &ud, &has_until))) return st; /* walls and gravity known */
+  if (has_until) {
+    if (!(c->until = malloc(sizeof *c->until))) return adem_yaml_nomem(ctx);
+    adem_until_init(c->until, &ud);
+  }
 
   double skin, overlap;
   if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
@@ -1755,16 +1849,19 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
   if (st) return st;
   /* Durations: every stage but the last needs one; the last may run until time.end. */
   double t = 0.0;
+  bool earlier = false; /* a stage before may end early (its `until`) */
   for (int k = 0; k < s->n; ++k) {
     adem_stage *g = &s->s[k];
     if (g->duration < 0.0 && k + 1 < s->n)
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "%s: stages[%d] (`%s`): duration: required value is missing (every "
-                            "stage but the last needs one)",
-                            g->where, k, g->name);
-    if (t >= c->end_time * (1.0 - 1e-12) && k > 0)
+                            "stage but the last needs one%s)",
+                            g->where, k, g->name, g->until ? "; with `until` it is the most the "
+                            "stage lasts" : "");
+    if (t >= c->end_time * (1.0 - 1e-12) && k > 0 && !earlier)
       adem_log(ADEM_LOG_WARN, "%s: stage `%s` begins at t = %g s, at or after time.end = %g s: it "
                "will not run", g->where, g->name, t, c->end_time);
+    if (g->until) earlier = true;
     if (g->duration >= 0.0) t += g->duration;
   }
   const adem_stage *last = &s->s[s->n - 1];
@@ -1893,6 +1990,7 @@ void adem_case_free(adem_case *c) {
   adem_stages_free(c->stages);
   adem_regions_free(c->regions);
   adem_regions_free(c->fills);
+  free(c->until);
   free(c->source);
   if (c->sets)
     for (int k = 0; k < c->nsets; ++k) free(c->sets[k]);

@@ -32,6 +32,17 @@
 #define GT_LE(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX
 #define GT_LT(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX_OPEN
 
+/* The keys of a run-until condition under prefix P ("time.until", "stages[].until"). */
+#define UNTIL_ENTRIES(P, WHAT)                                                                     \
+  {P, NULL, MAP, "", NULL, NULL, .doc = "End " WHAT " early, at the first check where every condition given has held for `for` seconds (docs/insertion-and-stages.md). Give `kinetic_energy_per_particle`, `wall_load` or both."}, \
+  {P ".kinetic_energy_per_particle", NULL, NUM, "J", NULL, NULL, GT(0), .doc = "Translational plus rotational kinetic energy per particle below this (1e-7 J: an rms speed of about 1 mm/s for 5 cm stones). Not while a pour still has particles to insert."}, \
+  {P ".wall_load", NULL, MAP, "", NULL, NULL, .doc = "A wall's load steady: its largest and smallest value since the streak began differ by at most `tolerance` times the larger magnitude (a wall that carries nothing is not steady)."}, \
+  {P ".wall_load.wall", NULL, STR, "", NULL, NULL, REQ, .doc = "A plane (a box's: `NAME.xmin` ...), a mesh group or a mesh file of several groups (their total), as named in the CSV."}, \
+  {P ".wall_load.direction", NULL, VEC3, "", NULL, "along gravity", .doc = "The load is the force of the particles on the wall along this direction (any length > 0)."}, \
+  {P ".wall_load.tolerance", NULL, NUM, "", "0.01", NULL, GT(0), .doc = "Relative spread allowed."}, \
+  {P ".for", NULL, NUM, "s", "0", NULL, GE(0), .doc = "How long every condition must hold, measured between checks."}, \
+  {P ".interval", NULL, NUM, "s", NULL, "`for` / 10, or every step when `for` is 0", GT(0), .doc = "Simulated time between checks (rounded to whole steps): the run ends on a check."}
+
 /* Every key of a case file. Order: as the reference lists them. */
 static const adem_schema_entry base_schema[] = {
     {"name", NULL, STR, "", NULL, "file name without directory and extension", .doc = "Case name; the default output directory is `out/<name>`."},
@@ -165,6 +176,7 @@ static const adem_schema_entry base_schema[] = {
     {"stages", NULL, LIST, "", NULL, NULL, .doc = "Consecutive stages of the run, each with a duration and the case-file values it changes (docs/insertion-and-stages.md)."},
     {"stages[].name", NULL, NAME, "", NULL, "`stage<index>`", .doc = "Unique name (for messages)."},
     {"stages[].duration", NULL, NUM, "s", NULL, NULL, GT(0), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "except for the last stage", .doc = "Length of the stage; the last stage without one runs until `time.end`."},
+    UNTIL_ENTRIES("stages[].until", "the stage (the next one begins then; `duration` is then the most it lasts; the last stage's ends the run)"),
     {"stages[].set", NULL, SETS, "", NULL, NULL, .doc = "Values that change when the stage begins, as `--set` paths: `{materials.ballast.friction: 0, walls.aux.active: false}`. They stay until a later stage changes them. Allowed: materials, interactions, groups, walls, gravity, limits, neighbor, output.frame_interval, output.csv_interval, output.checkpoint_interval."},
 
     {"gravity", NULL, VEC3, "m/s^2", "[0, 0, -9.81]", NULL, .doc = "Gravitational acceleration."},
@@ -175,6 +187,7 @@ static const adem_schema_entry base_schema[] = {
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
     {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh). A larger step is allowed with a warning."},
+    UNTIL_ENTRIES("time.until", "the run (`end` is then the most it lasts)"),
     {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see above."},
 
     {"neighbor", NULL, MAP, "", NULL, NULL, .doc = "Neighbour search."},

@@ -7,7 +7,8 @@
  *   header  "ADEMCKPT", u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a of the
  *           payload, u32 sizeof(adem_vec3), u32 sizeof(adem_contact_history)
  *   payload case: source text, --set strings, path, base folder, end time, output settings,
- *           the stage in force and the pours' state (streams, counts); then the world
+ *           what the run has written, the stage in force, the pours' state (streams, counts),
+ *           the stages' start steps and the run-until conditions' state; then the world
  *           (adem_world_save), "ADEMEND\0"
  * Strings are u64 length + bytes; arrays are u64 count + raw elements. */
 #include <errno.h>
@@ -75,6 +76,8 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   if (!runs) *nomem = 1;
   adem_put_array(wr, runs, runs ? nruns : 0, 1);
   free(runs);
+  /* when each stage began and the run-until conditions' streaks */
+  adem_stages_save(wr, c);
 }
 
 typedef void save_fn(adem_writer *wr, const void *what, int *nomem);
@@ -232,6 +235,7 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
   const unsigned char *runs = rd->at;
   rd->at += nruns;
   if ((st = adem_pours_unpack(c->pours, runs, (size_t)nruns, err))) goto mismatch;
+  if ((st = adem_stages_load(rd, c, err))) goto mismatch;
 
   bool prepared;
   if ((st = adem_world_load_prepared(rd, &prepared, err))) goto damaged;

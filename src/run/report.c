@@ -469,6 +469,17 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
     double t0 = (double)adem_stages_start_step(c, k) * w->dt;
     fprintf(f, "stage %-5d %s: from t = %.6g s, %d change%s\n", k + 1, g->name, t0, g->nsets,
            g->nsets == 1 ? "" : "s");
+    if (g->until) {
+      char u[512];
+      adem_until_summary(g->until, u, sizeof u);
+      fprintf(f, "            ends early when: %s%s\n", u,
+              k + 1 < c->stages->n ? "; the next stage begins then" : "; the run ends then");
+    }
+  }
+  if (c->until) {
+    char u[512];
+    adem_until_summary(c->until, u, sizeof u);
+    fprintf(f, "until       the run ends before time.end when: %s\n", u);
   }
   print_geometry(f, c);
   fprintf(f, "gravity     (%g, %g, %g) m/s^2\n", w->gravity.x, w->gravity.y, w->gravity.z);
@@ -500,7 +511,8 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   else
     fprintf(f, "  chosen step               %.4g s (time.step: %.3g times the proposed one)%s\n", dt,
            c->dt_user_ratio, c->dt_user_ratio > 1.0 ? " -- larger than proposed" : "");
-  fprintf(f, "  end time                  %.6g s: %llu steps\n", c->end_time, (unsigned long long)total);
+  fprintf(f, "  end time                  %.6g s: %llu steps%s\n", c->end_time, (unsigned long long)total,
+          c->until ? " at most (time.until)" : "");
 
   const adem_output_settings *os = &c->output;
   uint64_t kf = adem_schedule_period(os->frame_interval, dt);

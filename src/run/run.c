@@ -215,6 +215,11 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
   uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
   const uint64_t step0 = w->step;
+  char why[ADEM_MSG_MAX];
+  if (resume && adem_stages_ended(c, why, sizeof why)) {
+    adem_log(ADEM_LOG_INFO, "%s", why);
+    return write_plots(c, dir, err);
+  }
   if (resume && step0 >= total) {
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
     return write_plots(c, dir, err);
@@ -260,10 +265,13 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   report(&opt, w, c->end_time, total, t0, &eta);
   uint64_t chunk_cap = RUN_MAX_CHUNK;
 
-  while (!st && w->step < total) {
+  bool ended = false; /* a run-until condition was met */
+  while (!st && w->step < total && !ended) {
     uint64_t target = next_event(w->step, total, periods, 3);
     uint64_t staged = adem_stages_next_step(c, w->step); /* stage starts, pour batches */
     if (staged < target) target = staged;
+    uint64_t check = adem_stages_until_next(c, w->step); /* run-until conditions */
+    if (check < target) target = check;
     uint64_t n = target - w->step;
     if (n > chunk_cap) n = chunk_cap;
     double tc = wall_now();
@@ -280,7 +288,13 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     }
 
     uint64_t s = w->step;
-    bool last = s >= total;
+    /* Conditions first: a run that ends here writes this step's outputs as its last; a stage
+     * that ends lets the next begin here (after the outputs, as any stage start). */
+    adem_until_outcome until = adem_stages_until(c, why, sizeof why);
+    if (until != ADEM_UNTIL_NOTHING)
+      adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): %s", w->time, (unsigned long long)s, why);
+    ended = until == ADEM_UNTIL_RUN_ENDS;
+    bool last = s >= total || ended;
     if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
     if (due(s, k_frame)) c->frames_written = out.next_frame;
     if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);

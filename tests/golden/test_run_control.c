@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
+#include <math.h>
 #include <signal.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -14,6 +15,7 @@
 #include "golden/settle_case.h"
 #include "restart_run.h"
 #include "stages.h"
+#include "until.h"
 
 static int setup(void **state) {
   (void)state;
@@ -165,11 +167,169 @@ static void test_resume_sets_refused(void **state) {
   adem_case_free(c);
 }
 
+/* The settle case with BROF, so that the bed comes to rest exactly. */
+#define BROF_SETS                                                                                  \
+  "materials.glass.rolling_friction=0.1",                                                          \
+      "interactions=[{materials: [glass, glass], rolling: brof}, {materials: [glass, steel], "    \
+      "rolling: brof}]"
+
+/* The run of A again in DIR: ended on the step halfway between `since` and `met` (the streak of
+ * a condition; an end given by time.end, whose checkpoint holds the streak), resumed with A's
+ * end and from there stopped after every chunk and resumed. */
+static adem_case *resumed_mid_streak(const adem_case *a, const char *dir, const char *const *sets,
+                                     int nsets, uint64_t since, uint64_t met,
+                                     adem_run_options opt) {
+  uint64_t mid = since + (met - since) / 2;
+  char end[64], ckpt[600];
+  snprintf(end, sizeof end, "time.end=%.17g", ((double)mid - 0.5) * a->world->dt);
+  const char *more[8];
+  for (int k = 0; k < nsets; ++k) more[k] = sets[k];
+  more[nsets] = end;
+  adem_case *b = load_settle(dir, more, nsets + 1);
+  adem_error err;
+  if (adem_run(b, &opt, &err)) fail_msg("%s", err.message);
+  assert_true(b->world->step == mid);
+  adem_case_free(b);
+  snprintf(ckpt, sizeof ckpt, "%s/%s/checkpoint", tmpdir, dir);
+  snprintf(end, sizeof end, "time.end=%.17g", a->end_time);
+  const char *later[] = {end};
+  if (adem_checkpoint_read_with(ckpt, later, 1, &b, &err)) fail_msg("%s", err.message);
+  int stops = 0;
+  b = run_stopped_everywhere(b, opt, &stops);
+  printf("# stopped at step %llu (the streak began at %llu), then %d times more\n",
+         (unsigned long long)mid, (unsigned long long)since, stops);
+  assert_true(stops >= 5);
+  return b;
+}
+
+/* Claim: time.until ends the run at the first check where the kinetic energy per particle has
+ * stayed below the threshold for `for`: on the same step, in the same state and with the same
+ * files for 2 threads and for 1 thread stopped inside the streak and resumed (the streak is in
+ * the checkpoint), then stopped after every chunk; the CSV's last row is that step, below the threshold, and a resume of the ended
+ * run does nothing. */
+static void test_until_at_rest(void **state) {
+  (void)state;
+  adem_error err;
+  const char *sets[] = {BROF_SETS, "time.end=1",
+                        "time.until={kinetic_energy_per_particle: 1.0e-12, for: 0.01}"};
+  adem_run_options opt = adem_default_run_options();
+  adem_case *a = load_settle("until_a", sets, 4);
+  opt.nthreads = 2;
+  if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
+  uint64_t end = a->world->step, period = adem_until_period(a->until, a->world->dt);
+  printf("# ended at step %llu (t = %.6g s) of %llu; checks every %llu steps\n",
+         (unsigned long long)end, a->world->time,
+         (unsigned long long)adem_case_total_steps(a), (unsigned long long)period);
+  assert_true(end < adem_case_total_steps(a) / 4);
+  assert_int_equal(end % period, 0);
+  assert_true(a->until->met_step == end);
+  assert_true(end - a->until->kinetic_since >= (uint64_t)llround(0.01 / a->world->dt));
+  char csv[600];
+  snprintf(csv, sizeof csv, "%s/until_a/timeseries.csv", tmpdir);
+  FILE *f = fopen(csv, "r");
+  assert_non_null(f);
+  char line[1 << 12], last[1 << 12] = "";
+  while (fgets(line, sizeof line, f)) memcpy(last, line, sizeof last);
+  fclose(f);
+  double t_last = strtod(last, NULL);
+  assert_true(t_last == a->world->time);
+
+  opt.nthreads = 1;
+  adem_case *b = resumed_mid_streak(a, "until_b", sets, 4, a->until->kinetic_since, end, opt);
+  assert_same(a->world, b->world, "a run stopped in the streak");
+  const char *files[] = {"timeseries.csv", "particles.pvd", NULL};
+  assert_same_files("until_a", "until_b", files, "the restarts");
+  adem_case_free(b);
+
+  char ckpt[600];
+  snprintf(ckpt, sizeof ckpt, "%s/until_a/checkpoint", tmpdir);
+  const char *later[] = {"time.end=2"};
+  if (adem_checkpoint_read_with(ckpt, later, 1, &b, &err)) fail_msg("%s", err.message);
+  char why[ADEM_MSG_MAX];
+  assert_true(adem_stages_ended(b, why, sizeof why));
+  printf("# %s\n", why);
+  assert_int_equal(adem_run(b, &opt, &err), ADEM_OK);
+  assert_true(b->world->step == end);
+  adem_case_free(b);
+  adem_case_free(a);
+}
+
+/* Claim: a stage's `until` ends it where its condition is met, the next stage begins at that
+ * step (its duration was a maximum), and a run stopped inside the streak and then after every
+ * chunk ends the same, files included; the wall-load condition ends a run once the floor's load is steady. */
+static void test_until_stage(void **state) {
+  (void)state;
+  adem_error err;
+  const char *sets[] = {BROF_SETS, "time.end=0.16",
+                        "stages=[{name: settle, duration: 0.5, until: "
+                        "{kinetic_energy_per_particle: 1.0e-12, for: 0.01}}, "
+                        "{name: heavy, set: {gravity: [0, 0, -30]}}]"};
+  adem_run_options opt = adem_default_run_options();
+  adem_case *a = load_settle("stage_a", sets, 4);
+  if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
+  uint64_t s1 = adem_stages_start_step(a, 1);
+  printf("# stage 2 began at step %llu (t = %.6g s) instead of %.0f\n", (unsigned long long)s1,
+         (double)s1 * a->world->dt, 0.5 / a->world->dt);
+  assert_int_equal(adem_stages_current(a), 1);
+  assert_true(s1 == a->stages->s[0].until->met_step);
+  assert_true(s1 < (uint64_t)(0.16 / a->world->dt));
+  assert_true(a->world->gravity.z == -30.0);
+
+  adem_case *b = resumed_mid_streak(a, "stage_b", sets, 4, a->stages->s[0].until->kinetic_since,
+                                    s1, opt);
+  assert_same(a->world, b->world, "a staged run stopped in the streak");
+  assert_true(adem_stages_start_step(b, 1) == s1);
+  const char *files[] = {"timeseries.csv", "particles.pvd", NULL};
+  assert_same_files("stage_a", "stage_b", files, "the restarts");
+  adem_case_free(b);
+  adem_case_free(a);
+
+  const char *load[] = {BROF_SETS, "time.end=1",
+                        "time.until={wall_load: {wall: box.zmin, tolerance: 0.001}, for: 0.02}"};
+  adem_case *c = load_settle("load", load, 4);
+  if (adem_run(c, &opt, &err)) fail_msg("%s", err.message);
+  printf("# the floor's load steady at %.6g N (range %.6g..%.6g) from step %llu, ended at %llu\n",
+         c->until->load_now, c->until->load_lo, c->until->load_hi,
+         (unsigned long long)c->until->load_since, (unsigned long long)c->world->step);
+  assert_true(c->world->step < adem_case_total_steps(c) / 4);
+  assert_true(c->until->load_hi - c->until->load_lo <= 0.001 * c->until->load_hi);
+  assert_true(c->until->load_now > 0.0);
+  adem_case_free(c);
+}
+
+/* Claim: bad conditions are refused naming the key: none given, an unknown wall (with the
+ * nearest name), a zero direction. */
+static void test_until_errors(void **state) {
+  (void)state;
+  const struct {
+    const char *set, *word;
+  } bad[] = {
+      {"time.until={for: 1}", "give a condition"},
+      {"time.until={wall_load: {wall: box.zmn}}", "did you mean `box.zmin`"},
+      {"time.until={wall_load: {wall: box.zmin, direction: [0, 0, 0]}}", "non-zero"},
+      {"time.until={kinetic_energy_per_particle: 0}", "out of range"},
+      {"time.until={kinetic_energy: 1}", "did you mean `kinetic_energy_per_particle`"},
+  };
+  for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+    adem_case *c = NULL;
+    adem_error err;
+    const char *sets[] = {bad[k].set};
+    assert_int_equal(adem_case_load_string(settle_case, "settle.yaml", sets, 1, &c, &err),
+                     ADEM_ERR_INPUT);
+    printf("# %s\n", err.message);
+    assert_non_null(strstr(err.message, "time.until"));
+    assert_non_null(strstr(err.message, bad[k].word));
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_plots_on_every_stop),
       cmocka_unit_test(test_extend_on_resume),
       cmocka_unit_test(test_resume_sets_refused),
+      cmocka_unit_test(test_until_at_rest),
+      cmocka_unit_test(test_until_stage),
+      cmocka_unit_test(test_until_errors),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }
