@@ -102,10 +102,11 @@ void on_progress(const adem_progress *p, void *user) {
   format_duration(eta, sizeof eta, p->eta_seconds);
   /* The ETA comes from the last half minute's rate: say when that rate will not last. */
   static const char *const why[] = {"", "just started", "contacts rising", "particles added"};
+  const char *most = p->may_end_early ? " at most" : ""; /* time.until may end it sooner */
   if (p->eta_seconds >= 0.0 && p->eta_rough > 0 && p->eta_rough < 4)
-    snprintf(eta_text, sizeof eta_text, "ETA ~%s (rough: %s)", eta, why[p->eta_rough]);
+    snprintf(eta_text, sizeof eta_text, "ETA ~%s%s (rough: %s)", eta, most, why[p->eta_rough]);
   else
-    snprintf(eta_text, sizeof eta_text, "ETA %s", eta);
+    snprintf(eta_text, sizeof eta_text, "ETA %s%s", eta, most);
   int dec = time_decimals(p->end_time);
   char line[256];
   snprintf(line, sizeof line, "t=%.*f/%.*f s  %5.1f%%  %.0f steps/s  %zu contacts  %s", dec,
@@ -115,7 +116,7 @@ void on_progress(const adem_progress *p, void *user) {
     fprintf(stderr, "\r %s\033[K", line);
     fflush(stderr);
     progress_on_line = 1;
-  } else if (p->wall_seconds - ps->last_line >= 10.0 || p->step >= p->total_steps) {
+  } else if (p->wall_seconds - ps->last_line >= 10.0 || p->final) {
     fprintf(stderr, "adem: %s\n", line);
     ps->last_line = p->wall_seconds;
   }

@@ -154,11 +154,12 @@ int cmd_run(int argc, char **argv) {
 
   adem_world *w = c->world;
   if (!quiet) {
-    fprintf(stderr, "adem: %s %s: %zu particles, dt = %.6g s%s, end time %.6g s (%llu steps), "
+    fprintf(stderr, "adem: %s %s: %zu particles, dt = %.6g s%s, end time %.6g s (%llu steps%s), "
                     "output in %s\n",
             o.resume ? "resuming" : "running", c->name, adem_world_particle_count(w),
             adem_world_dt(w), c->dt_auto ? " (auto)" : "", c->end_time,
-            (unsigned long long)adem_case_total_steps(c), c->output.dir);
+            (unsigned long long)adem_case_total_steps(c),
+            c->until ? ", fewer if time.until is met" : "", c->output.dir);
     if (o.resume)
       fprintf(stderr, "adem: continuing from t = %.9g s (step %llu)\n", adem_world_time(w),
               (unsigned long long)adem_world_step_count(w));

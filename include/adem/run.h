@@ -19,6 +19,9 @@ typedef struct adem_progress {
   double steps_per_second; /* the recent rate: over the last ADEM_ETA_WINDOW wall seconds */
   size_t contacts;
   size_t particles;
+  int may_end_early;       /* 1: a run-until condition may end the run before end_time (the ETA
+                              is then to end_time: at most) */
+  int final;               /* 1: the run's last step (its end time, or a condition met) */
 } adem_progress;
 typedef void adem_progress_fn(const adem_progress *p, void *user);
 

@@ -211,10 +211,12 @@ static void print_wall_path(FILE *f, const adem_case *c, bool mesh, int k, adem_
     double we = j + 1 < nst ? (double)adem_stages_start_step(c, j + 1) * w->dt : t_end;
     if (ws >= t_end) break;
     if (j > 0) {
+      const adem_vec3 *q0;
       const adem_motion *prev = wall_motion(c, mesh, k, j - 1, &inactive, &p0);
-      const adem_motion *mj = wall_motion(c, mesh, k, j, &inactive, &p0);
-      if (!adem_motion_same(prev, mj)) { /* a new motion from where the wall is */
-        anchor = adem_motion_place(&cur, ws, anchor);
+      const adem_motion *mj = wall_motion(c, mesh, k, j, &inactive, &q0);
+      bool moved = p0 && q0 && memcmp(p0, q0, sizeof *p0) != 0; /* a stage puts a plane elsewhere */
+      if (moved || !adem_motion_same(prev, mj)) { /* a new motion from where the wall is */
+        anchor = moved ? *q0 : adem_motion_place(&cur, ws, anchor);
         cur = *mj;
         cur.t0 = ws;
         if (np < MAX_POINTS - 1) {

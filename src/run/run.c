@@ -57,11 +57,17 @@ static uint64_t next_event(uint64_t step, uint64_t total, const uint64_t *period
 }
 
 /* Samples the run for its ETA and calls the progress hook. */
-static void report(const adem_run_options *opt, const adem_world *w, double end_time,
-                   uint64_t total, double t0, adem_eta *eta) {
+static void report(const adem_run_options *opt, const adem_case *c, uint64_t total, double t0,
+                   adem_eta *eta, bool final) {
   if (!opt->progress) return;
+  const adem_world *w = c->world;
+  double end_time = c->end_time;
   adem_progress p;
   memset(&p, 0, sizeof p);
+  p.may_end_early = c->until != NULL;
+  p.final = final;
+  for (int k = 0; c->stages && k < c->stages->n; ++k)
+    p.may_end_early |= c->stages->s[k].until != NULL && k + 1 == c->stages->n;
   p.time = w->time;
   p.end_time = end_time;
   p.step = w->step;
@@ -74,6 +80,11 @@ static void report(const adem_run_options *opt, const adem_world *w, double end_
   adem_eta_add(eta, p.wall_seconds, w->step, p.contacts, p.particles);
   p.steps_per_second = adem_eta_rate(eta);
   p.eta_seconds = adem_eta_seconds(eta, total, &p.eta_rough);
+  if (final) { /* done, whatever the end time said */
+    p.eta_seconds = 0.0;
+    p.eta_rough = ADEM_ETA_STEADY;
+    p.may_end_early = 0;
+  }
   opt->progress(&p, opt->progress_user);
 }
 
@@ -262,7 +273,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   double last_report = t0;
   adem_eta eta;
   adem_eta_init(&eta);
-  report(&opt, w, c->end_time, total, t0, &eta);
+  report(&opt, c, total, t0, &eta, false);
   uint64_t chunk_cap = RUN_MAX_CHUNK;
 
   bool ended = false; /* a run-until condition was met */
@@ -320,7 +331,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
     double now = wall_now();
     if (now - last_report >= RUN_PROGRESS_SECONDS || last) {
-      report(&opt, w, c->end_time, total, t0, &eta);
+      report(&opt, c, total, t0, &eta, last);
       last_report = now;
     }
     if (!last && opt.stop_flag && *opt.stop_flag) {

@@ -96,6 +96,13 @@ static void test_valid_case(void **state) {
   assert_mentions(out, "may change only time.end");
   assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set time.end=0.0015", tmpdir), 2);
   assert_mentions(out, "later end");
+  /* a run that may end early on its condition says so in its ETA and in its last line */
+  assert_int_equal(adem(&out, "run '%s' --out '%s/out_until' --set time.end=0.5 "
+                        "--set 'time.until={kinetic_energy_per_particle: 1.0e-3, for: 0.001}'",
+                        path, tmpdir), 0);
+  assert_mentions(out, "fewer if time.until is met");
+  assert_mentions(out, "time.until met: kinetic energy per particle");
+  assert_mentions(out, "the run ends");
   free(path);
 }
 
