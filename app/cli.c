@@ -98,18 +98,25 @@ void on_progress(const adem_progress *p, void *user) {
   progress_state *ps = user;
   if (quiet) return;
   double pct = p->total_steps ? 100.0 * (double)p->step / (double)p->total_steps : 100.0;
-  char eta[32];
+  char eta[32], eta_text[96];
   format_duration(eta, sizeof eta, p->eta_seconds);
+  /* The ETA comes from the last half minute's rate: say when that rate will not last. */
+  static const char *const why[] = {"", "just started", "contacts rising", "particles added"};
+  const char *most = p->may_end_early ? " at most" : ""; /* time.until may end it sooner */
+  if (p->eta_seconds >= 0.0 && p->eta_rough > 0 && p->eta_rough < 4)
+    snprintf(eta_text, sizeof eta_text, "ETA ~%s%s (rough: %s)", eta, most, why[p->eta_rough]);
+  else
+    snprintf(eta_text, sizeof eta_text, "ETA %s%s", eta, most);
   int dec = time_decimals(p->end_time);
   char line[256];
-  snprintf(line, sizeof line, "t=%.*f/%.*f s  %5.1f%%  %.0f steps/s  %zu contacts  ETA %s", dec,
-           p->time, dec, p->end_time, pct, p->steps_per_second, p->contacts, eta);
+  snprintf(line, sizeof line, "t=%.*f/%.*f s  %5.1f%%  %.0f steps/s  %zu contacts  %s", dec,
+           p->time, dec, p->end_time, pct, p->steps_per_second, p->contacts, eta_text);
   if (stderr_tty) {
     /* \033[K clears what a longer previous line left. */
     fprintf(stderr, "\r %s\033[K", line);
     fflush(stderr);
     progress_on_line = 1;
-  } else if (p->wall_seconds - ps->last_line >= 10.0 || p->step >= p->total_steps) {
+  } else if (p->wall_seconds - ps->last_line >= 10.0 || p->final) {
     fprintf(stderr, "adem: %s\n", line);
     ps->last_line = p->wall_seconds;
   }

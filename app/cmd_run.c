@@ -18,7 +18,8 @@
 const char *const run_help =
     "Usage:\n"
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
-    "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
+    "  adem run --resume DIR/checkpoint [--set time.end=T] [--set output.X_interval=S]\n"
+    "                                   [--threads N] [--quiet]\n"
     "\n"
     "Simulates the case to its end time (time.end). In the output folder DIR it writes\n"
     "  frames/particles_NNNNNN.vtu  particle frames every output.frame_interval (ParaView)\n"
@@ -31,7 +32,9 @@ const char *const run_help =
     "  checkpoint                   the whole state, every output.checkpoint_interval, on\n"
     "                               Ctrl-C and at the end\n"
     "  energy.png                   energy against time, if output.plot is true (gnuplot)\n"
-    "  loads.png                    wall loads against time, if output.plot_loads is true\n"
+    "  loads.png                    wall loads against time, if output.plot_loads is true;\n"
+    "                               both plots are drawn from the CSV however the run ends\n"
+    "                               (done, Ctrl-C/SIGTERM, a failure, a resumed run's end)\n"
     "Every file is written to a temporary name and renamed when complete, so a crash never\n"
     "leaves a half-written file.\n"
     "\n"
@@ -45,18 +48,26 @@ const char *const run_help =
     "                        results are identical for every N\n"
     "  --resume CHECKPOINT   continue an interrupted run from DIR/checkpoint (or DIR): the case\n"
     "                        is the one stored in the checkpoint, the output continues in DIR,\n"
-    "                        and the result is bit for bit that of an uninterrupted run\n"
+    "                        and the result is bit for bit that of an uninterrupted run. With\n"
+    "                        --set time.end=T a finished (or stopped) run goes on to a later\n"
+    "                        end, bit for bit as a run that had that end from the start (its\n"
+    "                        frames and rows continue on the same steps); --set may also change\n"
+    "                        output.frame_interval, output.csv_interval and\n"
+    "                        output.checkpoint_interval from the resume on, nothing else\n"
     "  -q, --quiet           print only warnings and errors, no progress\n"
     "  -h, --help            show this help\n"
     "\n"
     "Progress goes to standard error: one updating line on a terminal, otherwise a line about\n"
-    "every 10 s. Ctrl-C (or SIGTERM) stops the run after the current few steps and writes a\n"
-    "checkpoint.\n"
+    "every 10 s. The steps/s and the ETA are those of the last 30 s of wall time; the ETA is\n"
+    "marked rough (ETA ~M:SS) in the first seconds and while the contact count or the number\n"
+    "of particles still rises (a filling bed gets slower). Ctrl-C (or SIGTERM) stops the run\n"
+    "after the current few steps and writes a checkpoint (and the plots).\n"
     "\n"
     "Examples:\n"
     "  adem run cases/pour.yaml\n"
     "  adem run cases/pour.yaml --set time.end=0.5 --set output.frame_interval=0.01 --out out/s\n"
     "  adem run --resume out/s/checkpoint --threads 4\n"
+    "  adem run --resume out/s --set time.end=1.0      # go on to t = 1 s\n"
     "\n"
     "Exit status: 0 done; 2 bad input or output folder; 3 the run failed (the message names the\n"
     "particle and the time; the output written before is kept); 4 a file could not be written;\n"
@@ -98,17 +109,18 @@ int cmd_run(int argc, char **argv) {
   adem_case *c = NULL;
   adem_status st;
   if (o.resume) {
-    if (o.case_path || o.nsets || o.out) {
+    if (o.case_path || o.out) {
       free(o.sets);
       return fail(EXIT_INPUT, "--resume continues the case stored in the checkpoint, in the "
-                              "checkpoint's folder: it takes no case file, --set or --out");
+                              "checkpoint's folder: it takes no case file or --out (--set may "
+                              "change time.end and the output intervals)");
     }
     char *path = checkpoint_path(o.resume);
     if (!path) {
       free(o.sets);
       return fail(EXIT_INTERNAL, "out of memory");
     }
-    st = adem_checkpoint_read(path, &c, &err);
+    st = adem_checkpoint_read_with(path, (const char *const *)o.sets, o.nsets, &c, &err);
     if (!st) {
       /* The output continues next to the checkpoint, wherever the folder has been moved. */
       const char *slash = strrchr(path, '/');
@@ -142,11 +154,12 @@ int cmd_run(int argc, char **argv) {
 
   adem_world *w = c->world;
   if (!quiet) {
-    fprintf(stderr, "adem: %s %s: %zu particles, dt = %.6g s%s, end time %.6g s (%llu steps), "
+    fprintf(stderr, "adem: %s %s: %zu particles, dt = %.6g s%s, end time %.6g s (%llu steps%s), "
                     "output in %s\n",
             o.resume ? "resuming" : "running", c->name, adem_world_particle_count(w),
             adem_world_dt(w), c->dt_auto ? " (auto)" : "", c->end_time,
-            (unsigned long long)adem_case_total_steps(c), c->output.dir);
+            (unsigned long long)adem_case_total_steps(c),
+            c->until ? ", fewer if time.until is met" : "", c->output.dir);
     if (o.resume)
       fprintf(stderr, "adem: continuing from t = %.9g s (step %llu)\n", adem_world_time(w),
               (unsigned long long)adem_world_step_count(w));

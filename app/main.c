@@ -15,11 +15,12 @@
 
 static const char *const main_help =
     "adem " ADEM_VERSION_STRING ": a Discrete Element Method engine for adhesive and granular spheres\n"
-    "(Hertz and simplified JKR contacts, friction, rolling resistance, plane walls).\n"
+    "(Hertz and simplified JKR contacts, friction, rolling resistance; plane, box and\n"
+    "triangle-mesh walls with prescribed motion; pours and staged runs).\n"
     "\n"
     "Usage:\n"
     "  adem run CASE.yaml [--set key.path=value ...] [--out DIR] [--threads N] [--quiet]\n"
-    "  adem run --resume DIR/checkpoint [--threads N] [--quiet]\n"
+    "  adem run --resume DIR/checkpoint [--set time.end=T] [--threads N] [--quiet]\n"
     "  adem check CASE.yaml [--set key.path=value ...]\n"
     "  adem collide [--kind pair|wall] [--speed LIST] [--lambda LIST] [--ad LIST] ...\n"
     "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"

@@ -57,7 +57,7 @@ static void write_seeds(const char *folder) {
   adem_world *w = fuzz_case->world;
   adem_error err;
   if (adem_world_prepare(w, &err)) abort();
-  char *csv = adem_output_csv_header(w, &track);
+  char *csv = adem_output_csv_header(w, &track, NULL);
   size_t csv_len = strlen(csv);
   char pvd[8192];
   int pvd_len = snprintf(pvd, sizeof pvd,
@@ -65,7 +65,7 @@ static void write_seeds(const char *folder) {
                          "byte_order=\"LittleEndian\">\n  <Collection>\n");
   for (int k = 0; k < 20; ++k) {
     if (k > 0 && adem_world_step(w, 100, &err)) abort();
-    char *row = adem_output_csv_row(w, &track);
+    char *row = adem_output_csv_row(w, &track, NULL);
     csv = realloc(csv, csv_len + strlen(row) + 1);
     memcpy(csv + csv_len, row, strlen(row) + 1);
     csv_len += strlen(row);
@@ -183,12 +183,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   adem_error err;
   memset(&err, 0, sizeof err);
   adem_status st = adem_output_open(&out, dir, fuzz_case->world, true, true, true, frames_done,
-                                    1e-3, t_resume, &track, &err);
+                                    1e-3, t_resume, false, &track, NULL, &err);
   fuzz_check_status(st, &err, "adem_output_open (resume)");
   if (st) return 0;
   adem_output_close(&out);
   check_pvd(frames_done);
-  char *header = adem_output_csv_header(fuzz_case->world, &track);
+  char *header = adem_output_csv_header(fuzz_case->world, &track, NULL);
   if (!header) abort();
   check_csv(header, t_resume);
   free(header);

@@ -29,6 +29,10 @@ typedef struct adem_output_settings {
 /* Particles poured while running (src/insert.h) and consecutive stages (src/stages.h). */
 typedef struct adem_pours adem_pours;
 typedef struct adem_stages adem_stages;
+/* Named regions (src/insert.h): output.regions, and the regions random sets were filled in. */
+typedef struct adem_regions adem_regions;
+/* A run-until condition (src/until.h). */
+typedef struct adem_until adem_until;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
 typedef struct adem_case {
@@ -47,6 +51,14 @@ typedef struct adem_case {
   uint64_t seed;
   adem_pours *pours;          /* NULL: nothing is poured */
   adem_stages *stages;        /* NULL: one stage, the case as written */
+  adem_until *until;          /* time.until (NULL: the run lasts until time.end) */
+  adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
+  adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
+  /* What adem_run has written up to the current step (kept in checkpoints, so that a resumed
+   * run, even one given a later end time, continues the files as one run would have). */
+  uint64_t frames_written;    /* frames at t = 0 and at every frame interval (not one written
+                                 only because the run ended at this step) */
+  int csv_last_extra;         /* 1: this step's CSV row was written only because the run ended */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */

@@ -61,16 +61,22 @@ typedef struct adem_plane_def {
 } adem_plane_def;
 adem_plane_def adem_default_plane_def(void);
 
-/* Prescribed motion of a wall: a piecewise-linear translation velocity in time and a constant
- * rotation about an axis through a centre that travels with the translation. Positions are a
- * function of time alone, so a restarted run places the walls exactly. */
+/* Prescribed motion of a wall: a translation, given either as a piecewise-linear velocity in
+ * time or as a piecewise-linear displacement (positions; the velocity is its derivative, and
+ * the wall is exactly at each knot's position at its time), and a constant rotation about an
+ * axis through a centre that travels with the translation. Positions are a function of time
+ * alone, so a restarted run places the walls exactly. */
 typedef struct adem_motion_def {
-  size_t n;                  /* knots of the velocity table; 0: no translation */
+  size_t n;                  /* knots of the table; 0: no translation */
   const double *time;        /* s, strictly increasing */
   const adem_vec3 *velocity; /* m/s at each knot; constant before the first and after the last */
   adem_vec3 axis;            /* rotation axis (any length > 0 when angular_speed != 0) */
   double angular_speed;      /* rad/s, right-handed about axis */
   adem_vec3 center;          /* a point of the axis at t = 0, m */
+  /* Instead of velocity (which must then be NULL): the displacement at each knot from where the
+   * wall is placed (m), linear in between, held at the first before it and at the last after
+   * it (the wall stops there). */
+  const adem_vec3 *position;
 } adem_motion_def;
 
 /* What loading a mesh does to its coordinates, x' = R (s x) + t, and what its triangles are made

@@ -10,8 +10,14 @@
 
 adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err) {
   memset(m, 0, sizeof *m);
+  const adem_vec3 *given = def->position ? def->position : def->velocity;
+  if (def->n > 0 && !given)
+    return adem_error_set(err, ADEM_ERR_INPUT, "motion table without velocities or positions");
+  if (def->n > 0 && def->position && def->velocity)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "a motion table gives velocities or positions, not both");
   for (size_t k = 0; k < def->n; ++k) {
-    if (!isfinite(def->time[k]) || !v3_isfinite(def->velocity[k]))
+    if (!isfinite(def->time[k]) || !v3_isfinite(given[k]))
       return adem_error_set(err, ADEM_ERR_INPUT, "motion table entry %zu is not finite", k);
     if (k > 0 && !(def->time[k] > def->time[k - 1]))
       return adem_error_set(err, ADEM_ERR_INPUT,
@@ -34,13 +40,23 @@ adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_er
       return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     }
     memcpy(m->time, def->time, m->n * sizeof *m->time);
-    memcpy(m->velocity, def->velocity, m->n * sizeof *m->velocity);
-    /* displacement at the first knot: constant velocity from 0 (or back from a knot < 0) */
-    m->displacement[0] = v3_scale(m->velocity[0], m->time[0]);
-    for (size_t k = 1; k < m->n; ++k) {
-      double h = m->time[k] - m->time[k - 1];
-      m->displacement[k] = v3_axpy(m->displacement[k - 1], 0.5 * h,
-                                   v3_add(m->velocity[k - 1], m->velocity[k]));
+    if (def->position) {
+      /* positions: exact at the knots; each segment's constant velocity is its slope */
+      m->positions = true;
+      memcpy(m->displacement, def->position, m->n * sizeof *m->displacement);
+      for (size_t k = 0; k + 1 < m->n; ++k)
+        m->velocity[k] = v3_scale(v3_sub(m->displacement[k + 1], m->displacement[k]),
+                                  1.0 / (m->time[k + 1] - m->time[k]));
+      m->velocity[m->n - 1] = v3_zero();
+    } else {
+      memcpy(m->velocity, def->velocity, m->n * sizeof *m->velocity);
+      /* displacement at the first knot: constant velocity from 0 (or back from a knot < 0) */
+      m->displacement[0] = v3_scale(m->velocity[0], m->time[0]);
+      for (size_t k = 1; k < m->n; ++k) {
+        double h = m->time[k] - m->time[k - 1];
+        m->displacement[k] = v3_axpy(m->displacement[k - 1], 0.5 * h,
+                                     v3_add(m->velocity[k - 1], m->velocity[k]));
+      }
     }
   }
   m->axis = axis_len > 0.0 ? v3_scale(def->axis, 1.0 / axis_len) : v3(0.0, 0.0, 1.0);
@@ -48,7 +64,8 @@ adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_er
   m->center = def->center;
   m->moving = m->omega != 0.0;
   for (size_t k = 0; k < m->n; ++k)
-    if (v3_norm2(m->velocity[k]) > 0.0) m->moving = true;
+    if (v3_norm2(m->velocity[k]) > 0.0 || (m->positions && v3_norm2(m->displacement[k]) > 0.0))
+      m->moving = true;
   return ADEM_OK;
 }
 
@@ -76,6 +93,8 @@ static long segment(const adem_motion *m, double t) {
 /* Velocity at time t counted from t0 (the table's own clock). */
 static adem_vec3 velocity_at(const adem_motion *m, double t) {
   long k = segment(m, t);
+  if (m->positions) /* held before the first knot and after the last */
+    return k < 0 || (size_t)k + 1 >= m->n ? v3_zero() : m->velocity[k];
   if (k < 0) return m->velocity[0];
   if ((size_t)k + 1 >= m->n) return m->velocity[m->n - 1];
   double s = (t - m->time[k]) / (m->time[k + 1] - m->time[k]);
@@ -91,6 +110,11 @@ adem_vec3 adem_motion_displacement(const adem_motion *m, double t) {
   if (m->n == 0) return v3_zero();
   t -= m->t0;
   long k = segment(m, t);
+  if (m->positions) { /* exact at the knots: nothing added at t = time[k] */
+    if (k < 0) return m->displacement[0];
+    if ((size_t)k + 1 >= m->n) return m->displacement[m->n - 1];
+    return v3_axpy(m->displacement[k], t - m->time[k], m->velocity[k]);
+  }
   if (k < 0) return v3_scale(m->velocity[0], t);
   double h = t - m->time[k];
   /* trapezoid over [time[k], t] is exact for a linear velocity */
@@ -129,7 +153,8 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
 }
 
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err) {
-  adem_motion_def d = {src->n, src->time, src->velocity, src->axis, src->omega, src->center};
+  adem_motion_def d = {src->n, src->time, src->positions ? NULL : src->velocity, src->axis,
+                       src->omega, src->center, src->positions ? src->displacement : NULL};
   adem_status st = adem_motion_init(dst, &d, err);
   if (!st) dst->t0 = src->t0;
   return st;
@@ -137,11 +162,12 @@ adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_erro
 
 /* The same motion table, axis and centre (t0 aside). */
 bool adem_motion_same(const adem_motion *a, const adem_motion *b) {
-  if (a->n != b->n || a->omega != b->omega) return false;
+  if (a->n != b->n || a->omega != b->omega || a->positions != b->positions) return false;
   if (memcmp(&a->axis, &b->axis, sizeof a->axis) || memcmp(&a->center, &b->center, sizeof a->center))
     return false;
   return a->n == 0 || (!memcmp(a->time, b->time, a->n * sizeof *a->time) &&
-                       !memcmp(a->velocity, b->velocity, a->n * sizeof *a->velocity));
+                       !memcmp(a->velocity, b->velocity, a->n * sizeof *a->velocity) &&
+                       !memcmp(a->displacement, b->displacement, a->n * sizeof *a->displacement));
 }
 
 
@@ -153,6 +179,7 @@ void adem_motion_save(adem_writer *wr, const adem_motion *m) {
   adem_put_f64(wr, m->omega);
   adem_put_vec(wr, m->center);
   adem_put_u8(wr, m->moving ? 1 : 0);
+  adem_put_u8(wr, m->positions ? 1 : 0);
   adem_put_f64(wr, m->t0);
 }
 
@@ -177,6 +204,7 @@ adem_status adem_motion_load(adem_reader *rd, adem_motion *m, adem_error *err) {
   m->omega = adem_get_f64(rd);
   m->center = adem_get_vec(rd);
   m->moving = adem_get_u8(rd) != 0;
+  m->positions = adem_get_u8(rd) != 0;
   m->t0 = adem_get_f64(rd);
   return ADEM_OK;
 }

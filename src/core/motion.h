@@ -13,8 +13,11 @@
 typedef struct adem_motion {
   size_t n;
   double *time;
+  /* a velocity table: the velocity at each knot; positions: the velocity of the segment that
+   * starts at each knot (0 for the last) */
   adem_vec3 *velocity;
-  adem_vec3 *displacement; /* integral of the velocity from 0 to each knot */
+  adem_vec3 *displacement; /* integral of the velocity from 0 to each knot (positions: given) */
+  bool positions;          /* the table gives positions (a piecewise-linear displacement) */
   adem_vec3 axis;          /* unit */
   double omega;
   adem_vec3 center;
@@ -24,7 +27,8 @@ typedef struct adem_motion {
   double t0;
 } adem_motion;
 
-/* Checks the table (finite, times strictly increasing) and copies it. */
+/* Checks the table (finite, times strictly increasing) and copies it; a table of positions
+ * (def->position) is turned into its segments' velocities. */
 adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err);
 void adem_motion_free(adem_motion *m);
 
@@ -42,7 +46,7 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
 
 /* A copy of src (its table duplicated), t0 included. */
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err);
-/* The same motion table, axis and centre (t0 aside). */
+/* The same motion table (of the same kind), axis and centre (t0 aside). */
 bool adem_motion_same(const adem_motion *a, const adem_motion *b);
 
 /* Every field, exactly (a restart places the wall bit for bit). */

@@ -332,6 +332,50 @@ static adem_status build_groups(case_ctx *ctx, const map_cursor *root) {
 
 /* ---- wall motion and mesh walls ---- */
 
+/* A table of rows [t, x, y, z] under key `key` of mo (absent: *n = 0), times strictly
+ * increasing; fresh arrays in *time and *xyz. `what` names the three columns in messages. */
+static adem_status read_table(case_ctx *ctx, const map_cursor *mo, const char *key,
+                              const char *what, double **time, adem_vec3 **xyz, size_t *n,
+                              yaml_node_t **node) {
+  const adem_schema_entry *e;
+  yaml_node_t *table;
+  char path[KEY_PATH_MAX];
+  *n = 0;
+  adem_status st = adem_yaml_lookup(ctx, mo, key, &e, &table, path);
+  *node = table && !adem_yaml_is_null(table) ? table : NULL;
+  if (st || !*node) return st;
+  if (table->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, table, path);
+  size_t rows = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
+  if (rows == 0) return adem_yaml_fail(ctx, table, path, "needs at least 1 row [t, %s]", what);
+  *time = malloc(rows * sizeof **time);
+  *xyz = malloc(rows * sizeof **xyz);
+  if (!*time || !*xyz) return adem_yaml_nomem(ctx);
+  for (size_t k = 0; k < rows; ++k) {
+    yaml_node_t *row = adem_yaml_node_at(ctx, table->data.sequence.items.start[k]);
+    char rp[KEY_PATH_MAX + 24], t[128];
+    snprintf(rp, sizeof rp, "%s[%zu]", path, k);
+    double x[4];
+    bool ok = row->type == YAML_SEQUENCE_NODE &&
+              row->data.sequence.items.top - row->data.sequence.items.start == 4;
+    for (int j = 0; ok && j < 4; ++j)
+      ok = adem_yaml_parse_number(adem_yaml_node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
+    if (!ok) {
+      adem_yaml_node_text(row, t, sizeof t);
+      return adem_yaml_fail(ctx, row, rp, "expected a row [t, %s] of 4 numbers (%s), got %s", what,
+                            e->unit, t);
+    }
+    if (k > 0 && !(x[0] > (*time)[k - 1]))
+      return adem_yaml_fail(ctx, row, rp,
+                  "the table is not ordered in time: t = %g s does not come after t = %g s of "
+                  "the row before; times must increase strictly",
+                  x[0], (*time)[k - 1]);
+    (*time)[k] = x[0];
+    (*xyz)[k] = v3(x[1], x[2], x[3]);
+  }
+  *n = rows;
+  return ADEM_OK;
+}
+
 /* A prescribed motion read from `motion` (absent: *given = false). The table's arrays are
  * allocated into *time and *vel (free them); def points into them. */
 static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motion_def *def,
@@ -345,44 +389,29 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
   if (st || !mo.node) return st;
   *given = true;
   *at = mo.node;
-  yaml_node_t *vnode;
+  yaml_node_t *vnode, *table, *positions;
   adem_vec3 v;
-  if ((st = adem_yaml_get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
-  const adem_schema_entry *e;
-  yaml_node_t *table;
   char path[KEY_PATH_MAX];
-  if ((st = adem_yaml_lookup(ctx, &mo, "table", &e, &table, path))) return st;
-  if (table && !adem_yaml_is_null(table)) {
-    if (vnode)
-      return adem_yaml_fail(ctx, table, path, "give either `velocity` (constant) or `table`, not both");
-    if (table->type != YAML_SEQUENCE_NODE) return adem_yaml_wrong_type(ctx, e, table, path);
-    size_t n = (size_t)(table->data.sequence.items.top - table->data.sequence.items.start);
-    if (n == 0) return adem_yaml_fail(ctx, table, path, "needs at least 1 row [t, vx, vy, vz]");
-    *time = malloc(n * sizeof **time);
-    *vel = malloc(n * sizeof **vel);
-    if (!*time || !*vel) return adem_yaml_nomem(ctx);
-    for (size_t k = 0; k < n; ++k) {
-      yaml_node_t *row = adem_yaml_node_at(ctx, table->data.sequence.items.start[k]);
-      char rp[KEY_PATH_MAX + 24], t[128];
-      snprintf(rp, sizeof rp, "%s[%zu]", path, k);
-      double x[4];
-      bool ok = row->type == YAML_SEQUENCE_NODE &&
-                row->data.sequence.items.top - row->data.sequence.items.start == 4;
-      for (int j = 0; ok && j < 4; ++j)
-        ok = adem_yaml_parse_number(adem_yaml_node_at(ctx, row->data.sequence.items.start[j]), &x[j]);
-      if (!ok) {
-        adem_yaml_node_text(row, t, sizeof t);
-        return adem_yaml_fail(ctx, row, rp, "expected a row [t, vx, vy, vz] of 4 numbers (s, m/s), got %s", t);
-      }
-      if (k > 0 && !(x[0] > (*time)[k - 1]))
-        return adem_yaml_fail(ctx, row, rp,
-                    "the table is not ordered in time: t = %g s does not come after t = %g s of "
-                    "the row before; times must increase strictly",
-                    x[0], (*time)[k - 1]);
-      (*time)[k] = x[0];
-      (*vel)[k] = v3(x[1], x[2], x[3]);
-    }
+  if ((st = adem_yaml_get_vec3(ctx, &mo, "velocity", &v, &vnode))) return st;
+  size_t n = 0;
+  if ((st = read_table(ctx, &mo, "table", "vx, vy, vz", time, vel, &n, &table))) return st;
+  if (!table && (st = read_table(ctx, &mo, "positions", "x, y, z", time, vel, &n, &positions)))
+    return st;
+  if (table) positions = adem_yaml_map_get(ctx, mo.node, "positions");
+  int ngiven = (vnode != NULL) + (table != NULL) + (positions != NULL && !adem_yaml_is_null(positions));
+  if (ngiven > 1) {
+    yaml_node_t *second = table && vnode ? table : positions;
+    adem_yaml_join(path, sizeof path, mo.path, second == table ? "table" : "positions");
+    return adem_yaml_fail(ctx, second, path,
+                          "give one translation: `velocity` (constant), `table` (velocities) or "
+                          "`positions` (displacements), not %s",
+                          ngiven == 3 ? "all three" : "two of them");
+  }
+  if (table) {
     def->n = n;
+  } else if (positions) {
+    def->n = n;
+    def->position = *vel; /* displacements */
   } else if (vnode) {
     *time = malloc(sizeof **time);
     *vel = malloc(sizeof **vel);
@@ -392,8 +421,14 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
     def->n = 1;
   }
   def->time = *time;
-  def->velocity = *vel;
-  for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
+  if (def->position) {
+    for (size_t k = 0; k + 1 < def->n; ++k)
+      ctx->vmax = fmax(ctx->vmax, v3_norm(v3_sub((*vel)[k + 1], (*vel)[k])) /
+                                      ((*time)[k + 1] - (*time)[k]));
+  } else {
+    def->velocity = *vel;
+    for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
+  }
   if ((st = adem_yaml_get_map(ctx, &mo, "rotation", &rot))) return st;
   if (rot.node) {
     yaml_node_t *axis_node;
@@ -869,6 +904,51 @@ static adem_status read_dist(case_ctx *ctx, const map_cursor *m, double fit, con
   return ADEM_OK;
 }
 
+/* A mapping with a `shape` (its variant) and that shape's keys: a box, a cylinder or the inside
+ * of a closed STL surface. *word names its kind for messages. */
+static adem_status read_region_map(case_ctx *ctx, const map_cursor *rm, adem_region *r,
+                                   const char **word) {
+  adem_error werr = {ADEM_OK, ""};
+  char path[KEY_PATH_MAX];
+  adem_vec3 lo, hi;
+  yaml_node_t *hi_node;
+  adem_status st;
+  if (!strcmp(rm->variant, "box")) {
+    *word = "box";
+    if ((st = adem_yaml_get_vec3(ctx, rm, "min", &lo, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "max", &hi, &hi_node))) return st;
+    if ((st = check_box(ctx, lo, hi, hi_node, rm))) return st;
+    adem_insert_region_box(r, lo, hi);
+  } else if (!strcmp(rm->variant, "cylinder")) {
+    *word = "cylinder";
+    adem_vec3 a, b;
+    double radius = 0.0;
+    yaml_node_t *end_node;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "start", &a, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "end", &b, &end_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, rm, "radius", &radius, NULL))) return st;
+    if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
+      adem_yaml_join(path, sizeof path, rm->path, "end");
+      return adem_yaml_fail(ctx, end_node, path, "%s", werr.message);
+    }
+  } else {
+    *word = "mesh region";
+    char file[ADEM_PATH_MAX];
+    yaml_node_t *file_node;
+    adem_mesh_transform tf = adem_default_mesh_transform();
+    if ((st = adem_yaml_get_string(ctx, rm, "file", file, sizeof file, &file_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, rm, "scale", &tf.scale, NULL))) return st;
+    if ((st = adem_yaml_get_vec3(ctx, rm, "translate", &tf.translation, NULL))) return st;
+    char *resolved = mesh_path(ctx, file);
+    if (!resolved) return adem_yaml_nomem(ctx);
+    st = adem_insert_region_mesh(r, resolved, &tf, &werr);
+    free(resolved);
+    adem_yaml_join(path, sizeof path, rm->path, "file");
+    if (st) return werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
+  }
+  return ADEM_OK;
+}
+
 /* The region of a random set (`region`, or the box `min`/`max`: box_keys) or of a pour. *word
  * names its kind for messages. */
 static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys, adem_region *r,
@@ -903,41 +983,7 @@ static adem_status read_region(case_ctx *ctx, const map_cursor *m, bool box_keys
       return ADEM_OK;
     }
   }
-  adem_error werr = {ADEM_OK, ""};
-  if (!strcmp(rm.variant, "box")) {
-    *word = "box";
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "min", &lo, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "max", &hi, &hi_node))) return st;
-    if ((st = check_box(ctx, lo, hi, hi_node, &rm))) return st;
-    adem_insert_region_box(r, lo, hi);
-  } else if (!strcmp(rm.variant, "cylinder")) {
-    *word = "cylinder";
-    adem_vec3 a, b;
-    double radius = 0.0;
-    yaml_node_t *end_node;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "start", &a, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "end", &b, &end_node))) return st;
-    if ((st = adem_yaml_get_number(ctx, &rm, "radius", &radius, NULL))) return st;
-    if (adem_insert_region_cylinder(r, a, b, radius, &werr)) {
-      adem_yaml_join(path, sizeof path, rm.path, "end");
-      return adem_yaml_fail(ctx, end_node, path, "%s", werr.message);
-    }
-  } else {
-    *word = "mesh region";
-    char file[ADEM_PATH_MAX];
-    yaml_node_t *file_node;
-    adem_mesh_transform tf = adem_default_mesh_transform();
-    if ((st = adem_yaml_get_string(ctx, &rm, "file", file, sizeof file, &file_node))) return st;
-    if ((st = adem_yaml_get_number(ctx, &rm, "scale", &tf.scale, NULL))) return st;
-    if ((st = adem_yaml_get_vec3(ctx, &rm, "translate", &tf.translation, NULL))) return st;
-    char *resolved = mesh_path(ctx, file);
-    if (!resolved) return adem_yaml_nomem(ctx);
-    st = adem_insert_region_mesh(r, resolved, &tf, &werr);
-    free(resolved);
-    adem_yaml_join(path, sizeof path, rm.path, "file");
-    if (st) return werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
-  }
-  return ADEM_OK;
+  return read_region_map(ctx, &rm, r, word);
 }
 
 /* A random non-overlapping fill of a box, cylinder or closed mesh, up to a count or a solid
@@ -1002,6 +1048,13 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   }
   adem_insert_fill_result_free(&res);
   adem_insert_dist_free(&dist);
+  if (!st) { /* kept for `adem check`'s look at it against the walls */
+    char where[KEY_PATH_MAX + 16];
+    snprintf(where, sizeof where, "%s%s", m->path,
+             adem_yaml_map_get(ctx, m->node, "region") ? ".region" : " (min, max)");
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_regions_add(&ctx->c->fills, word, where, &reg, &werr)) st = adem_yaml_nomem(ctx);
+  }
   adem_insert_region_free(&reg);
   if (st) return st;
   return flush_spheres(ctx, first, mat, group, m->node, m->path);
@@ -1113,6 +1166,86 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
+/* ---- run-until conditions ---- */
+
+/* `until` of parent (time, or a stage): *given false when absent. Walls must be built. */
+static adem_status read_until(case_ctx *ctx, const map_cursor *parent, adem_until_def *def,
+                              bool *given) {
+  map_cursor u, wl;
+  memset(def, 0, sizeof *def);
+  *given = false;
+  adem_status st = adem_yaml_get_map(ctx, parent, "until", &u);
+  if (st || !u.node) return st;
+  *given = true;
+  yaml_node_t *ke_node, *for_node, *interval_node;
+  char path[KEY_PATH_MAX];
+  if ((st = adem_yaml_get_number(ctx, &u, "kinetic_energy_per_particle", &def->kinetic, &ke_node)))
+    return st;
+  if (!ke_node) def->kinetic = 0.0;
+  if ((st = adem_yaml_get_map(ctx, &u, "wall_load", &wl))) return st;
+  if (wl.node) {
+    const adem_world *w = ctx->w;
+    yaml_node_t *wall_node, *dir_node;
+    def->load = true;
+    if ((st = adem_yaml_get_string(ctx, &wl, "wall", def->wall, sizeof def->wall, &wall_node)))
+      return st;
+    if ((st = adem_yaml_get_vec3(ctx, &wl, "direction", &def->direction, &dir_node))) return st;
+    if ((st = adem_yaml_get_number(ctx, &wl, "tolerance", &def->tolerance, NULL))) return st;
+    def->wall_index = -1;
+    char names[600] = "";
+    suggestion sg = {def->wall, NULL, (size_t)-1};
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      if (def->wall_index < 0 && !strcmp(w->walls.planes[k].def.name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_PLANE;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.planes[k].def.name);
+      adem_yaml_suggest_try(&sg, w->walls.planes[k].def.name);
+    }
+    for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
+      if (def->wall_index < 0 && !strcmp(w->walls.mesh.groups[k].name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_MESH_GROUP;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.mesh.groups[k].name);
+      adem_yaml_suggest_try(&sg, w->walls.mesh.groups[k].name);
+    }
+    for (int k = 0; k < w->walls.nmesh_walls; ++k) {
+      if (w->walls.mesh_walls[k].count < 2) continue;
+      if (def->wall_index < 0 && !strcmp(w->walls.mesh_walls[k].name, def->wall)) {
+        def->wall_kind = ADEM_UNTIL_MESH_WALL;
+        def->wall_index = k;
+      }
+      adem_yaml_list_append(names, sizeof names, w->walls.mesh_walls[k].name);
+      adem_yaml_suggest_try(&sg, w->walls.mesh_walls[k].name);
+    }
+    adem_yaml_join(path, sizeof path, wl.path, "wall");
+    if (def->wall_index < 0) {
+      if (sg.best)
+        return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; did you mean `%s`? The "
+                              "walls: %s", def->wall, sg.best, names[0] ? names : "none");
+      return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; the walls: %s", def->wall,
+                            names[0] ? names : "none");
+    }
+    if (!dir_node) def->direction = w->gravity; /* along gravity, as the loads plot */
+    double len = v3_norm(def->direction);
+    if (!(len > 0.0)) {
+      adem_yaml_join(path, sizeof path, wl.path, "direction");
+      return adem_yaml_fail(ctx, dir_node ? dir_node : wl.node, path,
+                            dir_node ? "must be a non-zero vector"
+                                     : "gravity is zero: give the direction of the load");
+    }
+    def->direction = v3_scale(def->direction, 1.0 / len);
+  }
+  if (!ke_node && !wl.node)
+    return adem_yaml_fail(ctx, u.node, u.path,
+                          "give a condition: `kinetic_energy_per_particle`, `wall_load` or both");
+  if ((st = adem_yaml_get_number(ctx, &u, "for", &def->hold, &for_node))) return st;
+  if ((st = adem_yaml_get_number(ctx, &u, "interval", &def->interval, &interval_node))) return st;
+  if (!interval_node) def->interval = def->hold > 0.0 ? def->hold / 10.0 : 0.0; /* 0: every step */
+  return ADEM_OK;
+}
+
 /* ---- stages ---- */
 
 /* Appends text to a growing string. */
@@ -1197,6 +1330,13 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
     adem_yaml_where(ctx, m.node, loc, sizeof loc);
     adem_error werr = {ADEM_OK, ""};
     if (adem_stages_add(&c->stages, name, duration, loc, &werr)) {
+      st = adem_yaml_nomem(ctx);
+      break;
+    }
+    adem_until_def ud;
+    bool has_until = false;
+    if ((st = read_until(ctx, &m, &ud, &has_until))) break;
+    if (has_until && adem_stages_set_until(c->stages, &ud, &werr)) {
       st = adem_yaml_nomem(ctx);
       break;
     }
@@ -1439,6 +1579,33 @@ static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
   return ADEM_OK;
 }
 
+/* output.regions: named regions whose particles each CSV row counts. */
+static adem_status read_output_regions(case_ctx *ctx, const map_cursor *out) {
+  list_cursor l;
+  adem_status st = adem_yaml_get_list(ctx, out, "regions", &l);
+  for (size_t i = 0; i < l.n && !st; ++i) {
+    map_cursor m;
+    char name[ADEM_NAME_MAX], path[KEY_PATH_MAX];
+    yaml_node_t *name_node;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = adem_yaml_get_string(ctx, &m, "name", name, sizeof name, &name_node))) break;
+    for (int k = 0; ctx->c->regions && k < ctx->c->regions->n; ++k)
+      if (!strcmp(ctx->c->regions->r[k].name, name)) {
+        adem_yaml_join(path, sizeof path, m.path, "name");
+        return adem_yaml_fail(ctx, name_node, path, "duplicate region name `%s` (also %s)", name,
+                              ctx->c->regions->r[k].where);
+      }
+    adem_region reg;
+    memset(&reg, 0, sizeof reg);
+    const char *word = "";
+    if ((st = read_region_map(ctx, &m, &reg, &word))) break;
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_regions_add(&ctx->c->regions, name, m.path, &reg, &werr)) st = adem_yaml_nomem(ctx);
+    adem_insert_region_free(&reg);
+  }
+  return st;
+}
+
 static adem_status build(case_ctx *ctx) {
   adem_case *c = ctx->c;
   map_cursor root, time, nb, limits, out, domain;
@@ -1469,6 +1636,13 @@ static adem_status build(case_ctx *ctx) {
   adem_vec3 g;
   if ((st = adem_yaml_get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
   adem_world_set_gravity(ctx->w, g);
+  adem_until_def ud;
+  bool has_until = false;
+  if ((st = read_until(ctx, &time, &ud, &has_until))) return st; /* walls and gravity known */
+  if (has_until) {
+    if (!(c->until = malloc(sizeof *c->until))) return adem_yaml_nomem(ctx);
+    adem_until_init(c->until, &ud);
+  }
 
   if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
   if ((st = adem_yaml_get_number(ctx, &nb, "skin", &skin, NULL))) return st;
@@ -1490,6 +1664,7 @@ static adem_status build(case_ctx *ctx) {
   if ((st = adem_yaml_get_bool(ctx, &out, "plot_loads", &plot))) return st;
   o->plot_loads = plot;
   if ((st = read_track(ctx, &out))) return st;
+  if ((st = read_output_regions(ctx, &out))) return st;
   if ((st = build_stages(ctx, &root))) return st;
 
   if ((st = adem_yaml_get_map(ctx, &root, "domain", &domain))) return st;
@@ -1680,16 +1855,19 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
   if (st) return st;
   /* Durations: every stage but the last needs one; the last may run until time.end. */
   double t = 0.0;
+  bool earlier = false; /* a stage before may end early (its `until`) */
   for (int k = 0; k < s->n; ++k) {
     adem_stage *g = &s->s[k];
     if (g->duration < 0.0 && k + 1 < s->n)
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "%s: stages[%d] (`%s`): duration: required value is missing (every "
-                            "stage but the last needs one)",
-                            g->where, k, g->name);
-    if (t >= c->end_time * (1.0 - 1e-12) && k > 0)
+                            "stage but the last needs one%s)",
+                            g->where, k, g->name, g->until ? "; with `until` it is the most the "
+                            "stage lasts" : "");
+    if (t >= c->end_time * (1.0 - 1e-12) && k > 0 && !earlier)
       adem_log(ADEM_LOG_WARN, "%s: stage `%s` begins at t = %g s, at or after time.end = %g s: it "
                "will not run", g->where, g->name, t, c->end_time);
+    if (g->until) earlier = true;
     if (g->duration >= 0.0) t += g->duration;
   }
   const adem_stage *last = &s->s[s->n - 1];
@@ -1816,6 +1994,9 @@ void adem_case_free(adem_case *c) {
   adem_world_free(c->world);
   adem_pours_free(c->pours);
   adem_stages_free(c->stages);
+  adem_regions_free(c->regions);
+  adem_regions_free(c->fills);
+  free(c->until);
   free(c->source);
   if (c->sets)
     for (int k = 0; k < c->nsets; ++k) free(c->sets[k]);

@@ -93,6 +93,54 @@ void adem_yaml_suggest_try(suggestion *s, const char *cand) {
   }
 }
 
+/* Names other DEM codes and papers use for a key of ours, where edit distance does not reach
+ * it: `rolling_resistance` is 7 edits from `rolling_friction`. Offered only when the key it
+ * names is allowed where the unknown one was written. */
+static const char *const synonyms[][2] = {
+    {"rolling_resistance", "rolling_friction"},
+    {"rolling_resistance_coefficient", "rolling_friction"},
+    {"rolling_friction_coefficient", "rolling_friction"},
+    {"coefficient_of_rolling_friction", "rolling_friction"},
+    {"eta_r", "rolling_friction"},
+    {"coefficient_of_restitution", "restitution"},
+    {"restitution_coefficient", "restitution"},
+    {"cor", "restitution"},
+    {"e", "restitution"},
+    {"coefficient_of_friction", "friction"},
+    {"friction_coefficient", "friction"},
+    {"sliding_friction", "friction"},
+    {"static_friction", "friction"},
+    {"mu", "friction"},
+    {"youngs", "youngs_modulus"},
+    {"young", "youngs_modulus"},
+    {"elastic_modulus", "youngs_modulus"},
+    {"modulus", "youngs_modulus"},
+    {"E", "youngs_modulus"},
+    {"poisson", "poisson_ratio"},
+    {"poissons_ratio", "poisson_ratio"},
+    {"nu", "poisson_ratio"},
+    {"rho", "density"},
+    {"mass_density", "density"},
+    {"gamma", "surface_energy"},
+    {"surface_tension", "surface_energy"},
+    {"stiffness_reduction", "stiffness_factor"},
+    {"dt", "step"},
+    {"timestep", "step"},
+    {"time_step", "step"},
+    {"t_end", "end"},
+    {"end_time", "end"},
+    {"duration", "end"},
+    {"radius_distribution", "radius"},
+    {"diameter", "radius"},
+    {"number", "count"},
+};
+
+const char *adem_yaml_synonym(const char *word) {
+  for (size_t k = 0; k < sizeof synonyms / sizeof synonyms[0]; ++k)
+    if (!strcmp(word, synonyms[k][0])) return synonyms[k][1];
+  return NULL;
+}
+
 /* Appends ", item" to a list being written into buf. */
 void adem_yaml_list_append(char *buf, size_t n, const char *item) {
   size_t k = strlen(buf);
@@ -284,12 +332,16 @@ adem_status adem_yaml_unknown_key(case_ctx *ctx, const map_cursor *m, const yaml
   char path[KEY_PATH_MAX], allowed[600] = "";
   adem_yaml_join(path, sizeof path, m->path, key);
   suggestion s = {key, NULL, (size_t)-1};
+  const char *synonym = adem_yaml_synonym(key);
   for (size_t i = 0; i < adem_schema_count(); ++i) {
     const adem_schema_entry *e = adem_schema_at(i);
     if (!adem_schema_is_child(e, m->schema, m->variant)) continue;
     adem_yaml_list_append(allowed, sizeof allowed, adem_schema_key(e));
     adem_yaml_suggest_try(&s, adem_schema_key(e));
   }
+  /* A known other name of an allowed key beats a near spelling. */
+  const adem_schema_entry *syn = synonym ? adem_schema_find(m->schema, synonym, m->variant) : NULL;
+  if (syn) s.best = adem_schema_key(syn);
   const adem_schema_entry *other = adem_schema_find_any(m->schema, key);
   if (other && other->variant) {
     char vs[128];

@@ -84,6 +84,9 @@ adem_status adem_yaml_nomem(case_ctx *ctx);
 /* ---- suggestions ---- */
 size_t adem_yaml_edit_distance(const char *a, const char *b);
 void adem_yaml_suggest_try(suggestion *s, const char *cand);
+/* The key of ours that another DEM name stands for (`rolling_resistance` -> `rolling_friction`),
+ * or NULL. */
+const char *adem_yaml_synonym(const char *word);
 void adem_yaml_list_append(char *buf, size_t n, const char *item);
 
 /* ---- scalars ---- */

@@ -239,12 +239,9 @@ static bool mesh_near(const adem_region *r, adem_vec3 x, double radius) {
   return false;
 }
 
-adem_status adem_insert_region_mesh(adem_region *r, const char *path,
-                                    const adem_mesh_transform *tf, adem_error *err) {
-  memset(r, 0, sizeof *r);
-  r->kind = ADEM_REGION_MESH;
-  adem_status st = adem_mesh_load_stl(path, tf, NULL, &r->mesh, err);
-  if (st) return st;
+/* Checks that r->mesh encloses a volume and indexes its triangles in columns for the ray test;
+ * path names it in messages. Frees r on failure. */
+static adem_status index_mesh_region(adem_region *r, const char *path, adem_error *err) {
   const adem_mesh *m = &r->mesh;
   size_t open = 0;
   for (size_t t = 0; t < m->ntris; ++t)
@@ -300,6 +297,188 @@ adem_status adem_insert_region_mesh(adem_region *r, const char *path,
 nomem:
   adem_insert_region_free(r);
   return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory indexing %s", path);
+}
+
+adem_status adem_insert_region_mesh(adem_region *r, const char *path,
+                                    const adem_mesh_transform *tf, adem_error *err) {
+  memset(r, 0, sizeof *r);
+  r->kind = ADEM_REGION_MESH;
+  adem_status st = adem_mesh_load_stl(path, tf, NULL, &r->mesh, err);
+  if (st) return st;
+  return index_mesh_region(r, path, err);
+}
+
+adem_status adem_insert_region_triangles(adem_region *r, const adem_vec3 *corners, size_t ntri,
+                                         adem_error *err) {
+  memset(r, 0, sizeof *r);
+  r->kind = ADEM_REGION_MESH;
+  adem_status st = adem_mesh_add_triangles(&r->mesh, corners, NULL, ntri, "surface", 0, 0, err);
+  if (st) {
+    adem_insert_region_free(r);
+    return st;
+  }
+  return index_mesh_region(r, "the surface", err);
+}
+
+/* Round-off scale of a region: a billionth of its largest extent. */
+static double region_eps(const adem_region *r) {
+  adem_vec3 s = v3_sub(r->hi, r->lo);
+  return 1e-9 * fmax(s.x, fmax(s.y, s.z));
+}
+
+bool adem_insert_region_contains(const adem_region *r, adem_vec3 x) {
+  double eps = region_eps(r);
+  switch (r->kind) {
+    case ADEM_REGION_BOX:
+      return x.x > r->lo.x + eps && x.y > r->lo.y + eps && x.z > r->lo.z + eps &&
+             x.x < r->hi.x - eps && x.y < r->hi.y - eps && x.z < r->hi.z - eps;
+    case ADEM_REGION_CYLINDER: {
+      adem_vec3 d = v3_sub(x, r->start);
+      double s = v3_dot(d, r->axis), a = v3_dot(d, r->e1), b = v3_dot(d, r->e2);
+      double room = r->radius - eps;
+      return s > eps && s < r->length - eps && a * a + b * b < room * room;
+    }
+    case ADEM_REGION_MESH:
+      if (x.x <= r->lo.x || x.y <= r->lo.y || x.z <= r->lo.z || x.x >= r->hi.x ||
+          x.y >= r->hi.y || x.z >= r->hi.z)
+        return false;
+      return mesh_inside(r, x) && !mesh_near(r, x, eps);
+  }
+  return false;
+}
+
+adem_vec3 adem_insert_region_centre(const adem_region *r) {
+  adem_vec3 mid = v3_scale(v3_add(r->lo, r->hi), 0.5);
+  if (r->kind == ADEM_REGION_CYLINDER) return v3_axpy(r->start, 0.5 * r->length, r->axis);
+  if (r->kind != ADEM_REGION_MESH || adem_insert_region_contains(r, mid)) return mid;
+  adem_vec3 s = v3_sub(r->hi, r->lo);
+  for (int i = 1; i < 8; ++i)
+    for (int j = 1; j < 8; ++j)
+      for (int k = 1; k < 8; ++k) {
+        adem_vec3 x = v3(r->lo.x + s.x * i / 8.0, r->lo.y + s.y * j / 8.0, r->lo.z + s.z * k / 8.0);
+        if (adem_insert_region_contains(r, x)) return x;
+      }
+  return mid;
+}
+
+int adem_insert_region_plane_side(const adem_region *r, adem_vec3 point, adem_vec3 normal) {
+  double lo = INFINITY, hi = -INFINITY;
+  if (r->kind == ADEM_REGION_CYLINDER) {
+    double c = v3_dot(normal, r->axis);
+    double across = r->radius * sqrt(fmax(0.0, 1.0 - c * c));
+    double d0 = v3_dot(v3_sub(r->start, point), normal);
+    double d1 = d0 + r->length * c;
+    lo = fmin(d0, d1) - across;
+    hi = fmax(d0, d1) + across;
+  } else if (r->kind == ADEM_REGION_MESH) {
+    for (size_t v = 0; v < r->mesh.nverts; ++v) {
+      double d = v3_dot(v3_sub(r->mesh.vert[v], point), normal);
+      lo = fmin(lo, d);
+      hi = fmax(hi, d);
+    }
+  } else {
+    for (int k = 0; k < 8; ++k) {
+      adem_vec3 x = v3(k & 1 ? r->hi.x : r->lo.x, k & 2 ? r->hi.y : r->lo.y, k & 4 ? r->hi.z : r->lo.z);
+      double d = v3_dot(v3_sub(x, point), normal);
+      lo = fmin(lo, d);
+      hi = fmax(hi, d);
+    }
+  }
+  double eps = region_eps(r);
+  if (lo >= -eps) return 1;
+  if (hi <= eps) return -1;
+  return 0;
+}
+
+/* Separating-axis test of a triangle against a box (Akenine-Moeller 2001): true when they
+ * overlap by more than eps (touching is not overlapping). */
+static bool triangle_box_overlap(adem_vec3 lo, adem_vec3 hi, adem_vec3 a, adem_vec3 b, adem_vec3 c,
+                                 double eps) {
+  adem_vec3 centre = v3_scale(v3_add(lo, hi), 0.5), half = v3_scale(v3_sub(hi, lo), 0.5);
+  adem_vec3 v[3] = {v3_sub(a, centre), v3_sub(b, centre), v3_sub(c, centre)};
+  adem_vec3 e[3] = {v3_sub(v[1], v[0]), v3_sub(v[2], v[1]), v3_sub(v[0], v[2])};
+  adem_vec3 axes[13];
+  int n = 0;
+  axes[n++] = v3(1, 0, 0);
+  axes[n++] = v3(0, 1, 0);
+  axes[n++] = v3(0, 0, 1);
+  axes[n++] = v3_cross(e[0], e[1]); /* the triangle's normal */
+  for (int i = 0; i < 3; ++i) {
+    adem_vec3 u = i == 0 ? v3(1, 0, 0) : i == 1 ? v3(0, 1, 0) : v3(0, 0, 1);
+    for (int j = 0; j < 3; ++j) axes[n++] = v3_cross(u, e[j]);
+  }
+  for (int k = 0; k < n; ++k) {
+    adem_vec3 ax = axes[k];
+    double len = v3_norm(ax);
+    if (!(len > 1e-300)) continue; /* parallel edges: no axis */
+    ax = v3_scale(ax, 1.0 / len);
+    double p0 = v3_dot(v[0], ax), p1 = v3_dot(v[1], ax), p2 = v3_dot(v[2], ax);
+    double rad = half.x * fabs(ax.x) + half.y * fabs(ax.y) + half.z * fabs(ax.z);
+    if (fmin(p0, fmin(p1, p2)) >= rad - eps || fmax(p0, fmax(p1, p2)) <= -rad + eps) return false;
+  }
+  return true;
+}
+
+bool adem_insert_region_cuts_triangle(const adem_region *r, adem_vec3 a, adem_vec3 b,
+                                      adem_vec3 c) {
+  double eps = region_eps(r);
+  if (fmax(a.x, fmax(b.x, c.x)) <= r->lo.x + eps || fmin(a.x, fmin(b.x, c.x)) >= r->hi.x - eps ||
+      fmax(a.y, fmax(b.y, c.y)) <= r->lo.y + eps || fmin(a.y, fmin(b.y, c.y)) >= r->hi.y - eps ||
+      fmax(a.z, fmax(b.z, c.z)) <= r->lo.z + eps || fmin(a.z, fmin(b.z, c.z)) >= r->hi.z - eps)
+    return false;
+  if (r->kind == ADEM_REGION_BOX) return triangle_box_overlap(r->lo, r->hi, a, b, c, eps);
+  /* points of the triangle no farther apart than an eighth of the region's smallest extent */
+  adem_vec3 s = v3_sub(r->hi, r->lo);
+  double spacing = fmin(s.x, fmin(s.y, s.z)) / 8.0;
+  double longest = fmax(v3_norm(v3_sub(b, a)), fmax(v3_norm(v3_sub(c, b)), v3_norm(v3_sub(a, c))));
+  double nd = ceil(longest / fmax(spacing, 1e-300));
+  int n = nd < 1.0 ? 1 : nd > 256.0 ? 256 : (int)nd;
+  adem_vec3 ab = v3_sub(b, a), ac = v3_sub(c, a);
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; i + j <= n; ++j) {
+      adem_vec3 x = v3_add(a, v3_add(v3_scale(ab, (double)i / n), v3_scale(ac, (double)j / n)));
+      if (adem_insert_region_contains(r, x)) return true;
+    }
+  return false;
+}
+
+adem_status adem_regions_add(adem_regions **prs, const char *name, const char *where,
+                             adem_region *region, adem_error *err) {
+  if (!*prs && !(*prs = calloc(1, sizeof **prs)))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_regions *rs = *prs;
+  adem_named_region *r = realloc(rs->r, (size_t)(rs->n + 1) * sizeof *r);
+  if (!r) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  rs->r = r;
+  adem_named_region *x = &r[rs->n++];
+  memset(x, 0, sizeof *x);
+  snprintf(x->name, sizeof x->name, "%s", name);
+  snprintf(x->where, sizeof x->where, "%s", where);
+  x->region = *region;
+  memset(region, 0, sizeof *region);
+  return ADEM_OK;
+}
+
+void adem_regions_free(adem_regions *rs) {
+  if (!rs) return;
+  for (int k = 0; k < rs->n; ++k) adem_insert_region_free(&rs->r[k].region);
+  free(rs->r);
+  free(rs);
+}
+
+void adem_regions_count(const adem_regions *rs, const adem_world *w, double *count,
+                        double *mass) {
+  for (int k = 0; rs && k < rs->n; ++k) {
+    const adem_region *r = &rs->r[k].region;
+    double n = 0.0, m = 0.0;
+    for (size_t i = 0; i < w->p.n; ++i) {
+      if (!adem_insert_region_contains(r, w->p.pos[i])) continue;
+      n += 1.0;
+      m += 1.0 / w->p.inv_mass[i];
+    }
+    count[k] = n;
+    mass[k] = m;
+  }
 }
 
 void adem_insert_region_free(adem_region *r) {

@@ -96,6 +96,46 @@ bool adem_insert_region_holds(const adem_region *r, adem_vec3 x, double radius);
  * disc). Returns false when the trial already misses the region. */
 bool adem_insert_region_sample(const adem_region *r, adem_rng *rng, double radius, adem_vec3 *x);
 
+/* The inside of a closed surface given as ntri triangles (3 corners each, world coordinates),
+ * like a mesh region: ADEM_ERR_INPUT when it does not enclose a volume. */
+adem_status adem_insert_region_triangles(adem_region *r, const adem_vec3 *corners, size_t ntri,
+                                         adem_error *err);
+/* True when the point is inside the region, away from its boundary by more than round-off (a
+ * wall lying on a region's face is not in it). */
+bool adem_insert_region_contains(const adem_region *r, adem_vec3 x);
+/* A point well inside the region: a box's or a cylinder's centre; for a mesh, its bounding box's
+ * centre when inside, else the first of a few sample points that is. */
+adem_vec3 adem_insert_region_centre(const adem_region *r);
+/* Where the region lies with respect to the plane through point with unit normal: +1 wholly in
+ * front of it (the normal's side), -1 wholly behind, 0 across it. Touching is not crossing. */
+int adem_insert_region_plane_side(const adem_region *r, adem_vec3 point, adem_vec3 normal);
+/* True when some of triangle abc lies inside the region (adem_insert_region_contains); exact
+ * for a box, from points no farther apart than an eighth of the region's smallest extent for a
+ * cylinder or a mesh. */
+bool adem_insert_region_cuts_triangle(const adem_region *r, adem_vec3 a, adem_vec3 b,
+                                      adem_vec3 c);
+
+/* Named regions: the regions output.regions counts particles in, and the regions the case's
+ * random sets were filled in (kept for `adem check`). */
+typedef struct adem_named_region {
+  char name[ADEM_NAME_MAX];
+  char where[128];         /* key path, e.g. particles[0].region */
+  adem_region region;
+} adem_named_region;
+
+struct adem_regions {
+  int n;
+  adem_named_region *r;
+};
+
+/* Appends a region (*region now belongs to the list and is zeroed). */
+adem_status adem_regions_add(adem_regions **rs, const char *name, const char *where,
+                             adem_region *region, adem_error *err);
+void adem_regions_free(adem_regions *rs);
+/* Particles whose centre is inside each region (adem_insert_region_contains) and their mass:
+ * count[k] and mass[k] for region k, summed in the particles' order. */
+void adem_regions_count(const adem_regions *rs, const adem_world *w, double *count, double *mass);
+
 /* ---- overlap queries ---- */
 
 /* Uniform cell grid over spheres given as arrays of centres and radii, for overlap queries in

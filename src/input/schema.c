@@ -32,6 +32,17 @@
 #define GT_LE(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX
 #define GT_LT(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX_OPEN
 
+/* The keys of a run-until condition under prefix P ("time.until", "stages[].until"). */
+#define UNTIL_ENTRIES(P, WHAT)                                                                     \
+  {P, NULL, MAP, "", NULL, NULL, .doc = "End " WHAT " early, at the first check where every condition given has held for `for` seconds (docs/insertion-and-stages.md). Give `kinetic_energy_per_particle`, `wall_load` or both."}, \
+  {P ".kinetic_energy_per_particle", NULL, NUM, "J", NULL, NULL, GT(0), .doc = "Translational plus rotational kinetic energy per particle below this (1e-7 J: an rms speed of about 1 mm/s for 5 cm stones). Not while a pour still has particles to insert."}, \
+  {P ".wall_load", NULL, MAP, "", NULL, NULL, .doc = "A wall's load steady: its largest and smallest value since the streak began differ by at most `tolerance` times the larger magnitude (a wall that carries nothing is not steady)."}, \
+  {P ".wall_load.wall", NULL, STR, "", NULL, NULL, REQ, .doc = "A plane (a box's: `NAME.xmin` ...), a mesh group or a mesh file of several groups (their total), as named in the CSV."}, \
+  {P ".wall_load.direction", NULL, VEC3, "", NULL, "along gravity", .doc = "The load is the force of the particles on the wall along this direction (any length > 0)."}, \
+  {P ".wall_load.tolerance", NULL, NUM, "", "0.01", NULL, GT(0), .doc = "Relative spread allowed."}, \
+  {P ".for", NULL, NUM, "s", "0", NULL, GE(0), .doc = "How long every condition must hold, measured between checks."}, \
+  {P ".interval", NULL, NUM, "s", NULL, "`for` / 10, or every step when `for` is 0", GT(0), .doc = "Simulated time between checks (rounded to whole steps): the run ends on a check."}
+
 /* Every key of a case file. Order: as the reference lists them. */
 static const adem_schema_entry base_schema[] = {
     {"name", NULL, STR, "", NULL, "file name without directory and extension", .doc = "Case name; the default output directory is `out/<name>`."},
@@ -44,7 +55,7 @@ static const adem_schema_entry base_schema[] = {
     {"materials[].poisson_ratio", NULL, NUM, "", NULL, NULL, GT_LT(-1, 0.5), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless `rigid: true`", .doc = "Poisson's ratio nu."},
     {"materials[].restitution", NULL, NUM, "", "0.5", NULL, GT_LE(0, 1), .doc = "Coefficient of restitution e of a collision between two spheres of this material."},
     {"materials[].friction", NULL, NUM, "", "0.5", NULL, GE(0), .doc = "Sliding friction coefficient mu_s."},
-    {"materials[].stiffness_factor", NULL, NUM, "", "1", NULL, GT_LE(0, 1), .doc = "Stiffness reduction f = E_mod/E; surface energy is scaled by f^(2/5) to keep the pull-off force."},
+    {"materials[].stiffness_factor", NULL, NUM, "", "1", NULL, GT_LE(0, 1), .doc = "Stiffness reduction f = E_mod/E; surface energy is scaled by f^(2/5) to keep the pull-off force. Without adhesion (Hertz, no surface energy) it is the same as giving `youngs_modulus` f E."},
     {"materials[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
     {"materials[].rigid", NULL, BOOL, "", "false", NULL, .doc = "`true`: infinite Young's modulus; for wall materials only."},
 
@@ -111,9 +122,10 @@ static const adem_schema_entry base_schema[] = {
     {"walls[].point", "plane", VEC3, "m", NULL, NULL, REQ, .doc = "A point of the plane."},
     {"walls[].normal", "plane", VEC3, "", NULL, NULL, REQ, .doc = "Normal pointing to the particles' side; non-zero, normalised by the loader."},
     {"walls[].velocity", "plane", VEC3, "m/s", "[0, 0, 0]", NULL, .doc = "Translation velocity of the plane."},
-    {"walls[].motion", "plane|mesh", MAP, "", NULL, NULL, .doc = "Prescribed motion, an exact function of time: a translation (`velocity` or `table`) and a `rotation`. A mesh that moves needs its own vertices."},
-    {"walls[].motion.velocity", NULL, VEC3, "m/s", NULL, NULL, .doc = "Constant translation velocity; not with `table`."},
-    {"walls[].motion.table", NULL, TABLE, "s, m/s", NULL, NULL, GE(1), .doc = "Piecewise-linear translation velocity: rows [t, vx, vy, vz], t strictly increasing; constant before the first row and after the last; not with `velocity`."},
+    {"walls[].motion", "plane|mesh", MAP, "", NULL, NULL, .doc = "Prescribed motion, an exact function of time: a translation (`velocity`, `table` or `positions`) and a `rotation`. A mesh that moves needs its own vertices."},
+    {"walls[].motion.velocity", NULL, VEC3, "m/s", NULL, NULL, .doc = "Constant translation velocity; not with `table` or `positions`."},
+    {"walls[].motion.table", NULL, TABLE, "s, m/s", NULL, NULL, GE(1), .doc = "Piecewise-linear translation velocity: rows [t, vx, vy, vz], t strictly increasing; constant before the first row and after the last; not with `velocity` or `positions`."},
+    {"walls[].motion.positions", NULL, TABLE, "s, m", NULL, NULL, GE(1), .doc = "Piecewise-linear translation: rows [t, x, y, z], the displacement from where the wall is placed (by the case, or where a stage's new motion finds it), t strictly increasing; the wall is exactly there at each row's time, moves at the constant velocity of each segment, and holds the first row's displacement before it and the last row's after it (it stops). E.g. a gate that opens: `[[0.2, 0, 0, 0], [0.25, 0.06, 0, 0]]`. Not with `velocity` or `table`."},
     {"walls[].motion.rotation", NULL, MAP, "", NULL, NULL, .doc = "Rotation at a constant rate about an axis through `center`; the axis travels with the translation."},
     {"walls[].motion.rotation.axis", NULL, VEC3, "", NULL, NULL, REQ, .doc = "Axis direction (any length > 0); the rotation is right-handed about it."},
     {"walls[].motion.rotation.center", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "A point of the axis at t = 0."},
@@ -164,6 +176,7 @@ static const adem_schema_entry base_schema[] = {
     {"stages", NULL, LIST, "", NULL, NULL, .doc = "Consecutive stages of the run, each with a duration and the case-file values it changes (docs/insertion-and-stages.md)."},
     {"stages[].name", NULL, NAME, "", NULL, "`stage<index>`", .doc = "Unique name (for messages)."},
     {"stages[].duration", NULL, NUM, "s", NULL, NULL, GT(0), .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "except for the last stage", .doc = "Length of the stage; the last stage without one runs until `time.end`."},
+    UNTIL_ENTRIES("stages[].until", "the stage (the next one begins then; `duration` is then the most it lasts; the last stage's ends the run)"),
     {"stages[].set", NULL, SETS, "", NULL, NULL, .doc = "Values that change when the stage begins, as `--set` paths: `{materials.ballast.friction: 0, walls.aux.active: false}`. They stay until a later stage changes them. Allowed: materials, interactions, groups, walls, gravity, limits, neighbor, output.frame_interval, output.csv_interval, output.checkpoint_interval."},
 
     {"gravity", NULL, VEC3, "m/s^2", "[0, 0, -9.81]", NULL, .doc = "Gravitational acceleration."},
@@ -174,6 +187,7 @@ static const adem_schema_entry base_schema[] = {
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
     {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh). A larger step is allowed with a warning."},
+    UNTIL_ENTRIES("time.until", "the run (`end` is then the most it lasts)"),
     {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see above."},
 
     {"neighbor", NULL, MAP, "", NULL, NULL, .doc = "Neighbour search."},
@@ -188,8 +202,19 @@ static const adem_schema_entry base_schema[] = {
     {"output.frame_interval", NULL, NUM, "s", NULL, "time.end / 100", GE(0), .doc = "Simulated time between VTU frames."},
     {"output.csv_interval", NULL, NUM, "s", NULL, "time.end / 1000", GE(0), .doc = "Simulated time between rows of the CSV time series."},
     {"output.checkpoint_interval", NULL, NUM, "s", NULL, "time.end / 10", GE(0), .doc = "Simulated time between checkpoint rewrites."},
-    {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run."},
-    {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run: the load along gravity on every mesh group and plane against time, with the particles' weight."},
+    {"output.plot", NULL, BOOL, "", "false", NULL, .doc = "Write an energy-time PNG (gnuplot) at the end of the run, however it ends (done, stopped by Ctrl-C or SIGTERM, failed, or resumed to its end)."},
+    {"output.plot_loads", NULL, BOOL, "", "false", NULL, .doc = "Write `loads.png` (gnuplot) at the end of the run, however it ends: the load along gravity on every mesh group and plane against time, with the particles' weight."},
+    {"output.regions", NULL, LIST, "", NULL, NULL, .discriminator = "shape", .doc = "Named regions whose particles are counted in every CSV row: columns `NAME_count` (particles whose centre is inside) and `NAME_mass_kg` (their mass). E.g. the hopper above its outlet and the space under it make a discharge rate and a jam plain to see (docs/insertion-and-stages.md)."},
+    {"output.regions[].name", NULL, NAME, "", NULL, NULL, REQ, .doc = "Unique name; the start of the region's CSV columns."},
+    {"output.regions[].shape", NULL, ENUM, "", NULL, NULL, REQ, .choices = "box|cylinder|mesh", .doc = "`box`: axis-aligned box; `cylinder`: any axis; `mesh`: the inside of a closed STL surface (ray parity)."},
+    {"output.regions[].min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
+    {"output.regions[].max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
+    {"output.regions[].start", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of one end disc."},
+    {"output.regions[].end", "cylinder", VEC3, "m", NULL, NULL, REQ, .doc = "Centre of the other end disc."},
+    {"output.regions[].radius", "cylinder", NUM, "m", NULL, NULL, GT(0), REQ, .doc = "Radius of the cylinder."},
+    {"output.regions[].file", "mesh", STR, "", NULL, NULL, REQ, .doc = "Closed STL surface; a relative path is taken from the folder of the case file."},
+    {"output.regions[].scale", "mesh", NUM, "", "1", NULL, GT(0), .doc = "Factor from file units to metres, applied first."},
+    {"output.regions[].translate", "mesh", VEC3, "m", "[0, 0, 0]", NULL, .doc = "Translation applied after the scale."},
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
 
@@ -514,6 +539,13 @@ void adem_schema_write_markdown(FILE *f) {
         "`materials.glass.friction=0.3`, `materials.0.friction=0.3`, `output.dir=/tmp/x`, "
         "`gravity=[0,0,-1]`). Setting a key that a mapping lacks adds it; a path that does not "
         "resolve is an error naming the failing segment. The value is read as YAML.\n\n"
+        "`adem run --resume DIR --set time.end=T` takes a run (finished or stopped) on to a later "
+        "end, bit for bit as a run that had that end from the start: the state, and the frames and "
+        "CSV rows on the same steps (a frame or row written only because the shorter run ended "
+        "there is replaced). On resume `--set` may change only `time.end` and "
+        "`output.frame_interval`, `output.csv_interval`, `output.checkpoint_interval` (from the "
+        "resume on); output intervals left to their defaults keep the values of the first run's "
+        "end time.\n\n"
         "## Values computed by the loader\n\n"
         "- **Reference speed** (`time.reference_speed: auto`): v_ref = max(v0, sqrt(2 |g| H), "
         "0.1 m/s), where v0 is the largest initial speed of a particle or a plane wall and H is the "
@@ -558,7 +590,9 @@ void adem_schema_write_markdown(FILE *f) {
         "checkpoint keeps that folder as an absolute path, so `adem run --resume` works from "
         "anywhere). The transform is x' = R (scale x) + translate, R the `rotate` entries in order. "
         "Each group (the file, or each `solid` of an ASCII file with several) gets CSV columns "
-        "`GROUP_fx_N` ... and `GROUP_tx_Nm` ...: the force of the particles on it and its torque "
+        "`GROUP_fx_N` ... and `GROUP_tx_Nm` ... (a dot of a group's or a box plane's name is "
+        "written `__`: `hopper.funnel` gives `hopper__funnel_fz_N`, a name numpy's "
+        "`genfromtxt(names=True)` keeps; it drops a `-`, so prefer `_` in names): the force of the particles on it and its torque "
         "about `torque_about` (default: the group's area centroid), the point carried with the "
         "wall's motion; a file with several groups also gets the columns of its total, its torque "
         "about the file's centroid. A particle cutting into a mesh face at the start is an "
@@ -585,6 +619,11 @@ void adem_schema_write_markdown(FILE *f) {
               lw->doc);
     }
   fputs("\n", f);
+  /* The rule lives in the parameter's row; `adem check` prints what each pair uses by it. */
+  fprintf(f, "**Which values a pair uses.** Restitution and friction: the mean of the two "
+             "materials', or the interaction entry's. `rolling_friction`: %s `adem check` prints "
+             "the e_c or eta_r of every pair and where it comes from.\n\n",
+          adem_law_param_get(ADEM_PARAM_ROLLING_FRICTION)->doc);
 
   fputs("## Top-level keys\n\n", f);
   md_header(f);

@@ -24,11 +24,23 @@ adem_status adem_stages_add(adem_stages **ps, const char *name, double duration,
   adem_stage *st = realloc(s->s, (size_t)(s->n + 1) * sizeof *st);
   if (!st) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   s->s = st;
+  uint64_t *start = realloc(s->start, (size_t)(s->n + 1) * sizeof *start);
+  if (!start) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  s->start = start;
+  start[s->n] = 0;
   adem_stage *g = &st[s->n++];
   memset(g, 0, sizeof *g);
   snprintf(g->name, sizeof g->name, "%s", name);
   snprintf(g->where, sizeof g->where, "%s", where);
   g->duration = duration;
+  return ADEM_OK;
+}
+
+adem_status adem_stages_set_until(adem_stages *s, const adem_until_def *def, adem_error *err) {
+  adem_stage *g = &s->s[s->n - 1];
+  if (!g->until && !(g->until = malloc(sizeof *g->until)))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_until_init(g->until, def);
   return ADEM_OK;
 }
 
@@ -78,10 +90,12 @@ void adem_stages_free(adem_stages *s) {
   for (int k = 0; k < s->n; ++k) {
     for (int j = 0; j < s->s[k].nsets; ++j) free(s->s[k].sets[j]);
     free(s->s[k].sets);
+    free(s->s[k].until);
     adem_stage_config_free(&s->s[k].config);
   }
   adem_stage_config_free(&s->base);
   free(s->s);
+  free(s->start);
   free(s);
 }
 
@@ -94,9 +108,15 @@ static double stage_start_time(const adem_stages *s, int k) {
 }
 
 uint64_t adem_stages_start_step(const adem_case *c, int k) {
-  if (!c->stages || k <= 0) return 0;
-  if (k >= c->stages->n) return UINT64_MAX;
-  return (uint64_t)llround(stage_start_time(c->stages, k) / c->world->dt);
+  const adem_stages *s = c->stages;
+  if (!s || k <= 0) return 0;
+  if (k >= s->n) return UINT64_MAX;
+  if (k < s->nrecorded) return s->start[k];
+  if (!s->cut) return (uint64_t)llround(stage_start_time(s, k) / c->world->dt);
+  int a = s->nrecorded - 1; /* planned from the last stage begun */
+  double t = 0.0;
+  for (int j = a; j < k; ++j) t += s->s[j].duration;
+  return s->start[a] + (uint64_t)llround(t / c->world->dt);
 }
 
 int adem_stages_current(const adem_case *c) { return c->stages ? c->stages->current : 0; }
@@ -127,7 +147,12 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err) {
   adem_world *w = c->world;
   const adem_stage_config *prev = k == 0 ? &s->base : &s->s[k - 1].config;
   const adem_stage_config *next = &s->s[k].config;
-  double t_s = (double)adem_stages_start_step(c, k) * w->dt;
+  uint64_t start = adem_stages_start_step(c, k);
+  if (k >= s->nrecorded) {
+    s->start[k] = start;
+    s->nrecorded = k + 1;
+  }
+  double t_s = (double)start * w->dt;
   double before = live ? total_energy(w) : 0.0;
   adem_status st = adem_world_change_walls(w, prev->planes, next->planes, prev->meshes,
                                            next->meshes, t_s, err);
@@ -143,6 +168,7 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err) {
   c->output.checkpoint_interval = next->checkpoint_interval;
   s->current = k;
   if (!live) return ADEM_OK;
+  if (s->s[k].until) adem_until_reset(s->s[k].until); /* its streaks count from its start */
   /* Work done by the change (gravity, group forces) is not dissipation: shift the balance. */
   adem_world_add_external_work(w, total_energy(w) - before);
   adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
@@ -190,23 +216,94 @@ bool adem_stages_output_on(const adem_case *c, int which) {
   return false;
 }
 
-uint64_t adem_stages_frames_done(const adem_case *c, uint64_t step) {
-  double dt = c->world->dt;
+/* ---------------------------------------------------------------- run-until conditions */
+
+static adem_until *stage_until(const adem_case *c) {
   const adem_stages *s = c->stages;
-  if (!s || s->n == 0) {
-    uint64_t k = adem_schedule_period(c->output.frame_interval, dt);
-    return k ? step / k + 1 : 0;
+  return s && s->n > 0 ? s->s[s->current].until : NULL;
+}
+
+uint64_t adem_stages_until_next(const adem_case *c, uint64_t step) {
+  uint64_t next = UINT64_MAX;
+  double dt = c->world->dt;
+  const adem_until *u = stage_until(c);
+  if (u) next = adem_until_next_check(u, dt, step);
+  if (c->until) {
+    uint64_t t = adem_until_next_check(c->until, dt, step);
+    if (t < next) next = t;
   }
-  if (!adem_stages_output_on(c, 0)) return 0;
-  /* Outputs at steps in (start_j, start_j+1] are written with stage j's interval (a stage is put
-   * in force after the outputs of its first step). */
-  uint64_t count = 1;
-  for (int j = 0; j < s->n; ++j) {
-    uint64_t a = adem_stages_start_step(c, j), b = adem_stages_start_step(c, j + 1);
-    if (b > step) b = step;
-    if (b <= a) continue;
-    uint64_t k = adem_schedule_period(s->s[j].config.frame_interval, dt);
-    if (k) count += b / k - a / k;
+  return next;
+}
+
+adem_until_outcome adem_stages_until(adem_case *c, char *msg, size_t n) {
+  adem_world *w = c->world;
+  adem_stages *s = c->stages;
+  uint64_t step = w->step;
+  /* a pour with particles still to come: nothing is at rest yet */
+  bool waiting = step > 0 && adem_pours_next_step(c->pours, w->dt, step - 1) != UINT64_MAX;
+  adem_until_outcome out = ADEM_UNTIL_NOTHING;
+  char what[ADEM_MSG_MAX / 2];
+  adem_until *u = stage_until(c);
+  if (u && step > adem_stages_start_step(c, s->current) && step % adem_until_period(u, w->dt) == 0 &&
+      adem_until_check(u, w, waiting)) {
+    adem_until_describe(u, what, sizeof what);
+    if (s->current + 1 < s->n) { /* the next stage begins now */
+      s->start[s->current + 1] = step;
+      s->nrecorded = s->current + 2;
+      s->cut = true;
+      out = ADEM_UNTIL_STAGE_ENDS;
+      snprintf(msg, n, "stage `%s` ends: %s", s->s[s->current].name, what);
+    } else {
+      out = ADEM_UNTIL_RUN_ENDS;
+      snprintf(msg, n, "the last stage, `%s`, ends: %s; the run ends", s->s[s->current].name, what);
+    }
   }
-  return count;
+  if (c->until && out != ADEM_UNTIL_RUN_ENDS && step % adem_until_period(c->until, w->dt) == 0 &&
+      adem_until_check(c->until, w, waiting)) {
+    adem_until_describe(c->until, what, sizeof what);
+    snprintf(msg, n, "time.until met: %s; the run ends", what);
+    out = ADEM_UNTIL_RUN_ENDS;
+  }
+  return out;
+}
+
+bool adem_stages_ended(const adem_case *c, char *msg, size_t n) {
+  const adem_until *u = c->until;
+  const adem_stages *s = c->stages;
+  if (!(u && u->met_step != ADEM_UNTIL_NEVER) && s && s->n > 0 && s->current == s->n - 1)
+    u = s->s[s->current].until;
+  if (!u || u->met_step != c->world->step || u->met_step == ADEM_UNTIL_NEVER) return false;
+  char what[ADEM_MSG_MAX / 2];
+  adem_until_describe(u, what, sizeof what);
+  snprintf(msg, n, "the run ended at t = %.9g s (step %llu), its condition met: %s", c->world->time,
+           (unsigned long long)u->met_step, what);
+  return true;
+}
+
+void adem_stages_save(adem_writer *wr, const adem_case *c) {
+  const adem_stages *s = c->stages;
+  adem_put_u32(wr, s ? (uint32_t)s->nrecorded : 0u);
+  adem_put_u8(wr, s && s->cut ? 1 : 0);
+  for (int k = 0; s && k < s->nrecorded; ++k) adem_put_u64(wr, s->start[k]);
+  if (c->until) adem_until_save(wr, c->until);
+  for (int k = 0; s && k < s->n; ++k)
+    if (s->s[k].until) adem_until_save(wr, s->s[k].until);
+}
+
+adem_status adem_stages_load(adem_reader *rd, adem_case *c, adem_error *err) {
+  adem_stages *s = c->stages;
+  uint32_t nrec = adem_get_u32(rd);
+  bool cut = adem_get_u8(rd) != 0;
+  if (rd->failed || nrec > (uint32_t)(s ? s->n : 0))
+    return adem_error_set(err, ADEM_ERR_INPUT, "its stage starts do not match its own case text");
+  for (uint32_t k = 0; k < nrec; ++k) s->start[k] = adem_get_u64(rd);
+  if (s) {
+    s->nrecorded = (int)nrec;
+    s->cut = cut;
+  }
+  if (c->until) adem_until_load(rd, c->until);
+  for (int k = 0; s && k < s->n; ++k)
+    if (s->s[k].until) adem_until_load(rd, s->s[k].until);
+  if (rd->failed) return adem_error_set(err, ADEM_ERR_INPUT, "its contents are cut short or damaged");
+  return ADEM_OK;
 }

@@ -18,6 +18,8 @@
 
 #include "adem/adem.h"
 #include "motion.h"
+#include "stream.h"
+#include "until.h"
 #include "walls.h"
 
 /* What a stage sets in the running world, taken from its configuration. */
@@ -41,7 +43,8 @@ typedef struct adem_stage_config {
 
 typedef struct adem_stage {
   char name[ADEM_NAME_MAX];
-  double duration;          /* s; < 0: until time.end (the last stage only) */
+  double duration;          /* s; < 0: until time.end (the last stage only); with `until`: the most */
+  adem_until *until;        /* stages[].until, or NULL */
   char where[640];          /* file:line:column of the stage, for messages */
   char **sets;              /* "path=value" */
   int nsets;
@@ -53,12 +56,21 @@ struct adem_stages {
   int current;              /* stage in force */
   adem_stage *s;
   adem_stage_config base;   /* the case as written, before stage 0 */
+  /* When stages began: start[k] for k < nrecorded (the stages begun so far, and the one a met
+   * condition has just set going). Later stages are planned from their durations: from the
+   * start (no stage cut short: round(sum of the earlier durations / dt)), or from the last
+   * recorded start. In checkpoints. */
+  uint64_t *start;
+  int nrecorded;
+  bool cut;                 /* a stage has been ended by its `until` */
 };
 
 /* ---- building (case.c) ---- */
 
 adem_status adem_stages_add(adem_stages **s, const char *name, double duration, const char *where,
                             adem_error *err);
+/* Gives the last stage a run-until condition (copied). */
+adem_status adem_stages_set_until(adem_stages *s, const adem_until_def *def, adem_error *err);
 /* Adds "path=value" to the last stage. */
 adem_status adem_stages_add_set(adem_stages *s, const char *set, adem_error *err);
 /* NULL if a stage may set the key path; otherwise why not (a static string). */
@@ -73,7 +85,8 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err);
 
 /* ---- running (run.c, checkpoint.c) ---- */
 
-/* Step at which stage k begins: round(sum of the earlier durations / dt). */
+/* Step at which stage k begins: the recorded one for a stage begun, else planned from the
+ * durations (round(sum of the earlier durations / dt) when no stage has been cut short). */
 uint64_t adem_stages_start_step(const adem_case *c, int k);
 /* Smallest step > step at which a stage begins or a pour batch is due (UINT64_MAX: none). */
 uint64_t adem_stages_next_step(const adem_case *c, uint64_t step);
@@ -81,12 +94,28 @@ uint64_t adem_stages_next_step(const adem_case *c, uint64_t step);
 adem_status adem_stages_events(adem_case *c, adem_error *err);
 /* True when some stage (or the case) writes that output: 0 frames, 1 CSV rows, 2 checkpoints. */
 bool adem_stages_output_on(const adem_case *c, int which);
-/* Frames written from step 0 through `step` (the frame at step 0 included), with each stage's
- * frame interval. */
-uint64_t adem_stages_frames_done(const adem_case *c, uint64_t step);
 int adem_stages_current(const adem_case *c);
 /* Puts stage `current` in force in a case just read from a checkpoint (no rebuild, no energy
  * change: the checkpoint holds that state). */
 adem_status adem_stages_resume(adem_case *c, int current, adem_error *err);
+
+/* ---- run-until conditions (time.until, stages[].until) ---- */
+
+typedef enum adem_until_outcome {
+  ADEM_UNTIL_NOTHING = 0,
+  ADEM_UNTIL_STAGE_ENDS = 1, /* the stage in force ends: the next begins at this step */
+  ADEM_UNTIL_RUN_ENDS = 2    /* time.until, or the last stage's condition: the run ends here */
+} adem_until_outcome;
+/* Smallest step > step at which a condition in force is checked (UINT64_MAX: none). */
+uint64_t adem_stages_until_next(const adem_case *c, uint64_t step);
+/* The checks due at the world's current step (before its outputs): what ends; msg says what
+ * was met. A stage that ends records the next one's start at this step (adem_stages_events
+ * then puts it in force). */
+adem_until_outcome adem_stages_until(adem_case *c, char *msg, size_t n);
+/* Whether the run has ended on a condition (a checkpoint of a finished run); msg says when. */
+bool adem_stages_ended(const adem_case *c, char *msg, size_t n);
+/* The start steps and the conditions' state, for checkpoints. */
+void adem_stages_save(adem_writer *wr, const adem_case *c);
+adem_status adem_stages_load(adem_reader *rd, adem_case *c, adem_error *err);
 
 #endif

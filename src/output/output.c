@@ -246,16 +246,27 @@ static char *sb_finish(strbuf *b) {
   return b->s;
 }
 
-/* Mesh loads: force and torque on every group, then on every file with several groups (a file
- * of one group would repeat its columns). Names from the case: one CSV field per column. */
+/* A wall's name as the start of CSV column names: one CSV field per column, and names that
+ * numpy's genfromtxt(names=True) keeps (it drops every character but letters, digits and `_`):
+ * the dot of a mesh group or a box's plane (`hopper.funnel`, `box.xmin`) becomes `__`. */
 static void csv_field_name(char *buf, size_t n, const char *name) {
-  snprintf(buf, n, "%s", name);
-  for (char *c = buf; *c; ++c)
-    if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
+  size_t k = 0;
+  for (const char *c = name; *c && k + 2 < n; ++c) {
+    if (*c == '.') {
+      buf[k++] = '_';
+      buf[k++] = '_';
+    } else {
+      buf[k++] = (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') ? '_' : *c;
+    }
+  }
+  if (n) buf[k < n ? k : n - 1] = '\0';
 }
 
+/* Mesh loads: force and torque on every group, then on every file with several groups (a file
+ * of one group would repeat its columns). */
+
 static void mesh_csv_header(strbuf *b, const adem_world *w) {
-  char name[ADEM_NAME_MAX];
+  char name[2 * ADEM_NAME_MAX];
   for (int g = 0; g < w->walls.mesh.ngroups + w->walls.nmesh_walls; ++g) {
     bool group = g < w->walls.mesh.ngroups;
     const adem_mesh_wall *mw = group ? NULL : &w->walls.mesh_walls[g - w->walls.mesh.ngroups];
@@ -284,17 +295,16 @@ static void mesh_csv_row(strbuf *b, const adem_world *w) {
   free(f);
 }
 
-char *adem_output_csv_header(const adem_world *w, const adem_output_track *track) {
+char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
+                             const adem_output_extra *extra) {
   strbuf b = {0};
   sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
                 "contacts_pw,max_overlap_ratio");
   for (int k = 0; k < w->walls.nplanes; ++k) {
     /* Plane names come from the case file: keep the header one CSV field per column. */
-    char name[ADEM_NAME_MAX];
-    snprintf(name, sizeof name, "%s", w->walls.planes[k].def.name);
+    char name[2 * ADEM_NAME_MAX];
+    csv_field_name(name, sizeof name, w->walls.planes[k].def.name);
     if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
-    for (char *c = name; *c; ++c)
-      if (*c == ',' || *c == '"' || *c == '\n' || *c == '\r' || *c == ' ') *c = '_';
     sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
   }
   mesh_csv_header(&b, w);
@@ -305,11 +315,17 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
     sb_printf(&b, ",p%llu_omega_x_rad_s,p%llu_omega_y_rad_s,p%llu_omega_z_rad_s,p%llu_distance_m", id,
               id, id, id);
   }
+  for (int k = 0; extra && k < extra->n; ++k) {
+    char name[2 * ADEM_NAME_MAX + 16];
+    csv_field_name(name, sizeof name, extra->name[k]);
+    sb_printf(&b, ",%s", name);
+  }
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
 
-char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
+char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
+                          const adem_output_extra *extra) {
   adem_diagnostics d = adem_world_diagnostics(w);
   strbuf b = {0};
   /* %.17g: the times read back on resume compare exactly with the checkpoint's. */
@@ -337,6 +353,7 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track) {
     sb_printf(&b, ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", t.x, t.y, t.z, o.x, o.y, o.z,
               p->path_length[i]);
   }
+  for (int k = 0; extra && k < extra->n; ++k) sb_printf(&b, ",%.17g", extra->value[k]);
   sb_printf(&b, "\n");
   return sb_finish(&b);
 }
@@ -355,9 +372,10 @@ static int write_whole(int fd, const char *s, size_t n) {
   return 0;
 }
 
-/* Keeps the header and the complete rows with time <= t_resume, rewritten atomically. */
+/* Keeps the header and the complete rows with time <= t_resume (< t_resume with drop_at),
+ * rewritten atomically. */
 static adem_status csv_truncate(const char *path, const char *header, double t_resume,
-                                adem_error *err) {
+                                bool drop_at, adem_error *err) {
   char *text = NULL;
   size_t len = 0;
   adem_error rd;
@@ -379,7 +397,7 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
     char *num_end;
     double t = strtod(text + keep, &num_end);
     /* strtod skips blank lines: a time read past this row's end is not this row's. */
-    if (num_end == text + keep || num_end > end || !(t <= t_resume)) break;
+    if (num_end == text + keep || num_end > end || !(drop_at ? t < t_resume : t <= t_resume)) break;
     keep = (size_t)(end - text) + 1;
   }
   adem_status st = ADEM_OK;
@@ -499,10 +517,13 @@ static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_er
 
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, const adem_output_track *track, adem_error *err) {
+                             double t_resume, bool drop_resume_row,
+                             const adem_output_track *track, const adem_output_extra *extra,
+                             adem_error *err) {
   memset(o, 0, sizeof *o);
   o->csv_fd = -1;
   if (track) o->track = *track;
+  if (extra) o->extra = *extra;
   o->frames = frames;
   o->csv = csv;
   adem_status st = adem_fileio_mkdir_p(dir, err);
@@ -531,9 +552,9 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   }
   free(frames_dir);
   if (!st && csv) {
-    char *header = adem_output_csv_header(w, &o->track);
+    char *header = adem_output_csv_header(w, &o->track, &o->extra);
     if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-    else if (resume) st = csv_truncate(o->csv_path, header, t_resume, err);
+    else if (resume) st = csv_truncate(o->csv_path, header, t_resume, drop_resume_row, err);
     else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
     free(header);
     if (!st) {
@@ -564,7 +585,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
 
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err) {
   if (!o->csv || o->csv_fd < 0) return ADEM_OK;
-  char *row = adem_output_csv_row(w, &o->track);
+  char *row = adem_output_csv_row(w, &o->track, &o->extra);
   if (!row) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   off_t before = lseek(o->csv_fd, 0, SEEK_END);
   int e = write_whole(o->csv_fd, row, strlen(row));

@@ -37,11 +37,21 @@ typedef struct adem_output_track {
   const uint64_t *id;       /* stable ids */
 } adem_output_track;
 
-/* The header line of the CSV time series (with the final newline); a fresh string. track may be
- * NULL. */
-char *adem_output_csv_header(const adem_world *w, const adem_output_track *track);
+/* Columns the caller computes (the run's output.regions), after all others: their names, and a
+ * value of each per row. */
+typedef struct adem_output_extra {
+  int n;
+  const char *const *name;
+  const double *value;      /* n values of the current row */
+} adem_output_extra;
+
+/* The header line of the CSV time series (with the final newline); a fresh string. track and
+ * extra may be NULL. */
+char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
+                             const adem_output_extra *extra);
 /* One CSV row (with the final newline) for the world's current state; a fresh string. */
-char *adem_output_csv_row(const adem_world *w, const adem_output_track *track);
+char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
+                          const adem_output_extra *extra);
 
 /* Energy-vs-time PNG from the CSV, drawn by gnuplot. A missing or failing gnuplot is only
  * a warning (logged): the status is ADEM_OK then; ADEM_ERR_IO only if the PNG cannot be placed. */
@@ -61,19 +71,24 @@ typedef struct adem_output {
   size_t next_frame;  /* index of the next VTU file */
   int csv_fd;         /* -1 when closed */
   adem_output_track track; /* points into the caller's arrays, which must outlive the output */
+  adem_output_extra extra;  /* the same */
 } adem_output;
 
 /* Creates dir (and dir/frames) and checks they can be written: ADEM_ERR_INPUT with a clear
  * message if not. A fresh run starts new PVD and CSV files. A resumed run (resume = true) keeps
  * the first frames_done PVD entries (missing ones are re-created with time k * frame_period) and
- * truncates the CSV to the rows with time <= t_resume, then appends. */
+ * truncates the CSV to the rows with time <= t_resume (< t_resume with drop_resume_row: the row
+ * of that time was the end of a run that now goes on), then appends. */
 adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *w, bool frames,
                              bool csv, bool resume, size_t frames_done, double frame_period,
-                             double t_resume, const adem_output_track *track, adem_error *err);
+                             double t_resume, bool drop_resume_row,
+                             const adem_output_track *track, const adem_output_extra *extra,
+                             adem_error *err);
 /* Writes frames/particles_NNNNNN.vtu and rewrites the PVD; with mesh walls also
  * frames/mesh_NNNNNN.vtu (face force and pressure) and mesh.pvd, the same times. */
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);
-/* Appends one CSV row with a single write. */
+/* Appends one CSV row with a single write (the extra columns' values read from o->extra.value
+ * now). */
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err);
 void adem_output_close(adem_output *o);
 

@@ -7,7 +7,8 @@
  *   header  "ADEMCKPT", u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a of the
  *           payload, u32 sizeof(adem_vec3), u32 sizeof(adem_contact_history)
  *   payload case: source text, --set strings, path, base folder, end time, output settings,
- *           the stage in force and the pours' state (streams, counts); then the world
+ *           what the run has written, the stage in force, the pours' state (streams, counts),
+ *           the stages' start steps and the run-until conditions' state; then the world
  *           (adem_world_save), "ADEMEND\0"
  * Strings are u64 length + bytes; arrays are u64 count + raw elements. */
 #include <errno.h>
@@ -27,7 +28,7 @@
 #define CKPT_MAGIC "ADEMCKPT"
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 4u
+#define CKPT_VERSION 5u
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
@@ -65,6 +66,8 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   adem_put_f64(wr, c->output.csv_interval);
   adem_put_f64(wr, c->output.checkpoint_interval);
   adem_put_i32(wr, c->output.plot);
+  adem_put_u64(wr, c->frames_written);
+  adem_put_i32(wr, c->csv_last_extra);
   /* Staged runs and pours: the stage in force (its configuration is replayed from the case) and
    * the pours' random streams and counts. */
   adem_put_u32(wr, (uint32_t)adem_stages_current(c));
@@ -73,6 +76,8 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   if (!runs) *nomem = 1;
   adem_put_array(wr, runs, runs ? nruns : 0, 1);
   free(runs);
+  /* when each stage began and the run-until conditions' streaks */
+  adem_stages_save(wr, c);
 }
 
 typedef void save_fn(adem_writer *wr, const void *what, int *nomem);
@@ -129,8 +134,37 @@ static adem_status bad_file(adem_error *err, const char *path, const char *why) 
   return adem_error_set(err, ADEM_ERR_INPUT, "%s is not a usable adem checkpoint: %s", path, why);
 }
 
-/* Loads the stored case text; *out is the freshly loaded case. */
-static adem_status load_case(adem_reader *rd, const char *path, adem_case **out, adem_error *err) {
+/* What a resumed run may change (adem_checkpoint_read_with): the end and the output intervals. */
+static const char *const resume_keys[] = {"time.end", "output.frame_interval",
+                                          "output.csv_interval", "output.checkpoint_interval"};
+enum { RESUME_END = 0, RESUME_FRAME = 1, RESUME_CSV = 2, RESUME_CKPT = 3, RESUME_KEYS = 4 };
+
+/* Which of resume_keys the sets change (given[k]); ADEM_ERR_INPUT for any other key. */
+static adem_status resume_sets_check(const char *const *sets, int nsets, bool given[RESUME_KEYS],
+                                     adem_error *err) {
+  for (int k = 0; k < RESUME_KEYS; ++k) given[k] = false;
+  for (int j = 0; j < nsets; ++j) {
+    size_t n = strcspn(sets[j], "=");
+    int found = -1;
+    for (int k = 0; k < RESUME_KEYS; ++k)
+      if (strlen(resume_keys[k]) == n && !strncmp(sets[j], resume_keys[k], n)) found = k;
+    if (found < 0 || sets[j][n] != '=')
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "--set %s: a resumed run may change only time.end (a later end "
+                            "continues the run as if it had had that end from the start) and "
+                            "output.frame_interval, output.csv_interval, "
+                            "output.checkpoint_interval; the rest of the case is the one stored "
+                            "in the checkpoint (start a new run, or use stages, to change it)",
+                            sets[j]);
+    given[found] = true;
+  }
+  return ADEM_OK;
+}
+
+/* Loads the stored case text, with the extra sets on top of its own; *out is the freshly loaded
+ * case. */
+static adem_status load_case(adem_reader *rd, const char *path, const char *const *extra,
+                             int nextra, adem_case **out, adem_error *err) {
   int nomem = 0;
   char *source = adem_get_str(rd, &nomem);
   uint32_t nsets = adem_get_u32(rd);
@@ -138,7 +172,7 @@ static adem_status load_case(adem_reader *rd, const char *path, adem_case **out,
     free(source);
     return bad_file(err, path, "it is truncated (case section)");
   }
-  char **sets = calloc(nsets ? nsets : 1, sizeof *sets);
+  char **sets = calloc(nsets + (uint32_t)nextra + 1, sizeof *sets);
   if (!sets) nomem = 1;
   for (uint32_t k = 0; k < nsets && sets; ++k) sets[k] = adem_get_str(rd, &nomem);
   char *case_path = adem_get_str(rd, &nomem);
@@ -150,8 +184,9 @@ static adem_status load_case(adem_reader *rd, const char *path, adem_case **out,
   } else if (rd->failed || !source || !case_path || !base_dir) {
     st = bad_file(err, path, "it is truncated (case section)");
   } else {
-    st = adem_case_load_string_at(source, case_path, base_dir, (const char *const *)sets, (int)nsets,
-                                  &c, err);
+    for (int k = 0; k < nextra; ++k) sets[nsets + (uint32_t)k] = (char *)extra[k];
+    st = adem_case_load_string_at(source, case_path, base_dir, (const char *const *)sets,
+                                  (int)nsets + nextra, &c, err);
     if (st) {
       /* Say where the case came from: the checkpoint, not the file named in the message. */
       char msg[ADEM_MSG_MAX];
@@ -168,19 +203,31 @@ static adem_status load_case(adem_reader *rd, const char *path, adem_case **out,
   return st;
 }
 
-/* Parses the payload into a freshly loaded case. */
-static adem_status restore(adem_reader *rd, const char *path, adem_case **out, adem_error *err) {
+/* Parses the payload into a freshly loaded case; the extra sets (resume_keys only) change the
+ * end and the output intervals for the rest of the run. */
+static adem_status restore(adem_reader *rd, const char *path, const char *const *extra,
+                           int nextra, adem_case **out, adem_error *err) {
+  bool given[RESUME_KEYS];
   adem_case *c = NULL;
-  adem_status st = load_case(rd, path, &c, err);
+  adem_status st = resume_sets_check(extra, nextra, given, err);
+  if (!st) st = load_case(rd, path, extra, nextra, &c, err);
   if (st) return st;
   adem_world *w = c->world;
-  c->end_time = adem_get_f64(rd);
+  double stored[RESUME_KEYS];
+  stored[RESUME_END] = adem_get_f64(rd);
   c->dt_auto = adem_get_i32(rd);
   adem_get_str_into(rd, c->output.dir, sizeof c->output.dir);
-  c->output.frame_interval = adem_get_f64(rd);
-  c->output.csv_interval = adem_get_f64(rd);
-  c->output.checkpoint_interval = adem_get_f64(rd);
+  stored[RESUME_FRAME] = adem_get_f64(rd);
+  stored[RESUME_CSV] = adem_get_f64(rd);
+  stored[RESUME_CKPT] = adem_get_f64(rd);
+  /* the stored values, unless given now (the fresh load has those) */
+  if (!given[RESUME_END]) c->end_time = stored[RESUME_END];
+  if (!given[RESUME_FRAME]) c->output.frame_interval = stored[RESUME_FRAME];
+  if (!given[RESUME_CSV]) c->output.csv_interval = stored[RESUME_CSV];
+  if (!given[RESUME_CKPT]) c->output.checkpoint_interval = stored[RESUME_CKPT];
   c->output.plot = adem_get_i32(rd);
+  c->frames_written = adem_get_u64(rd);
+  c->csv_last_extra = adem_get_i32(rd);
   uint32_t stage = adem_get_u32(rd);
   uint64_t nruns = adem_get_count(rd, 1);
   char why[ADEM_MSG_MAX];
@@ -188,6 +235,7 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
   const unsigned char *runs = rd->at;
   rd->at += nruns;
   if ((st = adem_pours_unpack(c->pours, runs, (size_t)nruns, err))) goto mismatch;
+  if ((st = adem_stages_load(rd, c, err))) goto mismatch;
 
   bool prepared;
   if ((st = adem_world_load_prepared(rd, &prepared, err))) goto damaged;
@@ -204,7 +252,15 @@ static adem_status restore(adem_reader *rd, const char *path, adem_case **out, a
     adem_case_free(c);
     return st;
   }
+  /* A new end widens the default escape domain as a run with that end would have it. */
+  bool has_domain = w->has_domain;
+  adem_vec3 domain_lo = w->domain_lo, domain_hi = w->domain_hi;
   if ((st = adem_world_load(rd, w, err))) goto damaged;
+  if (given[RESUME_END]) {
+    w->has_domain = has_domain;
+    w->domain_lo = domain_lo;
+    w->domain_hi = domain_hi;
+  }
   char end[8];
   adem_get(rd, end, 8);
   if (rd->failed || memcmp(end, CKPT_END, 8) != 0) goto truncated;
@@ -289,7 +345,7 @@ adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char 
   adem_reader rd;
   adem_status st = check_header(data, len, path, CKPT_MAGIC, &rd, err);
   if (st) return st;
-  return restore(&rd, path, out, err);
+  return restore(&rd, path, NULL, 0, out, err);
 }
 
 adem_status adem_world_checkpoint_read(const char *path, adem_world **out, adem_error *err) {
@@ -332,13 +388,32 @@ adem_status adem_world_checkpoint_read(const char *path, adem_world **out, adem_
   return ADEM_OK;
 }
 
-adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err) {
+adem_status adem_checkpoint_read_with(const char *path, const char *const *sets, int nsets,
+                                      adem_case **out, adem_error *err) {
   *out = NULL;
+  if (nsets < 0 || (nsets > 0 && !sets))
+    return adem_error_set(err, ADEM_ERR_INPUT, "adem_checkpoint_read_with: no sets");
+  bool given[RESUME_KEYS];
+  adem_status st = resume_sets_check(sets, nsets, given, err);
+  if (st) return st;
   char *data = NULL;
   size_t len = 0;
-  adem_status st = adem_file_read_all(path, &data, &len, err);
+  st = adem_file_read_all(path, &data, &len, err);
   if (st) return st;
-  st = adem_checkpoint_read_bytes(data, len, path, out, err);
+  adem_reader rd;
+  st = check_header(data, len, path, CKPT_MAGIC, &rd, err);
+  if (!st) st = restore(&rd, path, sets, nsets, out, err);
   free(data);
+  if (!st && given[RESUME_END] && (*out)->end_time < adem_world_time((*out)->world)) {
+    st = adem_error_set(err, ADEM_ERR_INPUT,
+                        "--set time.end=%g: the checkpoint %s is at t = %.9g s already; give a "
+                        "later end", (*out)->end_time, path, adem_world_time((*out)->world));
+    adem_case_free(*out);
+    *out = NULL;
+  }
   return st;
+}
+
+adem_status adem_checkpoint_read(const char *path, adem_case **out, adem_error *err) {
+  return adem_checkpoint_read_with(path, NULL, 0, out, err);
 }

@@ -14,6 +14,7 @@
 #include "adem/adem.h"
 #include "files.h"
 #include "fileio.h"
+#include "insert.h"
 #include "log.h"
 #include "output.h"
 #include "schedule.h"
@@ -55,24 +56,35 @@ static uint64_t next_event(uint64_t step, uint64_t total, const uint64_t *period
   return next;
 }
 
-static void report(const adem_run_options *opt, const adem_world *w, double end_time,
-                   uint64_t total, uint64_t step0, double t0) {
+/* Samples the run for its ETA and calls the progress hook. */
+static void report(const adem_run_options *opt, const adem_case *c, uint64_t total, double t0,
+                   adem_eta *eta, bool final) {
   if (!opt->progress) return;
+  const adem_world *w = c->world;
+  double end_time = c->end_time;
   adem_progress p;
   memset(&p, 0, sizeof p);
+  p.may_end_early = c->until != NULL;
+  p.final = final;
+  for (int k = 0; c->stages && k < c->stages->n; ++k)
+    p.may_end_early |= c->stages->s[k].until != NULL && k + 1 == c->stages->n;
   p.time = w->time;
   p.end_time = end_time;
   p.step = w->step;
   p.total_steps = total;
   p.wall_seconds = wall_now() - t0;
-  uint64_t done = w->step - step0;
-  p.steps_per_second = p.wall_seconds > 0.0 ? (double)done / p.wall_seconds : 0.0;
-  p.eta_seconds = -1.0;
-  if (done > 0 && p.steps_per_second > 0.0)
-    p.eta_seconds = (double)(total > w->step ? total - w->step : 0) / p.steps_per_second;
   for (size_t k = 0; k < w->pp.n; ++k) p.contacts += w->pp.touching[k];
   for (size_t k = 0; k < w->pw.n; ++k) p.contacts += w->pw.touching[k];
   for (size_t k = 0; k < w->pm.l.n; ++k) p.contacts += w->pm.l.touching[k];
+  p.particles = w->p.n;
+  adem_eta_add(eta, p.wall_seconds, w->step, p.contacts, p.particles);
+  p.steps_per_second = adem_eta_rate(eta);
+  p.eta_seconds = adem_eta_seconds(eta, total, &p.eta_rough);
+  if (final) { /* done, whatever the end time said */
+    p.eta_seconds = 0.0;
+    p.eta_rough = ADEM_ETA_STEADY;
+    p.may_end_early = 0;
+  }
   opt->progress(&p, opt->progress_user);
 }
 
@@ -110,6 +122,85 @@ static adem_status plot_loads(const adem_case *c, const char *dir, bool have_csv
   return st;
 }
 
+/* output.plot and output.plot_loads: energy.png and loads.png from the CSV in dir. */
+static adem_status write_plots(const adem_case *c, const char *dir, adem_error *err) {
+  if (!c->output.plot && !c->output.plot_loads) return ADEM_OK;
+  bool have_csv = adem_stages_output_on(c, 1);
+  adem_status st = ADEM_OK;
+  if (c->output.plot) {
+    if (!have_csv) {
+      adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
+    } else {
+      char *csv = adem_file_join(dir, "timeseries.csv");
+      char *png = adem_file_join(dir, "energy.png");
+      if (csv && png) {
+        char title[ADEM_NAME_MAX + 32];
+        snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");
+        st = adem_output_plot_energy(csv, png, title, err);
+      } else {
+        st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+      }
+      free(csv);
+      free(png);
+    }
+  }
+  if (!st && c->output.plot_loads) st = plot_loads(c, dir, have_csv, err);
+  return st;
+}
+
+/* output.regions: columns NAME_count and NAME_mass_kg of each region. */
+typedef struct region_columns {
+  int n;
+  char (*names)[ADEM_NAME_MAX + 16];
+  const char **name;
+  double *value, *count, *mass;
+} region_columns;
+
+static void region_columns_free(region_columns *rc) {
+  free(rc->names);
+  free(rc->name);
+  free(rc->value);
+  free(rc->count);
+  free(rc->mass);
+  memset(rc, 0, sizeof *rc);
+}
+
+static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
+  memset(rc, 0, sizeof *rc);
+  int nr = rs ? rs->n : 0;
+  rc->n = 2 * nr;
+  size_t m = (size_t)(nr > 0 ? nr : 1);
+  rc->names = calloc(2 * m, sizeof *rc->names);
+  rc->name = calloc(2 * m, sizeof *rc->name);
+  rc->value = calloc(2 * m, sizeof *rc->value);
+  rc->count = calloc(m, sizeof *rc->count);
+  rc->mass = calloc(m, sizeof *rc->mass);
+  if (!rc->names || !rc->name || !rc->value || !rc->count || !rc->mass) {
+    region_columns_free(rc);
+    return false;
+  }
+  for (int k = 0; k < nr; ++k) {
+    snprintf(rc->names[2 * k], sizeof rc->names[0], "%s_count", rs->r[k].name);
+    snprintf(rc->names[2 * k + 1], sizeof rc->names[0], "%s_mass_kg", rs->r[k].name);
+    rc->name[2 * k] = rc->names[2 * k];
+    rc->name[2 * k + 1] = rc->names[2 * k + 1];
+  }
+  return true;
+}
+
+/* A CSV row with the regions' counts and masses now. */
+static adem_status csv_row(adem_output *out, const adem_case *c, region_columns *rc,
+                           adem_error *err) {
+  if (rc->n > 0) {
+    adem_regions_count(c->regions, c->world, rc->count, rc->mass);
+    for (int k = 0; k < rc->n / 2; ++k) {
+      rc->value[2 * k] = rc->count[k];
+      rc->value[2 * k + 1] = rc->mass[k];
+    }
+  }
+  return adem_output_csv_append(out, c->world, err);
+}
+
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
   adem_run_options opt = opt_in ? *opt_in : adem_default_run_options();
   adem_world *w = c->world;
@@ -135,22 +226,38 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
   uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
   const uint64_t step0 = w->step;
+  char why[ADEM_MSG_MAX];
+  if (resume && adem_stages_ended(c, why, sizeof why)) {
+    adem_log(ADEM_LOG_INFO, "%s", why);
+    return write_plots(c, dir, err);
+  }
   if (resume && step0 >= total) {
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
-    return ADEM_OK;
+    return write_plots(c, dir, err);
   }
-  /* Frames 0, k, 2k, ... up to this step (k of each stage) were written before the checkpoint. */
-  size_t frames_done = resume ? (size_t)adem_stages_frames_done(c, step0) : 0;
+  /* The frames at t = 0 and at every interval up to this step were written before the
+   * checkpoint; a frame and a CSV row written only because an earlier run ended here are
+   * replaced by those of the run going on. */
+  size_t frames_done = resume ? (size_t)c->frames_written : 0;
+  bool drop_row = resume && c->csv_last_extra;
 
   adem_output out;
   adem_output_track track = {c->output.ntrack, c->output.track};
+  region_columns rc;
+  if (!region_columns_make(&rc, c->regions))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_output_extra extra = {rc.n, rc.name, rc.value};
   st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
-                        resume, frames_done,
-                        (double)k_frame * dt, w->time, &track, err);
-  if (st) return st;
+                        resume, frames_done, (double)k_frame * dt, w->time, drop_row, &track,
+                        &extra, err);
+  if (st) {
+    region_columns_free(&rc);
+    return st;
+  }
   char *ckpt_path = adem_file_join(dir, "checkpoint");
   if (!ckpt_path) {
     adem_output_close(&out);
+    region_columns_free(&rc);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   bool have_ckpt = resume;
@@ -158,18 +265,24 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
   if (!resume) {
     st = adem_output_frame(&out, w, err);
-    if (!st) st = adem_output_csv_append(&out, w, err);
+    c->frames_written = out.next_frame;
+    if (!st) st = csv_row(&out, c, &rc, err);
     if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
   }
   const double t0 = wall_now();
   double last_report = t0;
-  report(&opt, w, c->end_time, total, step0, t0);
+  adem_eta eta;
+  adem_eta_init(&eta);
+  report(&opt, c, total, t0, &eta, false);
   uint64_t chunk_cap = RUN_MAX_CHUNK;
 
-  while (!st && w->step < total) {
+  bool ended = false; /* a run-until condition was met */
+  while (!st && w->step < total && !ended) {
     uint64_t target = next_event(w->step, total, periods, 3);
     uint64_t staged = adem_stages_next_step(c, w->step); /* stage starts, pour batches */
     if (staged < target) target = staged;
+    uint64_t check = adem_stages_until_next(c, w->step); /* run-until conditions */
+    if (check < target) target = check;
     uint64_t n = target - w->step;
     if (n > chunk_cap) n = chunk_cap;
     double tc = wall_now();
@@ -186,13 +299,22 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     }
 
     uint64_t s = w->step;
-    bool last = s >= total;
+    /* Conditions first: a run that ends here writes this step's outputs as its last; a stage
+     * that ends lets the next begin here (after the outputs, as any stage start). */
+    adem_until_outcome until = adem_stages_until(c, why, sizeof why);
+    if (until != ADEM_UNTIL_NOTHING)
+      adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): %s", w->time, (unsigned long long)s, why);
+    ended = until == ADEM_UNTIL_RUN_ENDS;
+    bool last = s >= total || ended;
     if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
-    if (!st && (last || due(s, k_csv))) st = adem_output_csv_append(&out, w, err);
+    if (due(s, k_frame)) c->frames_written = out.next_frame;
+    if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
+    c->csv_last_extra = last && !due(s, k_csv);
     bool ckpt_due = last || due(s, k_ckpt);
     /* Stage starts and pour batches follow the outputs of their step and precede its
-     * checkpoint: a resumed run finds them done. */
-    if (!st && !last) {
+     * checkpoint, the last step's too: a resumed run, even one given a later end, finds them
+     * done. */
+    if (!st) {
       st = adem_stages_events(c, err);
       k_frame = periods[0] = adem_schedule_period(c->output.frame_interval, dt);
       k_csv = periods[1] = adem_schedule_period(c->output.csv_interval, dt);
@@ -209,7 +331,7 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
 
     double now = wall_now();
     if (now - last_report >= RUN_PROGRESS_SECONDS || last) {
-      report(&opt, w, c->end_time, total, step0, t0);
+      report(&opt, c, total, t0, &eta, last);
       last_report = now;
     }
     if (!last && opt.stop_flag && *opt.stop_flag) {
@@ -223,24 +345,19 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
     }
   }
   adem_output_close(&out);
-  if (!st && c->output.plot) {
-    if (k_csv == 0) {
-      adem_log(ADEM_LOG_WARN, "output.plot needs the CSV time series, which is off: no plot");
-    } else {
-      char *csv = adem_file_join(dir, "timeseries.csv");
-      char *png = adem_file_join(dir, "energy.png");
-      if (csv && png) {
-        char title[ADEM_NAME_MAX + 32];
-        snprintf(title, sizeof title, "%s: energy", c->name[0] ? c->name : "adem");
-        st = adem_output_plot_energy(csv, png, title, err);
-      } else {
-        st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-      }
-      free(csv);
-      free(png);
+  region_columns_free(&rc);
+  /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
+   * failed (they show how it went wrong). A plot that fails then is a warning only. */
+  if (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME) {
+    adem_error perr = {ADEM_OK, ""};
+    adem_status pst = write_plots(c, dir, &perr);
+    if (pst && !st) {
+      st = pst;
+      if (err) *err = perr;
+    } else if (pst) {
+      adem_log(ADEM_LOG_WARN, "%s", perr.message);
     }
   }
-  if (!st && c->output.plot_loads) st = plot_loads(c, dir, k_csv > 0, err);
   free(ckpt_path);
   return st;
 }

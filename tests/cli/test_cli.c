@@ -4,8 +4,11 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <cmocka.h>
+
+#include <math.h>
 
 #include "cli_run.h"
 
@@ -83,6 +86,23 @@ static void test_valid_case(void **state) {
   free(f);
   /* and it resumes from its final checkpoint without doing anything */
   assert_int_equal(adem(&out, "run --quiet --resume '%s/out_ok/checkpoint'", tmpdir), 0);
+  /* or goes on to a later end; other keys are refused, naming those that may change */
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set time.end=0.002", tmpdir), 0);
+  assert_mentions(out, "done: t = 0.002");
+  f = path_in_tmp("out_ok/timeseries.csv");
+  assert_true(fabs(csv_value(f, 22, "time_s") - 0.002) < 1e-5); /* the last step: at or just after */
+  free(f);
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set materials.glass.friction=0.1", tmpdir), 2);
+  assert_mentions(out, "may change only time.end");
+  assert_int_equal(adem(&out, "run --resume '%s/out_ok' --set time.end=0.0015", tmpdir), 2);
+  assert_mentions(out, "later end");
+  /* a run that may end early on its condition says so in its ETA and in its last line */
+  assert_int_equal(adem(&out, "run '%s' --out '%s/out_until' --set time.end=0.5 "
+                        "--set 'time.until={kinetic_energy_per_particle: 1.0e-3, for: 0.001}'",
+                        path, tmpdir), 0);
+  assert_mentions(out, "fewer if time.until is met");
+  assert_mentions(out, "time.until met: kinetic energy per particle");
+  assert_mentions(out, "the run ends");
   free(path);
 }
 
@@ -91,6 +111,7 @@ static void test_help_and_version(void **state) {
   char *out;
   assert_int_equal(adem(&out, "--help"), 0);
   assert_mentions(out, "exit status");
+  assert_mentions(out, "triangle-mesh walls");
   assert_mentions(out, "adem run");
   assert_int_equal(adem(&out, "run --help"), 0);
   assert_mentions(out, "--resume");
@@ -110,6 +131,21 @@ static void test_help_and_version(void **state) {
 static void test_unknown_key(void **state) {
   (void)state;
   expect_bad_case("name: cli\n", "name: cli\ncolour: red\n", "colour", NULL);
+  /* other codes' names for our keys get the key, where edit distance would not find it */
+  expect_bad_case("    friction: 0.3\n", "    friction: 0.3\n    rolling_resistance: 0.2\n",
+                  "rolling_resistance", "did you mean `rolling_friction`");
+  expect_bad_case("    restitution: 0.5\n", "    coefficient_of_restitution: 0.5\n",
+                  "coefficient_of_restitution", "did you mean `restitution`");
+  expect_bad_case("    youngs_modulus: 1.0e7\n", "    youngs: 1.0e7\n", "youngs",
+                  "did you mean `youngs_modulus`");
+  /* a synonym is offered only where its key is allowed: `time` has no rolling_friction */
+  char *text = replaced(base_case, "  end: 0.001\n", "  end: 0.001\n  rolling_resistance: 1\n");
+  char *path = write_case("bad.yaml", text);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 2);
+  assert_false(mentions(out, "did you mean"));
+  free(text);
+  free(path);
 }
 
 static void test_wrong_type(void **state) {
@@ -227,6 +263,61 @@ static void test_runtime_failure(void **state) {
   free(path);
 }
 
+/* Claim: the README's first paragraph claims no more than `adem validate --list` reproduces:
+ * every figure of the list is named there, and a result the list lacks (the angle of repose,
+ * the ballast's lateral resistance) is said to be not reproduced yet wherever it is named. */
+static void test_readme_claims(void **state) {
+  (void)state;
+  char readme[512];
+  snprintf(readme, sizeof readme, "%s/README.md", ADEM_SOURCE_DIR);
+  FILE *f = fopen(readme, "r");
+  assert_non_null(f);
+  static char text[1 << 16];
+  text[fread(text, 1, sizeof text - 1, f)] = '\0';
+  fclose(f);
+  char *para = strstr(text, "\n\n"); /* after the title */
+  assert_non_null(para);
+  para += 2;
+  char *end = strstr(para, "\n\n");
+  assert_non_null(end);
+  *end = '\0';
+  for (char *c = para; *c; ++c)
+    if (*c == '\n') *c = ' ';
+  char *out;
+  assert_int_equal(adem(&out, "validate --list"), 0);
+  static char list[1 << 14];
+  snprintf(list, sizeof list, "%s", out);
+  /* every figure the list names is in the paragraph's figures of its paper */
+  const char *papers[2][2] = {{"haervig-fig", "Hærvig"}, {"irazabal-fig", "Irazábal"}};
+  for (int p = 0; p < 2; ++p) {
+    const char *figs = strstr(para, papers[p][1]);
+    assert_non_null(figs);
+    figs = strstr(figs, "Figs ");
+    assert_non_null(figs);
+    char numbers[128];
+    snprintf(numbers, sizeof numbers, "%.*s", (int)strcspn(figs, ")"), figs);
+    for (const char *l = strstr(list, papers[p][0]); l; l = strstr(l + 1, papers[p][0])) {
+      long fig = strtol(l + strlen(papers[p][0]), NULL, 10);
+      bool named = false;
+      for (const char *c = numbers; *c; ++c) /* every whole number written after "Figs " */
+        if (*c >= '0' && *c <= '9' && (c == numbers || c[-1] < '0' || c[-1] > '9'))
+          named |= strtol(c, NULL, 10) == fig;
+      if (!named) fail_msg("the README does not name Fig. %ld of %s: %s", fig, papers[p][1], numbers);
+    }
+  }
+  /* results the list lacks are named only as not reproduced yet */
+  const char *topics[2][2] = {{"angle of repose", "repose"}, {"ballast lateral resistance", "ballast"}};
+  for (int k = 0; k < 2; ++k) {
+    if (mentions(list, topics[k][1])) continue;
+    for (const char *at = strstr(para, topics[k][0]); at; at = strstr(at + 1, topics[k][0])) {
+      char window[200];
+      snprintf(window, sizeof window, "%.160s", at);
+      if (!strstr(window, "not reproduced"))
+        fail_msg("the README claims the %s, which adem validate --list lacks: %s", topics[k][0], at);
+    }
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_valid_case),
@@ -244,6 +335,7 @@ int main(void) {
       cmocka_unit_test(test_bad_checkpoint),
       cmocka_unit_test(test_output_not_writable),
       cmocka_unit_test(test_runtime_failure),
+      cmocka_unit_test(test_readme_claims),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

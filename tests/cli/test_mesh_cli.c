@@ -12,6 +12,9 @@
 #include <stdint.h>
 
 #include "cli_run.h"
+#include "adem/adem.h"
+#include "adem/vec3.h"
+#include "world.h"
 
 /* A valid case: one sphere in the unit cube of tests/data scaled to 0.1 m, a lid that moves. */
 static const char *const base_case =
@@ -192,6 +195,100 @@ static void test_bad_motion(void **state) {
   const char *plane_words[] = {"bad.yaml:24:54", "either `velocity` or `motion`", NULL};
   expect_bad(text, plane_words);
   free(text);
+  /* velocities and positions together; a positions row that is not [t, x, y, z] */
+  text = replaced(base_case, "motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}",
+                  "motion: {table: [[0, 0, 0, 0]], positions: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}");
+  const char *both_words[] = {"walls[1].motion.positions", "not two of them", "`positions`", NULL};
+  expect_bad(text, both_words);
+  free(text);
+  text = replaced(base_case, "motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}",
+                  "motion: {positions: [[0, 0, 0, 0], [0.002, 0, -1]]}");
+  const char *row_words[] = {"walls[1].motion.positions[1]", "[t, x, y, z]", "(s, m)", NULL};
+  expect_bad(text, row_words);
+  free(text);
+}
+
+/* Claim: `adem check` shows the geometry: each mesh group's box, where the moving lid is at the
+ * start, at its table's knot and at the end (the integral of its velocity table: -1 mm at
+ * 2 ms), and warns about fill regions that cross a mesh or a plane or lie outside
+ * the closed mesh that could hold them; a region inside the box is clear. */
+static void test_check_geometry(void **state) {
+  (void)state;
+  char *path = write_case("geom.yaml", base_case);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "box                      12 triangles, (0, 0, 0) .. (0.1, 0.1, 0.1) m");
+  /* the end is the last step's time, at or just after time.end */
+  assert_mentions(out, "lid (mesh group, centre of its box): (0.05, 0.05, 0.09) at 0 s, "
+                       "(0.05, 0.05, 0.089) at 0.002 s, (0.05, 0.05, 0.08");
+  assert_mentions(out, "s (end)");
+  free(path);
+  const char *fill =
+      "  - type: random\n"
+      "    material: glass\n"
+      "    count: 1\n"
+      "    radius: {distribution: constant, value: 0.002}\n";
+  const struct {
+    const char *region, *word1, *word2;
+  } cases[] = {
+      {"    region: {shape: box, min: [0.01, 0.01, 0.01], max: [0.03, 0.03, 0.03]}\n",
+       "particles[1].region (a box): clear of every wall", NULL},
+      {"    region: {shape: box, min: [0.05, 0.05, 0.05], max: [0.2, 0.2, 0.08]}\n",
+       "particles[1].region (a box) crosses mesh group `box` (", "spheres may be placed on both sides"},
+      {"    region: {shape: cylinder, start: [0.5, 0.5, 0.5], end: [0.5, 0.5, 0.55], radius: 0.02}\n",
+       "particles[1].region (a cylinder) lies outside every closed mesh wall that could hold it (`box`)",
+       NULL},
+      {"    region: {shape: cylinder, start: [0.03, 0.03, 0.01], end: [0.03, 0.03, 0.05], radius: 0.01}\n",
+       "particles[1].region (a cylinder) crosses plane `shelf`", NULL},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    char add[1024];
+    snprintf(add, sizeof add, "%s%swalls:\n", fill, cases[k].region);
+    char *t1 = replaced(base_case, "walls:\n", add);
+    char *t2 = replaced(t1, "time:\n", "  - {type: plane, name: shelf, material: steel, point: [0, 0, 0.03],\n"
+                                        "     normal: [0, 0, 1], active: true}\n"
+                                        "time:\n");
+    /* the shelf is in the way of the first sphere only for the plane case */
+    char *t3 = k == 3 ? t2 : replaced(t2, "point: [0, 0, 0.03]", "point: [0, 0, -1]");
+    path = write_case("geom.yaml", t3);
+    adem(&out, "check '%s'", path);
+    assert_mentions(out, cases[k].word1);
+    if (cases[k].word2) assert_mentions(out, cases[k].word2);
+    if (k == 0) assert_false(mentions(out, "warning: particles[1]"));
+    free(path);
+    free(t1);
+    if (t3 != t2) free(t3);
+    free(t2);
+  }
+}
+
+/* Claim: a lid moved by a table of positions is exactly at the last row's displacement once the
+ * table is over (bit for bit: its vertices are the loaded ones plus that displacement), and at
+ * rest. */
+static void test_positions_motion(void **state) {
+  (void)state;
+  char *text = replaced(base_case, "motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}",
+                        "motion: {positions: [[0.001, 0, 0, 0], [0.002, 0.001, 0, -0.003]]}");
+  char *path = write_case("positions.yaml", text);
+  adem_case *c = NULL;
+  adem_error err;
+  if (adem_case_load_file(path, NULL, 0, &c, &err)) fail_msg("%s", err.message);
+  adem_world *w = c->world;
+  int lid = adem_mesh_find_group(&w->walls.mesh, "lid");
+  assert_true(lid >= 0);
+  const adem_mesh_group *g = &w->walls.mesh.groups[lid];
+  assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
+  uint64_t n = (uint64_t)llround(0.003 / adem_world_dt(w));
+  assert_int_equal(adem_world_step(w, n, &err), ADEM_OK);
+  for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v) {
+    adem_vec3 want = v3_add(w->walls.mesh_vert0[v], v3(0.001, 0.0, -0.003));
+    assert_memory_equal(&w->walls.mesh.vert[v], &want, sizeof want);
+  }
+  adem_vec3 vel = adem_motion_velocity(&w->walls.mesh_motion[lid], w->time);
+  assert_true(v3_norm(vel) == 0.0);
+  adem_case_free(c);
+  free(path);
+  free(text);
 }
 
 /* Claim: a sphere that starts cutting into a mesh face is refused when the run starts, naming
@@ -212,7 +309,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_valid_mesh_case),  cmocka_unit_test(test_bad_ascii_stl),
       cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
-      cmocka_unit_test(test_bad_motion),       cmocka_unit_test(test_particle_in_mesh),
+      cmocka_unit_test(test_bad_motion),      cmocka_unit_test(test_positions_motion),
+      cmocka_unit_test(test_check_geometry),       cmocka_unit_test(test_particle_in_mesh),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -199,14 +199,14 @@ static void test_bed_weight_on_floor(void **state) {
   snprintf(csv, sizeof csv, "%s/timeseries.csv", out);
   static csv_last row;
   read_last_row(csv, &row);
-  int floor = column(&row, "box.floor_fz_N"), total = column(&row, "box_fx_N");
+  int floor = column(&row, "box__floor_fz_N"), total = column(&row, "box_fx_N");
   assert_true(floor > 0 && total > 0);
   double load = -row.value[floor];
   printf("# floor load %.6f N, weight %.6f N, ratio %.6f; kinetic energy %.3g J\n", load, weight,
          load / weight, row.value[1]);
   assert_true(fabs(load / weight - 1.0) < 1e-3);
   /* groups add up to the file's total, component by component */
-  const char *groups[5] = {"box.floor", "box.xmin", "box.xmax", "box.ymin", "box.ymax"};
+  const char *groups[5] = {"box__floor", "box__xmin", "box__xmax", "box__ymin", "box__ymax"};
   for (int d = 0; d < 3; ++d) {
     double sum = 0.0;
     for (int g = 0; g < 5; ++g) {

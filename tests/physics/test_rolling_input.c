@@ -166,6 +166,41 @@ static void test_track_output(void **state) {
   assert_contains(line, "Name=\"rolling_torque\" NumberOfComponents=\"3\"");
 }
 
+/* Claim: an interaction entry's rolling_friction is the eta_r BROF uses for a sphere on a wall
+ * (neither the particle material's 0.2 nor the wall material's 0.9): the rolling sphere slows at
+ * (5/7) 0.4 g; and `adem check` says which value each pair uses and why. */
+static void test_pair_rolling_friction(void **state) {
+  (void)state;
+  char *t1 = replaced(base, "rolling_friction: 0.2}\n", "rolling_friction: 0.9}\n");
+  char *t2 = replaced(t1, "{materials: [ballast, floor], rolling: brof}",
+                      "{materials: [ballast, floor], rolling: brof, rolling_friction: 0.4}");
+  char *t3 = replaced(t2, "interactions:\n", "interactions:\n"
+                      "  - {materials: [ballast, ballast], rolling: brof}\n");
+  adem_case *c = NULL;
+  adem_error err;
+  if (adem_case_load_string(t3, "rolling.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
+  char *text = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&text, &len);
+  assert_int_equal(adem_case_report(c, f, &err), ADEM_OK);
+  fclose(f);
+  printf("%s", text);
+  assert_contains(text, "e_c = min(0.2 r_i, 0.2 r_j) (BROF, I9: `ballast`'s value)");
+  assert_contains(text, "eta_r = 0.4, e_c = 0.4 r_i (the interaction entry's value");
+  free(text);
+  assert_int_equal(adem_world_prepare(c->world, &err), ADEM_OK);
+  assert_int_equal(adem_world_step(c->world, 2000, &err), ADEM_OK); /* 0.1 s */
+  double v[6];
+  assert_int_equal(adem_world_get_particles(c->world, ADEM_FIELD_VELOCITY, v, 6, &err), ADEM_OK);
+  double expected = 1.0 - 5.0 / 7.0 * 0.4 * 9.8 * 0.1;
+  printf("# v after 0.1 s: %.6f m/s, (5/7) eta_r g t with eta_r = 0.4: %.6f m/s\n", v[0], expected);
+  assert_true(fabs(v[0] / expected - 1.0) < 0.01);
+  adem_case_free(c);
+  free(t1);
+  free(t2);
+  free(t3);
+}
+
 /* Claim (I Fig. 5): the quick irazabal-fig5 reproduction passes: models A and BROF equal while
  * rolling at (5/7) eta_r g, model A flipping at rest, BROF at rest with zero spin. */
 static void test_fig5_quick(void **state) {
@@ -189,6 +224,7 @@ int main(void) {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_track_input),
       cmocka_unit_test(test_track_output),
+      cmocka_unit_test(test_pair_rolling_friction),
       cmocka_unit_test(test_fig5_quick),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);

@@ -57,6 +57,50 @@ static void test_rotation(void **state) {
   adem_motion_free(&m);
 }
 
+/* Claim: a table of positions puts the wall exactly (bit for bit) at each knot's displacement
+ * at its time, moves it at each segment's constant slope in between (the velocity is the
+ * derivative of the place), and holds it before the first knot and after the last (it stops). */
+static void test_positions(void **state) {
+  (void)state;
+  const double t[3] = {0.2, 0.25, 0.5};
+  const adem_vec3 x[3] = {{0.0, 0.0, 0.0}, {0.06, 0.0, 0.0}, {0.06, 0.01, -0.003}};
+  adem_motion_def d = {.n = 3, .time = t, .position = x};
+  adem_motion m;
+  adem_error err;
+  assert_int_equal(adem_motion_init(&m, &d, &err), ADEM_OK);
+  assert_true(m.moving);
+  for (int k = 0; k < 3; ++k) {
+    adem_vec3 p = adem_motion_displacement(&m, t[k]);
+    assert_memory_equal(&p, &x[k], sizeof p);
+  }
+  adem_vec3 before = adem_motion_displacement(&m, 0.1), after = adem_motion_displacement(&m, 7.0);
+  assert_memory_equal(&before, &x[0], sizeof before);
+  assert_memory_equal(&after, &x[2], sizeof after);
+  assert_true(v3_norm(adem_motion_velocity(&m, 0.1)) == 0.0);
+  assert_true(v3_norm(adem_motion_velocity(&m, 0.6)) == 0.0);
+  adem_vec3 v = adem_motion_velocity(&m, 0.22);
+  assert_true(fabs(v.x - 1.2) < 1e-12 && v.y == 0.0 && v.z == 0.0);
+  adem_vec3 mid = adem_motion_displacement(&m, 0.225);
+  assert_true(fabs(mid.x - 0.03) < 1e-15);
+  for (double s = 0.205; s < 0.5; s += 0.02) { /* away from the knots: the derivative */
+    double h = 1e-7;
+    adem_vec3 fd = v3_scale(v3_sub(adem_motion_displacement(&m, s + h),
+                                   adem_motion_displacement(&m, s - h)), 0.5 / h);
+    assert_true(v3_norm(v3_sub(fd, adem_motion_velocity(&m, s))) < 1e-7);
+  }
+  /* a copy (as a stage makes) keeps the kind; a velocity table of the same numbers differs */
+  adem_motion c;
+  assert_int_equal(adem_motion_copy(&c, &m, &err), ADEM_OK);
+  assert_true(c.positions && adem_motion_same(&c, &m));
+  adem_motion_def dv = {.n = 3, .time = t, .velocity = x};
+  adem_motion mv;
+  assert_int_equal(adem_motion_init(&mv, &dv, &err), ADEM_OK);
+  assert_false(adem_motion_same(&mv, &m));
+  adem_motion_free(&m);
+  adem_motion_free(&c);
+  adem_motion_free(&mv);
+}
+
 /* Claim: a motion table out of time order is refused with a message naming the entries. */
 static void test_unordered_table(void **state) {
   (void)state;
@@ -102,6 +146,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_piecewise_linear),
       cmocka_unit_test(test_rotation),
+      cmocka_unit_test(test_positions),
       cmocka_unit_test(test_unordered_table),
       cmocka_unit_test(test_sphere_on_moving_plane),
   };
