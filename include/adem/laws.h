@@ -84,9 +84,15 @@ typedef enum adem_law_param_id {
     "dashpots that make a Hertz collision's restitution e.")
 
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
+  X(ADEM_TANGENTIAL_INCREMENTAL, "incremental", adem_tangential_incremental_law, 4, "", 0, "",     \
+    "H14-H17, Mindlin-Deresiewicz",                                                                \
+    "Spring force kept as history and changed by -S_t ds each step (S_t = 8 G sqrt(R delta)), "   \
+    "scaled down with S_t when the contact shrinks; dashpot; Coulomb limit mu |F_N + 2 F_C|. "     \
+    "Cannot create energy on a closed load path.")                                                 \
   X(ADEM_TANGENTIAL_TOTAL, "total", adem_tangential_total_law, 3, "", 0, "", "H14-H17",            \
     "Spring S_t = 8 G sqrt(R delta) on the accumulated tangential displacement (kept in the "     \
-    "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding.")
+    "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding; " \
+    "as H writes it (a load that rises at fixed displacement raises the force for free).")
 
 #define ADEM_ROLLING_LAWS(X)                                                                      \
   X(ADEM_ROLLING_NONE, "none", adem_rolling_none_law, 0, "", 0, "", "", "No rolling resistance.") \

@@ -75,6 +75,7 @@ typedef struct adem_collision_spec {
   bool capture_only;       /* stop at the capture (outcome captured): no rolling phase */
   adem_collision_track_fn *track; /* may be NULL */
   void *track_user;
+  adem_tangential_model tangential; /* tangential law (default: incremental; H14 is `total`) */
 } adem_collision_spec;
 adem_collision_spec adem_default_collision_spec(void);
 

@@ -255,7 +255,8 @@ typedef struct adem_contact_info {
   adem_vec3 force;              /* force on a, N */
   double overlap_ratio;         /* overlap / smaller radius */
   double elastic;               /* energy stored, J */
-  adem_vec3 tangential_history; /* the tangential law's history, m */
+  adem_vec3 tangential_history; /* the tangential law's history: incremental, the spring force on
+                                 * a (N); total, the accumulated displacement (m) */
   adem_vec3 rolling_history;    /* the rolling law's (DTK: xi in m; model C: spring torque) */
 } adem_contact_info;
 /* Writes up to capacity touching contacts into out (particle pairs, then planes, then meshes, each

@@ -90,11 +90,17 @@ static inline double adem_damping_viscoelastic_law(const adem_pair_params *pp, d
 
 /* ---------------------------------------------------------------- tangential slot */
 
-/* Advances the history by the slip vt dt and returns the tangential force on i (H14-H17). */
-static inline adem_vec3 adem_tangential_total_law(adem_vec3 *xi, adem_vec3 n, adem_vec3 vt,
-                                                  double dt, double stiffness, double damping,
-                                                  double f_limit, bool *sliding) {
-  return adem_tangential_force(xi, n, vt, dt, stiffness, damping, f_limit, sliding);
+/* Advances the history (three doubles and one more, aux) by one step and fills the tangential
+ * force on i, its dashpot part, the stored and the dissipated energy (tangential.h). */
+static inline void adem_tangential_total_law(const adem_tangential_input *in, adem_vec3 *hist,
+                                             double *aux, adem_tangential_output *out) {
+  adem_tangential_total(in, hist, aux, out); /* H14-H17 */
+}
+
+static inline void adem_tangential_incremental_law(const adem_tangential_input *in,
+                                                   adem_vec3 *hist, double *aux,
+                                                   adem_tangential_output *out) {
+  adem_tangential_incremental(in, hist, aux, out); /* H14, H16-H17, Mindlin-Deresiewicz */
 }
 
 /* ---------------------------------------------------------------- rolling slot */

@@ -61,22 +61,21 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
   double f_limit = pp->friction * f_load;                     /* H17 */
-  bool sliding = false;
-  adem_vec3 ft = v3_zero();
+  adem_tangential_input tin = {g->n, vt, dt, St, ct, f_limit};
+  adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (it->tangential) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)           \
-  case ID:                                                                 \
-    ft = kernel(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);  \
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
+  case ID:                                                              \
+    kernel(&tin, &h->tangential, &h->tangential_aux, &tout);            \
     break;
     ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
     default:
       break;
   }
-  (void)sliding;
 
-  r.force = v3_axpy(ft, -fn, g->n);
-  r.elastic = nr.e_elastic + 0.5 * St * v3_norm2(h->tangential);
+  r.force = v3_axpy(tout.force, -fn, g->n);
+  r.elastic = nr.e_elastic + tout.elastic;
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
   adem_rolling_output ro = {v3_zero(), 0.0, 0.0};
   switch (it->rolling) {

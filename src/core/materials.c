@@ -26,7 +26,7 @@ adem_interaction_def adem_default_interaction_def(void) {
   d.friction = -1.0;
   d.normal = ADEM_NORMAL_HERTZ;
   d.damping = ADEM_DAMPING_VISCOELASTIC;
-  d.tangential = ADEM_TANGENTIAL_TOTAL;
+  d.tangential = ADEM_TANGENTIAL_INCREMENTAL;
   d.rolling = ADEM_ROLLING_NONE;
   for (int k = 0; k < ADEM_PARAM_COUNT; ++k) d.param[k] = NAN;
   d.dtk_rolling_modification = 1;
@@ -73,7 +73,7 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   }
   it.normal = ADEM_NORMAL_HERTZ;
   it.damping = ADEM_DAMPING_VISCOELASTIC;
-  it.tangential = ADEM_TANGENTIAL_TOTAL;
+  it.tangential = ADEM_TANGENTIAL_INCREMENTAL;
   it.rolling = ADEM_ROLLING_NONE;
   pp->dtk_rolling_modification = true;
   return it;

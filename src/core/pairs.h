@@ -18,8 +18,10 @@
 
 /* Contact history carried from step to step, keyed by the pair's stable ids. */
 typedef struct adem_contact_history {
-  adem_vec3 tangential; /* accumulated tangential displacement of i relative to j (H14) */
+  adem_vec3 tangential; /* incremental law: spring force on i (N); total law: accumulated
+                         * tangential displacement of i relative to j (H14, m) */
   adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
+  double tangential_aux; /* incremental law: the S_t its force was stored with (N/m) */
 } adem_contact_history;
 
 /* Roles of the per-pair arrays. */

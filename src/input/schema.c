@@ -54,7 +54,7 @@ static const adem_schema_entry base_schema[] = {
     {"interactions[].friction", NULL, NUM, "", NULL, "derived from the two materials", GE(0), .doc = "Sliding friction coefficient of this pair."},
     {"interactions[].normal", NULL, ENUM, "", "hertz", NULL, .choices = "@normal", .doc = "Normal force law (see Contact laws)."},
     {"interactions[].damping", NULL, ENUM, "", "viscoelastic", NULL, .choices = "@damping", .doc = "Damping law of the normal and tangential dashpots."},
-    {"interactions[].tangential", NULL, ENUM, "", "total", NULL, .choices = "@tangential", .doc = "Tangential force law."},
+    {"interactions[].tangential", NULL, ENUM, "", "incremental", NULL, .choices = "@tangential", .doc = "Tangential force law: incremental (Mindlin-Deresiewicz, cannot create energy) or total (H14 as written)."},
     {"interactions[].rolling", NULL, ENUM, "", "none", NULL, .choices = "@rolling", .doc = "Rolling resistance law."},
     {"interactions[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
 

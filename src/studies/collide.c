@@ -33,6 +33,7 @@ adem_collision_spec adem_default_collision_spec(void) {
   s.dtk_modification = true;
   s.rest_periods = 3.0;
   s.max_roll_periods = 400.0;
+  s.tangential = ADEM_TANGENTIAL_INCREMENTAL;
   return s;
 }
 
@@ -201,6 +202,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   it.friction = s->friction;
   it.normal = s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
   it.rolling = s->dtk ? ADEM_ROLLING_DTK : ADEM_ROLLING_NONE;
+  it.tangential = s->tangential;
   it.dtk_rolling_modification = s->dtk_modification ? 1 : 0;
   if ((st = adem_world_set_interaction(w, &it, err))) return st;
 
