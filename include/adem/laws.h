@@ -81,7 +81,11 @@ typedef enum adem_law_param_id {
   X(ADEM_DAMPING_VISCOELASTIC, "viscoelastic", adem_damping_viscoelastic_law, 0, "", 0, "",        \
     "H11-H13, H16",                                                                                \
     "-2 sqrt(5/6) beta sqrt(S m*) v, beta = ln e / sqrt(ln^2 e + pi^2): normal and tangential "    \
-    "dashpots that make a Hertz collision's restitution e.")
+    "dashpots that make a Hertz collision's restitution e; the normal force may pull at the end "  \
+    "of a collision.")                                                                             \
+  X(ADEM_DAMPING_CLAMPED, "clamped", adem_damping_clamped_law, 0, "", 0, "", "H11-H13, H16",       \
+    "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); the "      \
+    "normal beta is refitted so that a Hertz collision's restitution is still e.")
 
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
   X(ADEM_TANGENTIAL_INCREMENTAL, "incremental", adem_tangential_incremental_law, 4, "", 0, "",     \

@@ -25,6 +25,8 @@ typedef struct adem_pair_params {
   double G_real;
   double restitution;
   double beta;   /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double beta_clamped; /* beta that gives e_eff = e when the normal force cannot pull (damping
+                        * `clamped`; derived only for pairs that use it) */
   double friction;
   double gamma;      /* effective surface energy, modified (H24) */
   double gamma_real; /* of the real material */
@@ -82,10 +84,41 @@ static inline adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
 
 /* ---------------------------------------------------------------- damping slot */
 
-/* The viscous coefficient c >= 0 of a dashpot beside a spring of stiffness S (force -c v). */
-static inline double adem_damping_viscoelastic_law(const adem_pair_params *pp, double S,
-                                                   double mstar) {
-  return adem_damping_coefficient(pp->beta, S, mstar); /* H11 with H16's square root */
+/* The dashpots beside the normal and tangential springs, and the total normal force. */
+typedef struct adem_damping_input {
+  double Sn, St;     /* normal and tangential stiffness, 2 E a and 8 G a (H13, H14) */
+  double mstar;
+  double vn;         /* normal approach speed (> 0 approaching) */
+  double f_elastic;  /* elastic normal force of the normal law, > 0 repulsive */
+  double f_critical; /* F_C of an adhesive normal law, else 0 */
+} adem_damping_input;
+
+typedef struct adem_damping_output {
+  double f_normal; /* total normal force, > 0 repulsive: f_elastic and the dashpot */
+  double ct;       /* tangential dashpot coefficient (force -ct v_t), N s/m */
+} adem_damping_output;
+
+/* H11-H13 with H16's square root: F_N = F_el + c_n v_n, c = -2 sqrt(5/6) beta sqrt(S m*). The
+ * total is not clipped: near separation the dashpot pulls, which is what makes e_eff = e. */
+static inline void adem_damping_viscoelastic_law(const adem_pair_params *pp,
+                                                 const adem_damping_input *in,
+                                                 adem_damping_output *out) {
+  double cn = adem_damping_coefficient(pp->beta, in->Sn, in->mstar);
+  out->f_normal = in->f_elastic + cn * in->vn;
+  out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
+}
+
+/* The same dashpots, but a contact without adhesion never pulls: F_N = max(0, F_el + c_n v_n).
+ * The normal dashpot takes the beta that gives e_eff = e with the clamp (adem_damping_beta_
+ * clamped, derived per pair); the tangential one keeps H12's beta. With adhesion (F_C > 0) the
+ * force is not clamped: the JKR force pulls by design. */
+static inline void adem_damping_clamped_law(const adem_pair_params *pp,
+                                            const adem_damping_input *in,
+                                            adem_damping_output *out) {
+  double cn = adem_damping_coefficient(pp->beta_clamped, in->Sn, in->mstar);
+  double f = in->f_elastic + cn * in->vn;
+  out->f_normal = in->f_critical == 0.0 && f < 0.0 ? 0.0 : f;
+  out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
 }
 
 /* ---------------------------------------------------------------- tangential slot */

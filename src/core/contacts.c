@@ -44,20 +44,20 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   }
   double Sn = adem_hertz_normal_stiffness(pp->E, a);
   double St = adem_hertz_tangential_stiffness(pp->G, a);
-  double cn, ct;
+  adem_damping_input din = {Sn, St, g->mstar, vn, nr.f_elastic, nr.f_critical};
+  adem_damping_output dout = {nr.f_elastic, 0.0};
   switch (it->damping) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
-    cn = kernel(pp, Sn, g->mstar);                               \
-    ct = kernel(pp, St, g->mstar);                               \
+    kernel(pp, &din, &dout);                                     \
     break;
     ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
     default:
-      cn = ct = 0.0;
       break;
   }
-  double fn = nr.f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
+  double fn = dout.f_normal; /* H5 with H11: damping opposes the normal motion */
+  double ct = dout.ct;
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
   double f_limit = pp->friction * f_load;                     /* H17 */

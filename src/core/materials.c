@@ -84,6 +84,8 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
 static void finish_pair(adem_interaction *it) {
   adem_pair_params *pp = &it->pp;
   pp->beta = adem_damping_beta(pp->restitution);
+  pp->beta_clamped = it->damping == ADEM_DAMPING_CLAMPED ? adem_damping_beta_clamped(pp->restitution)
+                                                         : pp->beta;
   /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). H24 applies to
    * the pair's effective values, gamma_mod = gamma (E_mod/E)^(2/5), so the separation energy is
    * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give

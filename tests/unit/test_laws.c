@@ -32,6 +32,7 @@ static adem_pair_params params(bool swapped) {
   pp.G = pp.G_real = 7.0e7;
   pp.restitution = 0.4;
   pp.beta = adem_damping_beta(0.4);
+  pp.beta_clamped = adem_damping_beta_clamped(0.4);
   pp.friction = 0.5;
   pp.gamma = pp.gamma_real = 0.05;
   pp.dtk_rolling_modification = true;
@@ -108,13 +109,20 @@ static void test_damping_laws(void **state) {
   double S = adem_hertz_normal_stiffness(pi.E, adem_hertz_radius(gi.R, gi.delta));
 #define ADEM_X(ID, name, kernel, hist, req, pp, prm, eq, doc)                      \
   {                                                                              \
-    double ci = kernel(&pi, S, gi.mstar), cj = kernel(&pj, S, gj.mstar);         \
-    printf("# damping %-12s c = %.6g N s/m\n", name, ci);                         \
-    assert_same(ci, cj, name);                                                   \
-    assert_true(ci > 0.0); /* e = 0.4 < 1 dissipates */                          \
-    /* the normal dashpot force -c v_n n on i is the opposite of j's */          \
+    double St = adem_hertz_tangential_stiffness(pi.G, adem_hertz_radius(gi.R, gi.delta)); \
     double vni = v3_dot(gi.w, gi.n), vnj = v3_dot(gj.w, gj.n);                   \
-    assert_opposite(v3_scale(gi.n, -ci * vni), v3_scale(gj.n, -cj * vnj), ci, name); \
+    adem_damping_input ini = {S, St, gi.mstar, vni, 1.0, 0.0};                   \
+    adem_damping_input inj = {S, St, gj.mstar, vnj, 1.0, 0.0};                   \
+    adem_damping_output oi, oj;                                                  \
+    kernel(&pi, &ini, &oi);                                                      \
+    kernel(&pj, &inj, &oj);                                                      \
+    double ci = (oi.f_normal - 1.0) / vni;                                       \
+    printf("# damping %-12s c_n = %.6g N s/m, c_t = %.6g N s/m\n", name, ci, oi.ct); \
+    assert_same(oi.f_normal, oj.f_normal, name);                                 \
+    assert_same(oi.ct, oj.ct, name " tangential");                              \
+    assert_true(ci > 0.0 && oi.ct > 0.0); /* e = 0.4 < 1 dissipates */           \
+    /* the normal force F_N n on i is the opposite of j's */                    \
+    assert_opposite(v3_scale(gi.n, -oi.f_normal), v3_scale(gj.n, -oj.f_normal), fabs(oi.f_normal), name); \
   }
   ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
