@@ -110,6 +110,10 @@ typedef enum adem_law_param_id {
     "rolling_friction rolling_damping", "Ai et al. 2011",                                          \
     "Elastic-plastic spring k_r = 2.25 S_n eta_r^2 R_r^2 limited to eta_r R_r |F_n|, with a "      \
     "dashpot while below the limit.")                                                             \
+  X(ADEM_ROLLING_C_CAPPED, "model_c_capped", adem_rolling_model_c_capped_law, 3, "", 0,         \
+    "rolling_friction rolling_damping", "Ai et al. 2011, capped",                                  \
+    "Model C with spring + dashpot limited to eta_r R_r |F_n| (model C's dashpot alone is not "   \
+    "bounded).")                                                                                   \
   X(ADEM_ROLLING_BROF, "brof", adem_rolling_brof_law, 0, "", 1, "rolling_friction", "I9-I10",      \
     "Bounded rolling friction: per particle, the torque that stops its spin within the step, "    \
     "bounded by the sum of e_c |F_n| over its contacts; never reverses the rotation.")             \

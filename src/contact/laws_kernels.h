@@ -189,6 +189,18 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
 }
 
+static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                                   adem_rolling_output *out) {
+  const adem_contact_geometry *g = in->g;
+  double R_r = adem_rolling_radius(g);
+  double eta = adem_rolling_eta(in);
+  double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
+  double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
+  out->torque =
+      adem_rolling_model_c_capped(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load, c_r);
+  if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;
+}
+
 static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
                                          adem_rolling_output *out) {
   (void)hist; /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */

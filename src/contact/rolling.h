@@ -33,6 +33,18 @@ static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, ade
   return v3_axpy(m, -c_r, omega_rel);
 }
 
+/* Model C with the total torque bounded: spring + dashpot limited to eta_r R_r |F_n| (the cap
+ * LIGGGHTS applies when the spring is fully mobilised, here applied to the sum as well), so that
+ * no rolling torque exceeds the bound of models A and BROF. */
+static inline adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
+                                                    adem_vec3 omega_rel, double dt, double k_r,
+                                                    double limit, double c_r) {
+  adem_vec3 m = adem_rolling_model_c(spring, n, omega_rel, dt, k_r, limit, c_r);
+  double mag2 = v3_norm2(m);
+  if (mag2 > limit * limit) m = v3_scale(m, limit / sqrt(mag2));
+  return m;
+}
+
 /* DTK rolling velocity with n from i to j: v_L = -R (omega_i - omega_j) x n. Marshall (2009) adds
  * 1/2 (r_j - r_i)/(r_i + r_j) v_S (v_S the slip velocity; 1/2 v_S on a wall); adem leaves it out
  * because it lets the couple do positive work on a wall when the tangential spring is soft
