@@ -95,7 +95,14 @@ adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, 
 typedef struct adem_diagnostics {
   double time;
   double kinetic, rotational, potential, elastic;
-  double dissipated; /* energy balance: E_total(0) - E_total(t) */
+  /* Energy balance: initial + wall_work = (kinetic + rotational + potential + elastic) +
+   * dissipated + balance_error. dissipated and wall_work are accumulated every step, contact by
+   * contact (dashpots, friction slip, rolling resistance, the laws' own limits; the work of
+   * moving walls), so balance_error measures the integration's and the laws' energy errors. */
+  double dissipated; /* energy the contacts dissipated since prepare, J */
+  double wall_work;  /* energy moving walls gave to the particles since prepare, J */
+  double initial;    /* E_total at prepare, with particles added since and external work */
+  double balance_error;
   size_t contacts_pp, contacts_pw;
   double max_overlap_ratio; /* max over contacts of overlap / smaller radius */
 } adem_diagnostics;

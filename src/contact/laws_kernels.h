@@ -148,9 +148,12 @@ typedef struct adem_rolling_input {
 } adem_rolling_input;
 
 typedef struct adem_rolling_output {
-  adem_vec3 torque; /* couple on i (j takes the opposite) */
-  double capacity;  /* per-particle laws: resistance this contact offers (BROF's e_c |F_n|) */
-  double elastic;   /* energy stored in a rolling spring, J */
+  adem_vec3 torque;  /* couple on i (j takes the opposite) */
+  adem_vec3 dashpot; /* the part of torque that is not a spring's (model A's whole couple, model
+                      * C's dashpot): its work is dissipation */
+  double capacity;   /* per-particle laws: resistance this contact offers (BROF's e_c |F_n|) */
+  double elastic;    /* energy stored in a rolling spring, J */
+  double dissipated; /* energy a spring's limit took in the step (models C, DTK), J */
 } adem_rolling_output;
 
 /* Rolling radius R_r (wall: r_i) and the eta_r of models A and C: the mean of a particle pair's,
@@ -176,6 +179,7 @@ static inline void adem_rolling_model_a_law(const adem_rolling_input *in, adem_v
   (void)hist; /* I7-I8 */
   out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
                                      in->f_load);
+  out->dashpot = out->torque; /* no spring: all its work is dissipation */
 }
 
 static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
@@ -185,7 +189,9 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
-  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load, c_r);
+  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load,
+                                     c_r, &out->dissipated);
+  out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
 }
 
@@ -196,8 +202,9 @@ static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in,
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
-  out->torque =
-      adem_rolling_model_c_capped(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load, c_r);
+  out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, in->dt, k_r,
+                                            eta * R_r * in->f_load, c_r, &out->dissipated);
+  out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;
 }
 
@@ -229,7 +236,7 @@ static inline void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 
    * law that feeds energy in when the tangential spring is soft (reduced stiffness). Pure rolling
    * still gives |v_L| = the centre's speed. */
   adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
-  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit);
+  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit, g->R, &out->dissipated);
   /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
   out->elastic = 0.5 * k_r * v3_norm2(*hist) / g->R;
 }

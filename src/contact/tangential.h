@@ -79,23 +79,23 @@ static inline void adem_tangential_total(const adem_tangential_input *in, adem_v
  * fs <- fs - S_t vt dt (dF = -S_t ds). Coulomb (H17): the spring is limited to f_limit (slip),
  * then spring + dashpot -c_t vt is limited to f_limit by shortening the dashpot's part, so the
  * spring never stores more than the displacement put in. Stored energy |fs|^2/(2 S_t).
- * Dissipated: the energy a change of S_t releases (both ways it lowers |fs|^2/(2 S_t)) and the
- * slip, mean spring force times the slip (fs_trial - fs_new)/S_t; the dashpot's share is the
- * integrator's (it is reported apart). */
+ * Dissipated: the work the relative motion did on the spring in the step, -(fs_old + fs_new)/2 .
+ * vt dt (the trapezoid the integrator's kicks follow, with the force as it was applied), less
+ * the change of the stored energy: the slip, the energy a change of S_t releases (both ways it
+ * lowers |fs|^2/(2 S_t)), and nothing while it sticks (dF = -S_t ds is linear: the trapezoid is
+ * exact). The dashpot's share is the integrator's (it is reported apart). */
 static inline void adem_tangential_incremental(const adem_tangential_input *in, adem_vec3 *fs,
                                                double *aux, adem_tangential_output *out) {
   double S = in->stiffness, S_old = *aux, L = in->f_limit;
-  adem_vec3 f0 = adem_tangential_project(*fs, in->n);
-  double u_before = S_old > 0.0 ? 0.5 * v3_norm2(f0) / S_old : 0.0;
+  adem_vec3 f_prev = *fs;
+  double u_prev = S_old > 0.0 ? 0.5 * v3_norm2(f_prev) / S_old : 0.0;
+  adem_vec3 f0 = adem_tangential_project(f_prev, in->n);
   if (S_old > S) f0 = v3_scale(f0, S / S_old); /* unloading: LAMMPS mindlin_rescale */
-  double dissipated = u_before - (S > 0.0 ? 0.5 * v3_norm2(f0) / S : 0.0);
   adem_vec3 spring = v3_axpy(f0, -S * in->dt, in->vt); /* dF = -S_t ds */
   double s2 = v3_norm2(spring);
   out->sliding = false;
   if (s2 > L * L) { /* slip */
-    adem_vec3 trial = spring;
-    spring = v3_scale(trial, L / sqrt(s2));
-    if (S > 0.0) dissipated += 0.5 * v3_dot(v3_add(f0, spring), v3_sub(trial, spring)) / S;
+    spring = v3_scale(spring, L / sqrt(s2));
     out->sliding = true;
   }
   adem_vec3 dash = v3_scale(in->vt, -in->damping);
@@ -111,7 +111,8 @@ static inline void adem_tangential_incremental(const adem_tangential_input *in, 
   out->force = f;
   out->dashpot = dash;
   out->elastic = S > 0.0 ? 0.5 * v3_norm2(spring) / S : 0.0;
-  out->dissipated = dissipated;
+  double work = -0.5 * in->dt * v3_dot(v3_add(f_prev, spring), in->vt);
+  out->dissipated = work - (out->elastic - u_prev);
 }
 
 #endif

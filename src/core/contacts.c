@@ -18,6 +18,11 @@ typedef struct contact_result {
   adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
   double capacity;    /* per-particle rolling resistance this contact offers (BROF) */
   double elastic;     /* stored energy, J */
+  /* energy bookkeeping: the dissipative forces, whose work the per-particle sums take with the
+   * velocities of the kicks, and what the laws' own limits took in the step */
+  adem_vec3 damping;        /* dashpot force on i (normal and tangential) */
+  adem_vec3 damping_couple; /* dissipative part of the rolling couple on i */
+  double dissipated;        /* J */
 } contact_result;
 
 /* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
@@ -76,8 +81,9 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   r.force = v3_axpy(tout.force, -fn, g->n);
   r.elastic = nr.e_elastic + tout.elastic;
+  r.damping = v3_axpy(tout.dashpot, -(fn - nr.f_elastic), g->n);
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
-  adem_rolling_output ro = {v3_zero(), 0.0, 0.0};
+  adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
   switch (it->rolling) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
@@ -91,6 +97,9 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   r.rolling = ro.torque;
   r.capacity = ro.capacity;
   r.elastic += ro.elastic; /* the elastic part is never -0: adding 0 changes nothing */
+  r.damping_couple = ro.dashpot;
+  r.dissipated = tout.dissipated + ro.dissipated;
+  h->elastic = tout.elastic + ro.elastic; /* the springs of the history, not the normal law's */
   return r;
 }
 
@@ -108,7 +117,25 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->rolling_capacity[k] = r->capacity;
   l->elastic[k] = r->elastic;
   l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  /* the dashpots' moments (their normal part has none) and the dissipative couple */
+  l->damping_a[k] = r->damping;
+  l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  l->damping_torque_b[k] =
+      g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
+  l->dissipated[k] = r->dissipated;
 }
+
+/* A wall contact's power: the wall's material at the contact point moves at V and turns at
+ * Omega; it pushes the particle with F and the couple R, so it gives F.V + R.Omega; the
+ * dissipative forces' share is what the particle's kicks count as their work but the relative
+ * motion did not take (the particle-side sums subtract it back). */
+static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
+                                    adem_vec3 v_wall, adem_vec3 omega_wall) {
+  l->wall_power[k] = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->wall_damping_power[k] = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+}
+
+static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
 
 static inline void particle_pair(const adem_force_scope *w, size_t k) {
   adem_particles *p = w->p;
@@ -121,7 +148,9 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);
     if (dist2 >= rsum * rsum) {
+      double lost = l->touching[k] ? l->hist[k].elastic : 0.0;
       adem_pairs_clear(l, k);
+      l->dissipated[k] = lost; /* what its springs held when it opened is gone */
       return;
     }
     double dist = sqrt(dist2);
@@ -157,7 +186,9 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     if (dist >= ri) {
+      double lost = l->touching[k] ? l->hist[k].elastic : 0.0;
       adem_pairs_clear(l, k);
+      l->dissipated[k] = lost;
       return;
     }
     contact_geometry g;
@@ -175,6 +206,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     contact_result r = contact_force(it, &g, &l->hist[k], dt);
     store_pair(l, k, &g, &r);
+    store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
   }
 }
 
@@ -206,6 +238,14 @@ static void mesh_pairs(const adem_force_scope *w) {
     if (s == e) continue;
     double ri = p->radius[i];
     size_t nc = adem_triangle_sphere_contacts(m, p->pos[i], ri, &l->b[s], e - s, &pm->found[s]);
+    /* The stored energy of a last-step contact whose key is not found again (it opened, or moved
+     * to another region of the mesh and starts afresh) is gone: dissipated. */
+    double lost = 0.0;
+    for (size_t q = s, k = s; q < e && pm->touching_prev[q]; ++q) {
+      while (k < s + nc && pm->found[k].key < pm->key_prev[q]) ++k;
+      if (k >= s + nc || pm->found[k].key != pm->key_prev[q]) lost += pm->hist_prev[q].elastic;
+    }
+    p->dissipated[i] += lost;
     size_t q = s; /* the previous contacts fill the first slots, sorted by key */
     for (size_t k = s; k < e; ++k) {
       if (k >= s + nc) {
@@ -243,6 +283,11 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->rolling_capacity[k] = r.capacity;
       l->elastic[k] = r.elastic;
       l->overlap_ratio[k] = g.delta / ri;
+      l->damping_a[k] = r.damping;
+      l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
+      l->damping_torque_b[k] = v3_zero();
+      l->dissipated[k] = r.dissipated;
+      store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->mesh_motion[grp]));
     }
   }
   /* Force on each face, and its moment about the face's group's reference point: the force acts
@@ -258,6 +303,44 @@ static void mesh_pairs(const adem_force_scope *w) {
   }
 }
 
+/* The energy a particle's kicks take out through the dissipative forces of its contacts (sum
+ * G, torques H) and give through moving walls (wall power P_w, of which P_d is the dissipative
+ * forces' share). The force F, T of this pass acts in two half kicks: the closing one of this
+ * step (v_half -> v_full) and the opening one of the next (v_full -> v_next). A force's work in
+ * a half kick is F.(v_before + v_after)/2 dt/2 exactly (the kinetic energy changes by that sum
+ * over all forces), so the dissipation is counted with the same velocities as the kinetic
+ * energy: the closing half now, the opening half at the next pass (held back in *_next, so that
+ * the totals after a step match the kinetic energy after it). */
+typedef struct particle_energy {
+  adem_vec3 G, H;       /* dissipative force and torque on the particle */
+  double P_w, P_d;      /* wall power and its dissipative share, W */
+  double dissipated;    /* the laws' own, of the step just done (its share of pairs'), J */
+} particle_energy;
+
+static inline void account_energy(adem_particles *p, size_t i, const particle_energy *e,
+                                  adem_vec3 f, adem_vec3 t, uint8_t held, double dt) {
+  double hm = 0.5 * dt * p->inv_mass[i], hi = 0.5 * dt * p->inv_inertia[i];
+  adem_vec3 v_half = p->vel[i], v_full = v3_axpy(v_half, hm, f), v_next = v3_axpy(v_full, hm, f);
+  adem_vec3 w_half = p->omega[i], w_full, w_next;
+  double zeroed = 0.0;
+  if (held) { /* the closing kick sets the spin to zero: BROF took its energy (I9-I10) */
+    w_full = w_next = v3_zero();
+    zeroed = 0.5 * v3_norm2(w_half) / p->inv_inertia[i];
+  } else {
+    w_full = v3_axpy(w_half, hi, t);
+    w_next = v3_axpy(w_full, hi, t);
+  }
+  double q = 0.25 * dt;
+  double closing = -q * (v3_dot(e->G, v3_add(v_half, v_full)) + v3_dot(e->H, v3_add(w_half, w_full))) +
+                   0.5 * dt * e->P_d + zeroed;
+  double opening = -q * (v3_dot(e->G, v3_add(v_full, v_next)) + v3_dot(e->H, v3_add(w_full, w_next))) +
+                   0.5 * dt * e->P_d;
+  p->dissipated[i] += p->dissipated_next[i] + closing + e->dissipated;
+  p->dissipated_next[i] = opening;
+  p->wall_work[i] += p->wall_work_next[i] + 0.5 * dt * e->P_w;
+  p->wall_work_next[i] = 0.5 * dt * e->P_w;
+}
+
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
  * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
 static inline void sum_particle(const adem_force_scope *w, size_t i) {
@@ -270,29 +353,40 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
   {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
+    particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
     double capacity = 0.0;
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
+      en.dissipated += 0.5 * pp->dissipated[k]; /* also of a contact that just opened */
       if (!pp->touching[k]) continue;
       if (code & 1u) {
         f = v3_sub(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_b[k]);
         roll = v3_sub(roll, pp->rolling_a[k]);
+        en.G = v3_sub(en.G, pp->damping_a[k]);
+        en.H = v3_add(en.H, pp->damping_torque_b[k]);
       } else {
         f = v3_add(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_a[k]);
         roll = v3_add(roll, pp->rolling_a[k]);
+        en.G = v3_add(en.G, pp->damping_a[k]);
+        en.H = v3_add(en.H, pp->damping_torque_a[k]);
       }
       capacity += pp->rolling_capacity[k];
     }
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
+      en.dissipated += pw->dissipated[k];
       if (!pw->touching[k]) continue;
       f = v3_add(f, pw->force_a[k]);
       t = v3_add(t, pw->torque_a[k]);
       roll = v3_add(roll, pw->rolling_a[k]);
       capacity += pw->rolling_capacity[k];
+      en.G = v3_add(en.G, pw->damping_a[k]);
+      en.H = v3_add(en.H, pw->damping_torque_a[k]);
+      en.P_w += pw->wall_power[k];
+      en.P_d += pw->wall_damping_power[k];
     }
     /* mesh contacts: the first slots of the particle's range, by key */
     for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
@@ -301,6 +395,11 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       t = v3_add(t, pm->torque_a[k]);
       roll = v3_add(roll, pm->rolling_a[k]);
       capacity += pm->rolling_capacity[k];
+      en.G = v3_add(en.G, pm->damping_a[k]);
+      en.H = v3_add(en.H, pm->damping_torque_a[k]);
+      en.dissipated += pm->dissipated[k];
+      en.P_w += pm->wall_power[k];
+      en.P_d += pm->wall_damping_power[k];
     }
     uint8_t held = 0;
     if (capacity > 0.0) {
@@ -316,7 +415,9 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       }
       t = v3_add(t, t_brof);
       roll = v3_add(roll, t_brof);
+      en.H = v3_add(en.H, t_brof); /* BROF only resists: its work is dissipation */
     }
+    account_energy(p, i, &en, f, t, held, dt);
     adem_particles_set_loads(p, i, f, t, roll, held);
   }
 }

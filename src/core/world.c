@@ -506,6 +506,9 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   if (st) return st;
   default_domain(w);
   adem_world_compute_forces(w);
+  /* the balance starts here: what this pass dissipated belongs to no step (its opening-kick
+   * share, held in *_next, does) */
+  for (size_t i = 0; i < w->p.n; ++i) w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
   adem_diagnostics d = adem_world_diagnostics(w);
   w->energy_initial = total_energy(&d);
   w->prepared = true;
@@ -652,8 +655,13 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     d.contacts_pw += w->pm.l.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.overlap_ratio[k]);
   }
+  /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
+   * laws' own losses, and the work of moving walls */
+  d.dissipated = adem_sum(p->dissipated, n);
+  d.wall_work = adem_sum(p->wall_work, n);
   free(buf);
-  d.dissipated = w->prepared ? w->energy_initial - total_energy(&d) : 0.0;
+  d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
+  d.initial = w->prepared ? w->energy_initial : total_energy(&d);
   return d;
 }
 

@@ -156,7 +156,8 @@ static void test_tangential_laws(void **state) {
       assert_same(oi.elastic, oj.elastic, name " energy");                                \
       assert_same(oi.dissipated, oj.dissipated, name " dissipated");                      \
       /* the incremental law never gives energy out; the total law may (H14) */         \
-      if (ID != ADEM_TANGENTIAL_TOTAL) assert_true(oi.dissipated >= 0.0);                 \
+      if (ID != ADEM_TANGENTIAL_TOTAL) /* up to round-off while it sticks */             \
+        assert_true(oi.dissipated >= -1e-12 * oi.elastic);                                 \
       assert_int_equal(oi.sliding, oj.sliding);                                           \
       slid += oi.sliding;                                                                 \
     }                                                                                     \
@@ -183,13 +184,16 @@ static void test_rolling_laws(void **state) {
     adem_vec3 hi = v3_zero(), hj = v3_zero();                                                \
     double most = 0.0;                                                                       \
     for (int s = 0; s < 40; ++s) {                                                           \
-      adem_rolling_output oi = {v3_zero(), 0.0, 0.0}, oj = {v3_zero(), 0.0, 0.0};            \
+      adem_rolling_output oi = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
+      adem_rolling_output oj = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
       kernel(&ini, &hi, &oi);                                                                \
       kernel(&inj, &hj, &oj);                                                                \
       double scale = fmax(v3_norm(oi.torque), 1e-30);                                        \
       assert_opposite(oi.torque, oj.torque, scale, name);                                    \
       assert_same(oi.capacity, oj.capacity, name " capacity");                               \
       assert_same(oi.elastic, oj.elastic, name " energy");                                   \
+      assert_same(oi.dissipated, oj.dissipated, name " dissipated");                         \
+      assert_opposite(oi.dashpot, oj.dashpot, scale, name " dissipative couple");            \
       most = fmax(most, fmax(v3_norm(oi.torque), oi.capacity));                             \
     }                                                                                        \
     printf("# rolling %-8s largest couple or capacity %.4g N m\n", name, most);              \
