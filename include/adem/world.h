@@ -103,6 +103,11 @@ typedef struct adem_diagnostics {
   double wall_work;  /* energy moving walls gave to the particles since prepare, J */
   double initial;    /* E_total at prepare, with particles added since and external work */
   double balance_error;
+  /* Angular momentum of the particles about the origin, sum of x m v + I omega (N m s), and
+   * the angular impulse BROF has added through particle contacts since the start, which no
+   * partner takes back (I9-I10 act on each particle alone): a couple-based rolling law adds none. */
+  adem_vec3 angular_momentum;
+  adem_vec3 brof_impulse;
   size_t contacts_pp, contacts_pw;
   double max_overlap_ratio; /* max over contacts of overlap / smaller radius */
 } adem_diagnostics;

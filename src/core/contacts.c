@@ -13,6 +13,9 @@
 
 typedef adem_contact_geometry contact_geometry;
 
+/* The spin of a wall's motion (constant rotation about its axis), rad/s. */
+static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
+
 typedef struct contact_result {
   adem_vec3 force;    /* on i */
   adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
@@ -135,7 +138,7 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
   l->wall_damping_power[k] = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
 
-static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
+
 
 static inline void particle_pair(const adem_force_scope *w, size_t k) {
   adem_particles *p = w->p;
@@ -199,7 +202,9 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->planes[l->b[k]].motion, w->walls->time,
                                                   v3_axpy(p->pos[i], ri, g.n));
     g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
-    g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+    /* rolling laws see the spin relative to the wall's */
+    adem_vec3 om = v3_sub(p->omega[i], motion_spin(&w->walls->planes[l->b[k]].motion));
+    g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
     g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
@@ -265,7 +270,8 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.mstar = 1.0 / p->inv_mass[i];
       adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->mesh_motion[grp], w->walls->time, c->point);
       g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
-      g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+      adem_vec3 om = v3_sub(p->omega[i], motion_spin(&w->walls->mesh_motion[grp]));
+      g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;
       g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
@@ -354,7 +360,8 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
-    double capacity = 0.0;
+    double capacity = 0.0, capacity_pp = 0.0;
+    adem_vec3 wall_spin = v3_zero(); /* sum of capacity x spin of the walls it touches (BROF) */
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
@@ -375,6 +382,7 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       }
       capacity += pp->rolling_capacity[k];
     }
+    capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
       en.dissipated += pw->dissipated[k];
@@ -383,6 +391,10 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       t = v3_add(t, pw->torque_a[k]);
       roll = v3_add(roll, pw->rolling_a[k]);
       capacity += pw->rolling_capacity[k];
+      if (pw->rolling_capacity[k] > 0.0) {
+        const adem_motion *mo = &w->walls->planes[pw->b[k]].motion;
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->rolling_capacity[k], motion_spin(mo));
+      }
       en.G = v3_add(en.G, pw->damping_a[k]);
       en.H = v3_add(en.H, pw->damping_torque_a[k]);
       en.P_w += pw->wall_power[k];
@@ -395,6 +407,10 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       t = v3_add(t, pm->torque_a[k]);
       roll = v3_add(roll, pm->rolling_a[k]);
       capacity += pm->rolling_capacity[k];
+      if (pm->rolling_capacity[k] > 0.0) {
+        const adem_motion *mo = &w->walls->mesh_motion[w->walls->mesh.group[w->pm->owner[k]]];
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->rolling_capacity[k], motion_spin(mo));
+      }
       en.G = v3_add(en.G, pm->damping_a[k]);
       en.H = v3_add(en.H, pm->damping_torque_a[k]);
       en.dissipated += pm->dissipated[k];
@@ -403,19 +419,31 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
     }
     uint8_t held = 0;
     if (capacity > 0.0) {
-      /* BROF (I9-I10). omega is the half-step spin; -I omega/dt - t would stop it within the
-       * step. When the capacity allows that, the particle is held: the resistance cancels every
-       * other torque and the closing half kick sets the spin to exactly zero (a sum of two half
-       * kicks would leave a round-off residue that then never dies out). */
-      adem_vec3 t_stop = v3_sub(v3_scale(p->omega[i], -1.0 / (p->inv_inertia[i] * dt)), t);
+      /* BROF (I9-I10). omega is the half-step spin; -I (omega - omega*)/dt - t would bring it to
+       * omega* within the step. omega* is 0 for particle contacts (I resists the absolute spin)
+       * and the wall's spin for a wall contact, weighted by the contacts' capacities: a particle
+       * turning with a rotating wall (a drum) is not braked. When the capacity allows it and
+       * omega* = 0, the particle is held: the resistance cancels every other torque and the
+       * closing half kick sets the spin to exactly zero (a sum of two half kicks would leave a
+       * round-off residue that then never dies out). */
+      adem_vec3 target = v3_scale(wall_spin, 1.0 / capacity);
+      adem_vec3 t_stop =
+          v3_sub(v3_scale(v3_sub(p->omega[i], target), -1.0 / (p->inv_inertia[i] * dt)), t);
       adem_vec3 t_brof = adem_rolling_brof(t_stop, capacity);
-      if (v3_norm2(t_stop) <= capacity * capacity) {
+      if (v3_norm2(t_stop) <= capacity * capacity && v3_norm2(wall_spin) == 0.0) {
         t_brof = v3_neg(t);
         held = 1;
       }
       t = v3_add(t, t_brof);
       roll = v3_add(roll, t_brof);
-      en.H = v3_add(en.H, t_brof); /* BROF only resists: its work is dissipation */
+      /* BROF resists the spin relative to omega*: that work is dissipation; t_brof . omega* is
+       * what the walls' spin gives through it */
+      double p_wall = v3_dot(t_brof, target);
+      en.H = v3_add(en.H, t_brof);
+      en.P_d += p_wall;
+      en.P_w += p_wall;
+      /* no partner takes the share of the particle contacts back: angular momentum it adds */
+      p->brof_impulse[i] = v3_axpy(p->brof_impulse[i], dt * capacity_pp / capacity, t_brof);
     }
     account_energy(p, i, &en, f, t, held, dt);
     adem_particles_set_loads(p, i, f, t, roll, held);

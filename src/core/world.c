@@ -508,7 +508,10 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   adem_world_compute_forces(w);
   /* the balance starts here: what this pass dissipated belongs to no step (its opening-kick
    * share, held in *_next, does) */
-  for (size_t i = 0; i < w->p.n; ++i) w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
+  for (size_t i = 0; i < w->p.n; ++i) {
+    w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
+    w->p.brof_impulse[i] = v3_zero();
+  }
   adem_diagnostics d = adem_world_diagnostics(w);
   w->energy_initial = total_energy(&d);
   w->prepared = true;
@@ -659,6 +662,19 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
    * laws' own losses, and the work of moving walls */
   d.dissipated = adem_sum(p->dissipated, n);
   d.wall_work = adem_sum(p->wall_work, n);
+  double *c[3] = {&d.angular_momentum.x, &d.angular_momentum.y, &d.angular_momentum.z};
+  double *bi[3] = {&d.brof_impulse.x, &d.brof_impulse.y, &d.brof_impulse.z};
+  for (int a = 0; a < 3; ++a) {
+    for (size_t i = 0; i < n; ++i) {
+      adem_vec3 l = v3_add(v3_scale(v3_cross(p->pos[i], p->vel[i]), 1.0 / p->inv_mass[i]),
+                           v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
+      buf[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
+    }
+    *c[a] = adem_sum(buf, n);
+    for (size_t i = 0; i < n; ++i)
+      buf[i] = a == 0 ? p->brof_impulse[i].x : a == 1 ? p->brof_impulse[i].y : p->brof_impulse[i].z;
+    *bi[a] = adem_sum(buf, n);
+  }
   free(buf);
   d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
   d.initial = w->prepared ? w->energy_initial : total_energy(&d);
