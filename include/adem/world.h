@@ -175,7 +175,10 @@ void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how);
 /* Time step from the Hertz collision time and the Rayleigh time (notes section 6). */
 typedef struct adem_step_estimate {
   double v_ref;        /* impact speed the collision time is evaluated at, m/s */
-  double t_collision;  /* shortest Hertz collision time over material pairs, s */
+  double t_collision;  /* shortest Hertz collision time over material pairs, s; a simplified JKR
+                        * pair takes it at sqrt(v_ref^2 + 2|U_min|/m*), the speed its adhesion
+                        * brings the spheres to, or half its period of oscillation about the
+                        * equilibrium if that is shorter */
   double t_rayleigh;   /* shortest Rayleigh time, s */
   double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh) */
 } adem_step_estimate;
@@ -211,6 +214,17 @@ adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gam
                                               double v_ref);
 
 void adem_world_set_dt(adem_world *w, double dt);
+/* How contact forces meet the velocity-Verlet step. SECOND_ORDER (the default): the dashpots
+ * take the velocity predicted at the full step, v + F_old dt/(2m), where their force acts, and
+ * the simplified JKR force's jumps of -(8/9) F_C where a contact forms or breaks at delta = 0
+ * take effect at the crossing time interpolated within the step; collisions then converge as
+ * dt^2. FIRST_ORDER: the scheme as it was before (dashpots on the half step's velocity, half a
+ * step behind; jumps at the force pass after the crossing): errors of order dt. */
+typedef enum adem_contact_scheme {
+  ADEM_CONTACTS_SECOND_ORDER = 0,
+  ADEM_CONTACTS_FIRST_ORDER = 1
+} adem_contact_scheme;
+void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme);
 double adem_world_dt(const adem_world *w);
 
 /* Validates the set-up (overlaps, particles outside walls), derives pair tables, builds the

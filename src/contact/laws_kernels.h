@@ -43,8 +43,11 @@ typedef struct adem_contact_geometry {
   double delta;        /* overlap, > 0 */
   double R;            /* effective radius (H2; wall: r_i) */
   double mstar;        /* effective mass (wall: m_i) */
-  adem_vec3 w;         /* relative velocity of the contact points, i minus j */
-  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n */
+  adem_vec3 w;         /* relative velocity of the contact points, i minus j, at the half step
+                        * (the drift's: displacements of the step are w dt) */
+  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n, at the half step */
+  adem_vec3 w_pred;    /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
+  adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
 } adem_contact_geometry;
@@ -189,8 +192,8 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
-  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load,
-                                     c_r, &out->dissipated);
+  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
+                                     eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
 }
@@ -202,7 +205,7 @@ static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in,
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
-  out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, in->dt, k_r,
+  out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
                                             eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;

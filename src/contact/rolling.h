@@ -19,12 +19,13 @@ static inline adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, do
 
 /* Model C (Ai et al. 2011): elastic-plastic spring plus a dashpot that works only while the
  * spring is below its limit. spring: the spring torque on i (history, kept in the tangent plane);
- * k_r = 2.25 k_n eta_r^2 R_r^2, limit eta_r R_r |F_n|, damping C_r = delta_r 2 sqrt(I_r k_r).
+ * k_r = 2.25 k_n eta_r^2 R_r^2, limit eta_r R_r |F_n|, damping C_r = delta_r 2 sqrt(I_r k_r)
+ * on omega_damp (the relative spin predicted at the full step; the spring turns by omega_rel dt).
  * *plastic: the energy the spring's limit took in the step, the mean spring torque times the
  * plastic turn (M_trial - M_new)/k_r (the trapezoid the integrator's work follows). */
 static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
-                                             double dt, double k_r, double limit, double c_r,
-                                             double *plastic) {
+                                             adem_vec3 omega_damp, double dt, double k_r,
+                                             double limit, double c_r, double *plastic) {
   adem_vec3 m0 = adem_tangential_project(*spring, n);
   adem_vec3 m = v3_axpy(m0, -k_r * dt, omega_rel);
   double mag2 = v3_norm2(m);
@@ -37,16 +38,17 @@ static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, ade
     return m;
   }
   *spring = m;
-  return v3_axpy(m, -c_r, omega_rel);
+  return v3_axpy(m, -c_r, omega_damp);
 }
 
 /* Model C with the total torque bounded: spring + dashpot limited to eta_r R_r |F_n| (the cap
  * LIGGGHTS applies when the spring is fully mobilised, here applied to the sum as well), so that
  * no rolling torque exceeds the bound of models A and BROF. */
 static inline adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
-                                                    adem_vec3 omega_rel, double dt, double k_r,
-                                                    double limit, double c_r, double *plastic) {
-  adem_vec3 m = adem_rolling_model_c(spring, n, omega_rel, dt, k_r, limit, c_r, plastic);
+                                                    adem_vec3 omega_rel, adem_vec3 omega_damp,
+                                                    double dt, double k_r, double limit,
+                                                    double c_r, double *plastic) {
+  adem_vec3 m = adem_rolling_model_c(spring, n, omega_rel, omega_damp, dt, k_r, limit, c_r, plastic);
   double mag2 = v3_norm2(m);
   if (mag2 > limit * limit) m = v3_scale(m, limit / sqrt(mag2));
   return m;

@@ -29,7 +29,9 @@ static inline adem_vec3 adem_tangential_project(adem_vec3 xi, adem_vec3 n) {
 /* One step of a tangential law. */
 typedef struct adem_tangential_input {
   adem_vec3 n;      /* unit normal from i to j */
-  adem_vec3 vt;     /* slip velocity of i's surface relative to j's (tangent plane) */
+  adem_vec3 vt;     /* slip velocity of i's surface relative to j's (tangent plane), at the
+                     * half step: the slip of the step is vt dt */
+  adem_vec3 vt_damp; /* the same predicted at the full step, for the dashpot */
   double dt;
   double stiffness; /* S_t = 8 G sqrt(R delta) (H14) */
   double damping;   /* c_t of the dashpot, force -c_t vt (H16) */
@@ -54,8 +56,8 @@ static inline void adem_tangential_total(const adem_tangential_input *in, adem_v
   double S = in->stiffness;
   adem_vec3 x0 = adem_tangential_project(*xi, in->n);
   adem_vec3 x = v3_axpy(x0, in->dt, in->vt);
-  adem_vec3 dash = v3_scale(in->vt, -in->damping);
-  adem_vec3 f = v3_sub(v3_scale(x, -S), v3_scale(in->vt, in->damping));
+  adem_vec3 dash = v3_scale(in->vt_damp, -in->damping);
+  adem_vec3 f = v3_sub(v3_scale(x, -S), v3_scale(in->vt_damp, in->damping));
   double fmag2 = v3_norm2(f);
   out->sliding = false;
   out->dissipated = 0.0;
@@ -98,7 +100,7 @@ static inline void adem_tangential_incremental(const adem_tangential_input *in, 
     spring = v3_scale(spring, L / sqrt(s2));
     out->sliding = true;
   }
-  adem_vec3 dash = v3_scale(in->vt, -in->damping);
+  adem_vec3 dash = v3_scale(in->vt_damp, -in->damping);
   adem_vec3 f = v3_add(spring, dash);
   double f2 = v3_norm2(f);
   if (f2 > L * L) { /* the dashpot gives up what exceeds the limit */

@@ -13,6 +13,17 @@
 
 typedef adem_contact_geometry contact_geometry;
 
+/* A particle's velocity and spin predicted at the end of the step, from the half step's with
+ * the last pass's force (the closing kick will use the new one: the difference is O(dt^2)). A
+ * particle BROF holds has its spin set to zero by that kick. */
+static inline adem_vec3 predicted_velocity(const adem_particles *p, size_t i, double dt) {
+  return dt == 0.0 ? p->vel[i] : v3_axpy(p->vel[i], 0.5 * dt * p->inv_mass[i], p->force[i]);
+}
+static inline adem_vec3 predicted_spin(const adem_particles *p, size_t i, double dt) {
+  if (dt == 0.0) return p->omega[i];
+  return p->held[i] ? v3_zero() : v3_axpy(p->omega[i], 0.5 * dt * p->inv_inertia[i], p->torque[i]);
+}
+
 /* The spin of a wall's motion (constant rotation about its axis), rad/s. */
 static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
 
@@ -28,16 +39,10 @@ typedef struct contact_result {
   double dissipated;        /* J */
 } contact_result;
 
-/* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
- * rolling, each dispatched by a switch generated from the rows, updating the history. */
-static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
-                                           adem_contact_history *h, double dt) {
+/* The normal law of the pair at the geometry g (a: the Hertz radius sqrt(R delta)). */
+static inline adem_normal_result normal_law(const adem_interaction *it, const contact_geometry *g,
+                                            double a) {
   const adem_pair_params *pp = &it->pp;
-  contact_result r;
-  double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
-  adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
-
-  double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
   adem_normal_result nr;
   switch (it->normal) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
@@ -50,9 +55,53 @@ static inline contact_result contact_force(const adem_interaction *it, const con
       nr = adem_normal_hertz_law(pp, g, a);
       break;
   }
+  return nr;
+}
+
+/* The simplified JKR force jumps from 0 to F(0) = -(8/9) F_C when a contact forms at delta = 0
+ * and back when it breaks there (H7-H10). The kicks apply a pass's force from half a step before
+ * to half a step after it, so a jump between two passes lands up to half a step early or late,
+ * an impulse error of F dt/2 at most: first order. Onset at the crossing time t* interpolated in
+ * the overlap: the pass after the contact forms adds F (phi - 1/2), phi = delta_{n+1}/(v_n dt) the
+ * fraction of the step in contact (t_{n+1/2} - t* = (phi - 1/2) dt); the pass after it breaks
+ * adds F(delta_n) (psi - 1/2), psi = delta_n/(delta_n - delta_{n+1}) the fraction still in
+ * contact. Then the impulse is right to second order, and so is the collision. */
+static inline double onset_correction(double f_elastic, double delta, double vn, double dt) {
+  double phi = vn > 0.0 ? fmin(1.0, delta / (vn * dt)) : 0.5;
+  return f_elastic * (phi - 0.5);
+}
+
+static inline double break_correction(const adem_interaction *it, const contact_geometry *g,
+                                      double dt) {
+  double vn = v3_dot(g->w, g->n);   /* < 0 while separating */
+  double prev = g->delta - vn * dt; /* the overlap at the last pass, > 0 */
+  if (!(prev > 0.0) || !(g->delta < 0.0)) return 0.0;
+  contact_geometry gp = *g;
+  gp.delta = prev;
+  adem_normal_result nr = normal_law(it, &gp, adem_hertz_radius(g->R, prev));
+  if (nr.f_critical == 0.0) return 0.0; /* no jump: the Hertz force is 0 at delta = 0 */
+  return nr.f_elastic * (prev / (prev - g->delta) - 0.5);
+}
+
+/* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
+ * rolling, each dispatched by a switch generated from the rows, updating the history. fresh: the
+ * contact formed since the last pass (onset correction of an adhesive law, when asked for). */
+static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
+                                           adem_contact_history *h, double dt, bool fresh) {
+  const adem_pair_params *pp = &it->pp;
+  contact_result r;
+  double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
+  adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
+  /* the dashpots take the velocity at the full step, where their force acts: with the half step's
+   * they would lag by half a step (first order); v + F_old dt/(2m) is second order */
+  double vn_d = v3_dot(g->w_pred, g->n);
+  adem_vec3 vt_d = v3_axpy(g->w_pred, -vn_d, g->n);
+
+  double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
+  adem_normal_result nr = normal_law(it, g, a);
   double Sn = adem_hertz_normal_stiffness(pp->E, a);
   double St = adem_hertz_tangential_stiffness(pp->G, a);
-  adem_damping_input din = {Sn, St, g->mstar, vn, nr.f_elastic, nr.f_critical};
+  adem_damping_input din = {Sn, St, g->mstar, vn_d, nr.f_elastic, nr.f_critical};
   adem_damping_output dout = {nr.f_elastic, 0.0};
   switch (it->damping) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
@@ -66,10 +115,12 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   }
   double fn = dout.f_normal; /* H5 with H11: damping opposes the normal motion */
   double ct = dout.ct;
+  double f_damp = fn - nr.f_elastic;
+  if (fresh && nr.f_critical != 0.0) fn += onset_correction(nr.f_elastic, g->delta, vn, dt);
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
   double f_limit = pp->friction * f_load;                     /* H17 */
-  adem_tangential_input tin = {g->n, vt, dt, St, ct, f_limit};
+  adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit};
   adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (it->tangential) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
@@ -84,7 +135,7 @@ static inline contact_result contact_force(const adem_interaction *it, const con
 
   r.force = v3_axpy(tout.force, -fn, g->n);
   r.elastic = nr.e_elastic + tout.elastic;
-  r.damping = v3_axpy(tout.dashpot, -(fn - nr.f_elastic), g->n);
+  r.damping = v3_axpy(tout.dashpot, -f_damp, g->n);
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
   adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
   switch (it->rolling) {
@@ -140,6 +191,17 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
 
 
 
+/* A contact that opened since the last pass: its history's spring energy is gone (dissipated),
+ * and an adhesive law's jump gets its break correction (a force on a; no torque). */
+static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction *it,
+                             const contact_geometry *g, bool onset, double dt) {
+  double lost = l->hist[k].elastic;
+  double f = onset ? break_correction(it, g, dt) : 0.0;
+  adem_pairs_clear(l, k);
+  l->dissipated[k] = lost;
+  l->force_a[k] = v3_scale(g->n, -f);
+}
+
 static inline void particle_pair(const adem_force_scope *w, size_t k) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
@@ -150,10 +212,9 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double ri = p->radius[i], rj = p->radius[j];
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);
-    if (dist2 >= rsum * rsum) {
-      double lost = l->touching[k] ? l->hist[k].elastic : 0.0;
+    bool was = l->touching[k];
+    if (dist2 >= rsum * rsum && !was) { /* apart now and at the last pass */
       adem_pairs_clear(l, k);
-      l->dissipated[k] = lost; /* what its springs held when it opened is gone */
       return;
     }
     double dist = sqrt(dist2);
@@ -167,6 +228,12 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     g.w = v3_add(v3_sub(p->vel[i], p->vel[j]), v3_cross(spin, g.n));
     adem_vec3 om = v3_sub(p->omega[i], p->omega[j]);
     g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+    double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
+    adem_vec3 vpi = predicted_velocity(p, i, hp), vpj = predicted_velocity(p, j, hp);
+    adem_vec3 opi = predicted_spin(p, i, hp), opj = predicted_spin(p, j, hp);
+    g.w_pred = v3_add(v3_sub(vpi, vpj), v3_cross(v3_add(v3_scale(opi, ri), v3_scale(opj, rj)), g.n));
+    adem_vec3 omp = v3_sub(opi, opj);
+    g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = rj;
     /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
@@ -174,7 +241,11 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
     g.inertia_r = Ici * Icj / (Ici + Icj);
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
-    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    if (g.delta <= 0.0) { /* it opened since the last pass */
+      open_pair(l, k, it, &g, w->second_order, dt);
+      return;
+    }
+    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r);
   }
 }
@@ -188,10 +259,9 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_plane_def *pl = &w->walls->planes[l->b[k]].def;
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
-    if (dist >= ri) {
-      double lost = l->touching[k] ? l->hist[k].elastic : 0.0;
+    bool was = l->touching[k];
+    if (dist >= ri && !was) {
       adem_pairs_clear(l, k);
-      l->dissipated[k] = lost;
       return;
     }
     contact_geometry g;
@@ -203,13 +273,23 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
                                                   v3_axpy(p->pos[i], ri, g.n));
     g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
     /* rolling laws see the spin relative to the wall's */
-    adem_vec3 om = v3_sub(p->omega[i], motion_spin(&w->walls->planes[l->b[k]].motion));
+    adem_vec3 spin_wall = motion_spin(&w->walls->planes[l->b[k]].motion);
+    adem_vec3 om = v3_sub(p->omega[i], spin_wall);
     g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+    double hp = w->second_order ? dt : 0.0;
+    adem_vec3 opi = predicted_spin(p, i, hp);
+    g.w_pred = v3_add(v3_sub(predicted_velocity(p, i, hp), v_wall), v3_cross(v3_scale(opi, ri), g.n));
+    adem_vec3 omp = v3_sub(opi, spin_wall);
+    g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
     g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
-    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    if (g.delta <= 0.0) {
+      open_pair(l, k, it, &g, w->second_order, dt);
+      return;
+    }
+    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r);
     store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
   }
@@ -260,7 +340,8 @@ static void mesh_pairs(const adem_force_scope *w) {
       const adem_mesh_contact *c = &pm->found[k];
       while (q < e && pm->touching_prev[q] && pm->key_prev[q] < c->key) ++q;
       adem_contact_history h;
-      if (q < e && pm->touching_prev[q] && pm->key_prev[q] == c->key) h = pm->hist_prev[q];
+      bool fresh = !(q < e && pm->touching_prev[q] && pm->key_prev[q] == c->key);
+      if (!fresh) h = pm->hist_prev[q];
       else memset(&h, 0, sizeof h);
       uint32_t grp = m->group[c->tri];
       contact_geometry g;
@@ -270,13 +351,19 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.mstar = 1.0 / p->inv_mass[i];
       adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->mesh_motion[grp], w->walls->time, c->point);
       g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
-      adem_vec3 om = v3_sub(p->omega[i], motion_spin(&w->walls->mesh_motion[grp]));
+      adem_vec3 spin_wall = motion_spin(&w->walls->mesh_motion[grp]);
+      adem_vec3 om = v3_sub(p->omega[i], spin_wall);
       g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+      double hp = w->second_order ? dt : 0.0;
+      adem_vec3 opi = predicted_spin(p, i, hp);
+      g.w_pred = v3_add(v3_sub(predicted_velocity(p, i, hp), v_wall), v3_cross(v3_scale(opi, ri), g.n));
+      adem_vec3 omp = v3_sub(opi, spin_wall);
+      g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;
       g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
-      contact_result r = contact_force(it, &g, &h, dt);
+      contact_result r = contact_force(it, &g, &h, dt, w->second_order && fresh);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
       l->hist[k] = h;
       pm->key[k] = c->key;
@@ -366,7 +453,11 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
       en.dissipated += 0.5 * pp->dissipated[k]; /* also of a contact that just opened */
-      if (!pp->touching[k]) continue;
+      if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
+        adem_vec3 fb = pp->force_a[k];
+        if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
+        continue;
+      }
       if (code & 1u) {
         f = v3_sub(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_b[k]);
@@ -386,7 +477,11 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
       en.dissipated += pw->dissipated[k];
-      if (!pw->touching[k]) continue;
+      if (!pw->touching[k]) {
+        adem_vec3 fb = pw->force_a[k];
+        if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
+        continue;
+      }
       f = v3_add(f, pw->force_a[k]);
       t = v3_add(t, pw->torque_a[k]);
       roll = v3_add(roll, pw->rolling_a[k]);

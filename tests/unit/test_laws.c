@@ -61,6 +61,8 @@ static adem_contact_geometry geometry(const body *i, const body *j) {
   g.w = v3_add(v3_sub(i->v, j->v), v3_cross(spin, g.n));
   adem_vec3 om = v3_sub(i->omega, j->omega);
   g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+  g.w_pred = g.w;
+  g.omega_pred = g.omega_rel;
   g.ri = i->r;
   g.rj = j->r;
   double Ici = i->inertia + i->m * i->r * i->r, Icj = j->inertia + j->m * j->r * j->r;
@@ -146,8 +148,8 @@ static void test_tangential_laws(void **state) {
     for (int s = 0; s < 40; ++s) {                                                        \
       adem_vec3 vti = v3_axpy(gi.w, -v3_dot(gi.w, gi.n), gi.n);                           \
       adem_vec3 vtj = v3_axpy(gj.w, -v3_dot(gj.w, gj.n), gj.n);                           \
-      adem_tangential_input ini = {gi.n, vti, 1e-5, St, ct, limit};                       \
-      adem_tangential_input inj = {gj.n, vtj, 1e-5, St, ct, limit};                       \
+      adem_tangential_input ini = {gi.n, vti, vti, 1e-5, St, ct, limit};                  \
+      adem_tangential_input inj = {gj.n, vtj, vtj, 1e-5, St, ct, limit};                  \
       adem_tangential_output oi, oj;                                                      \
       kernel(&ini, &hi, &ai_, &oi);                                                       \
       kernel(&inj, &hj, &aj_, &oj);                                                       \

@@ -55,7 +55,8 @@ static path_result run_path(law_fn *law, double d1, double d2, double s0, double
       if (leg == 4 && k == N) d_new = 1e-12 * d1; /* the last step just before the contact opens */
       double a = sqrt(R * d_new);
       double fn = adem_hertz_force(E, a, d_new);
-      tin in = {n, v3((s_new - s) / dt, 0.0, 0.0), dt, adem_hertz_tangential_stiffness(G, a), 0.0,
+      adem_vec3 vt = v3((s_new - s) / dt, 0.0, 0.0);
+      tin in = {n, vt, vt, dt, adem_hertz_tangential_stiffness(G, a), 0.0,
                 mu * fn};
       adem_tangential_output out;
       law(&in, &hist, &aux, &out);
