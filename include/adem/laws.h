@@ -81,12 +81,22 @@ typedef enum adem_law_param_id {
   X(ADEM_DAMPING_VISCOELASTIC, "viscoelastic", adem_damping_viscoelastic_law, 0, "", 0, "",        \
     "H11-H13, H16",                                                                                \
     "-2 sqrt(5/6) beta sqrt(S m*) v, beta = ln e / sqrt(ln^2 e + pi^2): normal and tangential "    \
-    "dashpots that make a Hertz collision's restitution e.")
+    "dashpots that make a Hertz collision's restitution e; the normal force may pull at the end "  \
+    "of a collision.")                                                                             \
+  X(ADEM_DAMPING_CLAMPED, "clamped", adem_damping_clamped_law, 0, "", 0, "", "H11-H13, H16",       \
+    "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); the "      \
+    "normal beta is refitted so that a Hertz collision's restitution is still e.")
 
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
+  X(ADEM_TANGENTIAL_INCREMENTAL, "incremental", adem_tangential_incremental_law, 4, "", 0, "",     \
+    "H14-H17, Mindlin-Deresiewicz",                                                                \
+    "Spring force kept as history and changed by -S_t ds each step (S_t = 8 G sqrt(R delta)), "   \
+    "scaled down with S_t when the contact shrinks; dashpot; Coulomb limit mu |F_N + 2 F_C|. "     \
+    "Cannot create energy on a closed load path.")                                                 \
   X(ADEM_TANGENTIAL_TOTAL, "total", adem_tangential_total_law, 3, "", 0, "", "H14-H17",            \
     "Spring S_t = 8 G sqrt(R delta) on the accumulated tangential displacement (kept in the "     \
-    "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding.")
+    "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding; " \
+    "as H writes it (a load that rises at fixed displacement raises the force for free).")
 
 #define ADEM_ROLLING_LAWS(X)                                                                      \
   X(ADEM_ROLLING_NONE, "none", adem_rolling_none_law, 0, "", 0, "", "", "No rolling resistance.") \
@@ -100,6 +110,10 @@ typedef enum adem_law_param_id {
     "rolling_friction rolling_damping", "Ai et al. 2011",                                          \
     "Elastic-plastic spring k_r = 2.25 S_n eta_r^2 R_r^2 limited to eta_r R_r |F_n|, with a "      \
     "dashpot while below the limit.")                                                             \
+  X(ADEM_ROLLING_C_CAPPED, "model_c_capped", adem_rolling_model_c_capped_law, 3, "", 0,         \
+    "rolling_friction rolling_damping", "Ai et al. 2011, capped",                                  \
+    "Model C with spring + dashpot limited to eta_r R_r |F_n| (model C's dashpot alone is not "   \
+    "bounded).")                                                                                   \
   X(ADEM_ROLLING_BROF, "brof", adem_rolling_brof_law, 0, "", 1, "rolling_friction", "I9-I10",      \
     "Bounded rolling friction: per particle, the torque that stops its spin within the step, "    \
     "bounded by the sum of e_c |F_n| over its contacts; never reverses the rotation.")             \

@@ -75,6 +75,14 @@ typedef struct adem_collision_spec {
   bool capture_only;       /* stop at the capture (outcome captured): no rolling phase */
   adem_collision_track_fn *track; /* may be NULL */
   void *track_user;
+  adem_tangential_model tangential; /* tangential law (default: incremental; H14 is `total`) */
+  adem_contact_scheme scheme;       /* contact forces in the step (default: second order) */
+  double approach_steps;            /* steps of travel to the first touch (default 1.5: the
+                                     * crossing falls half a step before a force pass) */
+  double dt;                        /* > 0: this time step instead of t_ref / steps_per_tc */
+  int normal_law;                   /* >= 0: this normal law (a row of laws.h) instead of jkr for
+                                     * a surface energy > 0 and hertz for 0 (-1, the default) */
+  int rolling_law;                  /* >= 0: this rolling law instead of DTK when dtk is set */
 } adem_collision_spec;
 adem_collision_spec adem_default_collision_spec(void);
 

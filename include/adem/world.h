@@ -101,7 +101,19 @@ adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, 
 typedef struct adem_diagnostics {
   double time;
   double kinetic, rotational, potential, elastic;
-  double dissipated; /* energy balance: E_total(0) - E_total(t) */
+  /* Energy balance: initial + wall_work = (kinetic + rotational + potential + elastic) +
+   * dissipated + balance_error. dissipated and wall_work are accumulated every step, contact by
+   * contact (dashpots, friction slip, rolling resistance, the laws' own limits; the work of
+   * moving walls), so balance_error measures the integration's and the laws' energy errors. */
+  double dissipated; /* energy the contacts dissipated since prepare, J */
+  double wall_work;  /* energy moving walls gave to the particles since prepare, J */
+  double initial;    /* E_total at prepare, with particles added since and external work */
+  double balance_error;
+  /* Angular momentum of the particles about the origin, sum of x m v + I omega (N m s), and
+   * the angular impulse BROF has added through particle contacts since the start, which no
+   * partner takes back (I9-I10 act on each particle alone): a couple-based rolling law adds none. */
+  adem_vec3 angular_momentum;
+  adem_vec3 brof_impulse;
   size_t contacts_pp, contacts_pw;
   double max_overlap_ratio; /* max over contacts of overlap / smaller radius */
 } adem_diagnostics;
@@ -172,7 +184,10 @@ void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how);
 /* Time step from the Hertz collision time and the Rayleigh time (notes section 6). */
 typedef struct adem_step_estimate {
   double v_ref;        /* impact speed the collision time is evaluated at, m/s */
-  double t_collision;  /* shortest Hertz collision time over material pairs, s */
+  double t_collision;  /* shortest Hertz collision time over material pairs, s; a simplified JKR
+                        * pair takes it at sqrt(v_ref^2 + 2|U_min|/m*), the speed its adhesion
+                        * brings the spheres to, or half its period of oscillation about the
+                        * equilibrium if that is shorter */
   double t_rayleigh;   /* shortest Rayleigh time, s */
   double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh) */
 } adem_step_estimate;
@@ -208,6 +223,17 @@ adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gam
                                               double v_ref);
 
 void adem_world_set_dt(adem_world *w, double dt);
+/* How contact forces meet the velocity-Verlet step. SECOND_ORDER (the default): the dashpots
+ * take the velocity predicted at the full step, v + F_old dt/(2m), where their force acts, and
+ * the simplified JKR force's jumps of -(8/9) F_C where a contact forms or breaks at delta = 0
+ * take effect at the crossing time interpolated within the step; collisions then converge as
+ * dt^2. FIRST_ORDER: the scheme as it was before (dashpots on the half step's velocity, half a
+ * step behind; jumps at the force pass after the crossing): errors of order dt. */
+typedef enum adem_contact_scheme {
+  ADEM_CONTACTS_SECOND_ORDER = 0,
+  ADEM_CONTACTS_FIRST_ORDER = 1
+} adem_contact_scheme;
+void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme);
 double adem_world_dt(const adem_world *w);
 
 /* Validates the set-up (overlaps, particles outside walls), derives pair tables, builds the
@@ -264,7 +290,8 @@ typedef struct adem_contact_info {
   adem_vec3 force;              /* force on a, N */
   double overlap_ratio;         /* overlap / smaller radius */
   double elastic;               /* energy stored, J */
-  adem_vec3 tangential_history; /* the tangential law's history, m */
+  adem_vec3 tangential_history; /* the tangential law's history: incremental, the spring force on
+                                 * a (N); total, the accumulated displacement (m) */
   adem_vec3 rolling_history;    /* the rolling law's (DTK: xi in m; model C: spring torque) */
 } adem_contact_info;
 /* Writes up to capacity touching contacts into out (particle pairs, then planes, then meshes, each

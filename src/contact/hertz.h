@@ -37,4 +37,16 @@ static inline double adem_damping_coefficient(double beta, double stiffness, dou
   return -2.0 * sqrt(5.0 / 6.0) * beta * sqrt(stiffness * mstar);
 }
 
+/* Effective restitution of a Hertz collision with the dashpot of H11 (coefficient from beta),
+ * from the 1-D normal equation in units where (4/3) E sqrt(R) = m* = v_in = 1:
+ *   x'' = -(x^(3/2) + g x^(1/4) x'),  g = -sqrt(5) beta >= 0,  x(0) = 0, x'(0) = 1,
+ * which has beta as its only parameter. clamp: the total normal force never pulls (it is
+ * max(0, ...)), so the spheres part where it reaches zero; else they part at x = 0.
+ * RK4 with h = 2e-4 from a series start, the end interpolated (laws.c). */
+double adem_hertz_restitution(double beta, int clamp);
+
+/* beta that gives e_eff = e with the clamped force (root of adem_hertz_restitution(beta, 1) =
+ * e, secant method, |e_eff - e| < 1e-9); 0 for e = 1 (laws.c). */
+double adem_damping_beta_clamped(double e);
+
 #endif

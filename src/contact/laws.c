@@ -1,6 +1,7 @@
 /* The registry of contact laws and their parameters, built from the rows of include/adem/laws.h. */
 #include "adem/laws.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "hertz.h"
@@ -33,12 +34,16 @@ static const adem_law_param params[] = {
 #undef ADEM_X
 };
 
-/* History is kept in three doubles per slot (pairs.h): a row cannot ask for more. */
+/* History is kept in three doubles per slot, four for the tangential slot (pairs.h): a row
+ * cannot ask for more. */
 #define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
   _Static_assert((hist) >= 0 && (hist) <= 3, "a law keeps at most 3 doubles of history");
 ADEM_NORMAL_LAWS(ADEM_X)
-ADEM_TANGENTIAL_LAWS(ADEM_X)
 ADEM_ROLLING_LAWS(ADEM_X)
+#undef ADEM_X
+#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
+  _Static_assert((hist) >= 0 && (hist) <= 4, "a tangential law keeps at most 4 doubles of history");
+ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
 
 typedef struct slot_table {
@@ -128,4 +133,66 @@ double adem_law_jkr_energy(double gamma, double R, double E, double a) {
 }
 double adem_law_hertz_force(double E, double R, double delta) {
   return adem_hertz_force(E, adem_hertz_radius(R, delta), delta);
+}
+
+/* ---------------------------------------------------------------- Hertz restitution */
+
+typedef struct hz_state {
+  double x, v;
+} hz_state;
+
+static double hz_force(double x, double v, double g) {
+  if (x <= 0.0) return 0.0;
+  return x * sqrt(x) + g * sqrt(sqrt(x)) * v;
+}
+
+static hz_state hz_rk4(hz_state s, double h, double g, int clamp) {
+#define HZ_ACC(x, v) (clamp ? -fmax(0.0, hz_force(x, v, g)) : -hz_force(x, v, g))
+  double k1x = s.v, k1v = HZ_ACC(s.x, s.v);
+  double k2x = s.v + 0.5 * h * k1v, k2v = HZ_ACC(s.x + 0.5 * h * k1x, s.v + 0.5 * h * k1v);
+  double k3x = s.v + 0.5 * h * k2v, k3v = HZ_ACC(s.x + 0.5 * h * k2x, s.v + 0.5 * h * k2v);
+  double k4x = s.v + h * k3v, k4v = HZ_ACC(s.x + h * k3x, s.v + h * k3v);
+#undef HZ_ACC
+  hz_state r = {s.x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x),
+                s.v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)};
+  return r;
+}
+
+double adem_hertz_restitution(double beta, int clamp) {
+  const double g = -sqrt(5.0) * beta, h = 2e-4, t0 = 1e-3;
+  /* series start: x' = 1 - 0.4 t^2.5 - 0.8 g t^1.25 (x^(1/4) is singular in its derivative) */
+  hz_state s = {t0 - 0.4 / 3.5 * pow(t0, 3.5) - 0.8 / 2.25 * g * pow(t0, 2.25),
+                1.0 - 0.4 * pow(t0, 2.5) - 0.8 * g * pow(t0, 1.25)};
+  for (int k = 0; k < 200000; ++k) {
+    hz_state n = hz_rk4(s, h, g, clamp);
+    if (clamp && n.v < 0.0) {
+      double f0 = hz_force(s.x, s.v, g), f1 = hz_force(n.x, n.v, g);
+      if (f1 <= 0.0 && f0 > 0.0) { /* the force reaches zero in this step: they part there */
+        double w = f0 / (f0 - f1);
+        return -(s.v + w * (n.v - s.v));
+      }
+    }
+    if (n.x <= 0.0) { /* back at x = 0: interpolate the speed there (Hermite in time) */
+      double w = s.x / (s.x - n.x);
+      return -(s.v + w * (n.v - s.v));
+    }
+    s = n;
+  }
+  return 0.0; /* overdamped: never comes back */
+}
+
+double adem_damping_beta_clamped(double e) {
+  if (!(e < 1.0)) return 0.0;
+  /* start from H12's beta (which gives e with the pulling force) and one more damped */
+  double b0 = adem_damping_beta(e), b1 = 1.2 * b0 - 0.01;
+  double r0 = adem_hertz_restitution(b0, 1) - e, r1 = adem_hertz_restitution(b1, 1) - e;
+  for (int k = 0; k < 40 && fabs(r1) > 1e-10 && r1 != r0; ++k) {
+    double b2 = b1 - r1 * (b1 - b0) / (r1 - r0);
+    if (!(b2 < 0.0)) b2 = 0.5 * b1;
+    b0 = b1;
+    r0 = r1;
+    b1 = b2;
+    r1 = adem_hertz_restitution(b1, 1) - e;
+  }
+  return b1;
 }

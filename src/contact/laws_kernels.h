@@ -25,6 +25,8 @@ typedef struct adem_pair_params {
   double G_real;
   double restitution;
   double beta;   /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double beta_clamped; /* beta that gives e_eff = e when the normal force cannot pull (damping
+                        * `clamped`; derived only for pairs that use it) */
   double friction;
   double gamma;      /* effective surface energy, modified (H24) */
   double gamma_real; /* of the real material */
@@ -41,8 +43,11 @@ typedef struct adem_contact_geometry {
   double delta;        /* overlap, > 0 */
   double R;            /* effective radius (H2; wall: r_i) */
   double mstar;        /* effective mass (wall: m_i) */
-  adem_vec3 w;         /* relative velocity of the contact points, i minus j */
-  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n */
+  adem_vec3 w;         /* relative velocity of the contact points, i minus j, at the half step
+                        * (the drift's: displacements of the step are w dt) */
+  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n, at the half step */
+  adem_vec3 w_pred;    /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
+  adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
 } adem_contact_geometry;
@@ -82,19 +87,56 @@ static inline adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
 
 /* ---------------------------------------------------------------- damping slot */
 
-/* The viscous coefficient c >= 0 of a dashpot beside a spring of stiffness S (force -c v). */
-static inline double adem_damping_viscoelastic_law(const adem_pair_params *pp, double S,
-                                                   double mstar) {
-  return adem_damping_coefficient(pp->beta, S, mstar); /* H11 with H16's square root */
+/* The dashpots beside the normal and tangential springs, and the total normal force. */
+typedef struct adem_damping_input {
+  double Sn, St;     /* normal and tangential stiffness, 2 E a and 8 G a (H13, H14) */
+  double mstar;
+  double vn;         /* normal approach speed (> 0 approaching) */
+  double f_elastic;  /* elastic normal force of the normal law, > 0 repulsive */
+  double f_critical; /* F_C of an adhesive normal law, else 0 */
+} adem_damping_input;
+
+typedef struct adem_damping_output {
+  double f_normal; /* total normal force, > 0 repulsive: f_elastic and the dashpot */
+  double ct;       /* tangential dashpot coefficient (force -ct v_t), N s/m */
+} adem_damping_output;
+
+/* H11-H13 with H16's square root: F_N = F_el + c_n v_n, c = -2 sqrt(5/6) beta sqrt(S m*). The
+ * total is not clipped: near separation the dashpot pulls, which is what makes e_eff = e. */
+static inline void adem_damping_viscoelastic_law(const adem_pair_params *pp,
+                                                 const adem_damping_input *in,
+                                                 adem_damping_output *out) {
+  double cn = adem_damping_coefficient(pp->beta, in->Sn, in->mstar);
+  out->f_normal = in->f_elastic + cn * in->vn;
+  out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
+}
+
+/* The same dashpots, but a contact without adhesion never pulls: F_N = max(0, F_el + c_n v_n).
+ * The normal dashpot takes the beta that gives e_eff = e with the clamp (adem_damping_beta_
+ * clamped, derived per pair); the tangential one keeps H12's beta. With adhesion (F_C > 0) the
+ * force is not clamped: the JKR force pulls by design. */
+static inline void adem_damping_clamped_law(const adem_pair_params *pp,
+                                            const adem_damping_input *in,
+                                            adem_damping_output *out) {
+  double cn = adem_damping_coefficient(pp->beta_clamped, in->Sn, in->mstar);
+  double f = in->f_elastic + cn * in->vn;
+  out->f_normal = in->f_critical == 0.0 && f < 0.0 ? 0.0 : f;
+  out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
 }
 
 /* ---------------------------------------------------------------- tangential slot */
 
-/* Advances the history by the slip vt dt and returns the tangential force on i (H14-H17). */
-static inline adem_vec3 adem_tangential_total_law(adem_vec3 *xi, adem_vec3 n, adem_vec3 vt,
-                                                  double dt, double stiffness, double damping,
-                                                  double f_limit, bool *sliding) {
-  return adem_tangential_force(xi, n, vt, dt, stiffness, damping, f_limit, sliding);
+/* Advances the history (three doubles and one more, aux) by one step and fills the tangential
+ * force on i, its dashpot part, the stored and the dissipated energy (tangential.h). */
+static inline void adem_tangential_total_law(const adem_tangential_input *in, adem_vec3 *hist,
+                                             double *aux, adem_tangential_output *out) {
+  adem_tangential_total(in, hist, aux, out); /* H14-H17 */
+}
+
+static inline void adem_tangential_incremental_law(const adem_tangential_input *in,
+                                                   adem_vec3 *hist, double *aux,
+                                                   adem_tangential_output *out) {
+  adem_tangential_incremental(in, hist, aux, out); /* H14, H16-H17, Mindlin-Deresiewicz */
 }
 
 /* ---------------------------------------------------------------- rolling slot */
@@ -109,9 +151,12 @@ typedef struct adem_rolling_input {
 } adem_rolling_input;
 
 typedef struct adem_rolling_output {
-  adem_vec3 torque; /* couple on i (j takes the opposite) */
-  double capacity;  /* per-particle laws: resistance this contact offers (BROF's e_c |F_n|) */
-  double elastic;   /* energy stored in a rolling spring, J */
+  adem_vec3 torque;  /* couple on i (j takes the opposite) */
+  adem_vec3 dashpot; /* the part of torque that is not a spring's (model A's whole couple, model
+                      * C's dashpot): its work is dissipation */
+  double capacity;   /* per-particle laws: resistance this contact offers (BROF's e_c |F_n|) */
+  double elastic;    /* energy stored in a rolling spring, J */
+  double dissipated; /* energy a spring's limit took in the step (models C, DTK), J */
 } adem_rolling_output;
 
 /* Rolling radius R_r (wall: r_i) and the eta_r of models A and C: the mean of a particle pair's,
@@ -137,6 +182,7 @@ static inline void adem_rolling_model_a_law(const adem_rolling_input *in, adem_v
   (void)hist; /* I7-I8 */
   out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
                                      in->f_load);
+  out->dashpot = out->torque; /* no spring: all its work is dissipation */
 }
 
 static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
@@ -146,8 +192,23 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
-  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, in->dt, k_r, eta * R_r * in->f_load, c_r);
+  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
+                                     eta * R_r * in->f_load, c_r, &out->dissipated);
+  out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
+}
+
+static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                                   adem_rolling_output *out) {
+  const adem_contact_geometry *g = in->g;
+  double R_r = adem_rolling_radius(g);
+  double eta = adem_rolling_eta(in);
+  double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
+  double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
+  out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
+                                            eta * R_r * in->f_load, c_r, &out->dissipated);
+  out->dashpot = v3_sub(out->torque, *hist);
+  if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;
 }
 
 static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
@@ -178,7 +239,7 @@ static inline void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 
    * law that feeds energy in when the tangential spring is soft (reduced stiffness). Pure rolling
    * still gives |v_L| = the centre's speed. */
   adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
-  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit);
+  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit, g->R, &out->dissipated);
   /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
   out->elastic = 0.5 * k_r * v3_norm2(*hist) / g->R;
 }

@@ -19,18 +19,39 @@ static inline adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, do
 
 /* Model C (Ai et al. 2011): elastic-plastic spring plus a dashpot that works only while the
  * spring is below its limit. spring: the spring torque on i (history, kept in the tangent plane);
- * k_r = 2.25 k_n eta_r^2 R_r^2, limit eta_r R_r |F_n|, damping C_r = delta_r 2 sqrt(I_r k_r). */
+ * k_r = 2.25 k_n eta_r^2 R_r^2, limit eta_r R_r |F_n|, damping C_r = delta_r 2 sqrt(I_r k_r)
+ * on omega_damp (the relative spin predicted at the full step; the spring turns by omega_rel dt).
+ * *plastic: the energy the spring's limit took in the step, the mean spring torque times the
+ * plastic turn (M_trial - M_new)/k_r (the trapezoid the integrator's work follows). */
 static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
-                                             double dt, double k_r, double limit, double c_r) {
-  adem_vec3 m = v3_axpy(adem_tangential_project(*spring, n), -k_r * dt, omega_rel);
+                                             adem_vec3 omega_damp, double dt, double k_r,
+                                             double limit, double c_r, double *plastic) {
+  adem_vec3 m0 = adem_tangential_project(*spring, n);
+  adem_vec3 m = v3_axpy(m0, -k_r * dt, omega_rel);
   double mag2 = v3_norm2(m);
+  *plastic = 0.0;
   if (mag2 > limit * limit) {
+    adem_vec3 trial = m;
     m = v3_scale(m, limit / sqrt(mag2)); /* full mobilisation: plastic, no damping */
+    if (k_r > 0.0) *plastic = 0.5 * v3_dot(v3_add(m0, m), v3_sub(trial, m)) / k_r;
     *spring = m;
     return m;
   }
   *spring = m;
-  return v3_axpy(m, -c_r, omega_rel);
+  return v3_axpy(m, -c_r, omega_damp);
+}
+
+/* Model C with the total torque bounded: spring + dashpot limited to eta_r R_r |F_n| (the cap
+ * LIGGGHTS applies when the spring is fully mobilised, here applied to the sum as well), so that
+ * no rolling torque exceeds the bound of models A and BROF. */
+static inline adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
+                                                    adem_vec3 omega_rel, adem_vec3 omega_damp,
+                                                    double dt, double k_r, double limit,
+                                                    double c_r, double *plastic) {
+  adem_vec3 m = adem_rolling_model_c(spring, n, omega_rel, omega_damp, dt, k_r, limit, c_r, plastic);
+  double mag2 = v3_norm2(m);
+  if (mag2 > limit * limit) m = v3_scale(m, limit / sqrt(mag2));
+  return m;
 }
 
 /* DTK rolling velocity with n from i to j: v_L = -R (omega_i - omega_j) x n. Marshall (2009) adds
@@ -42,12 +63,20 @@ static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3
 }
 
 /* DTK torque (H18-H22): xi += v_L dt in the tangent plane, |xi| <= xi_crit, torque on i
- * k_r (n x xi) with k_r = 4 F_C (a/a0)^(3/2) (H20; a/a0 of the modified material, section 3.2). */
+ * k_r (n x xi) with k_r = 4 F_C (a/a0)^(3/2) (H20; a/a0 of the modified material, section 3.2).
+ * The torque's work over a turn is -(k_r/R) xi . dxi, so the spring stores k_r |xi|^2/(2R) and
+ * the truncation takes (k_r/R) (xi_old + xi_new)/2 . (xi_trial - xi_new) (*plastic). */
 static inline adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v_l, double dt,
-                                         double k_r, double xi_crit) {
-  adem_vec3 x = v3_axpy(adem_tangential_project(*xi, n), dt, v_l);
+                                         double k_r, double xi_crit, double R, double *plastic) {
+  adem_vec3 x0 = adem_tangential_project(*xi, n);
+  adem_vec3 x = v3_axpy(x0, dt, v_l);
   double mag2 = v3_norm2(x);
-  if (mag2 > xi_crit * xi_crit) x = mag2 > 0.0 ? v3_scale(x, xi_crit / sqrt(mag2)) : x; /* H22 */
+  *plastic = 0.0;
+  if (mag2 > xi_crit * xi_crit) { /* H22 */
+    adem_vec3 trial = x;
+    x = mag2 > 0.0 ? v3_scale(x, xi_crit / sqrt(mag2)) : x;
+    *plastic = 0.5 * k_r / R * v3_dot(v3_add(x0, x), v3_sub(trial, x));
+  }
   *xi = x;
   return v3_scale(v3_cross(n, x), k_r);
 }

@@ -13,23 +13,36 @@
 
 typedef adem_contact_geometry contact_geometry;
 
+/* A particle's velocity and spin predicted at the end of the step, from the half step's with
+ * the last pass's force (the closing kick will use the new one: the difference is O(dt^2)). A
+ * particle BROF holds has its spin set to zero by that kick. */
+static inline adem_vec3 predicted_velocity(const adem_particles *p, size_t i, double dt) {
+  return dt == 0.0 ? p->vel[i] : v3_axpy(p->vel[i], 0.5 * dt * p->inv_mass[i], p->force[i]);
+}
+static inline adem_vec3 predicted_spin(const adem_particles *p, size_t i, double dt) {
+  if (dt == 0.0) return p->omega[i];
+  return p->held[i] ? v3_zero() : v3_axpy(p->omega[i], 0.5 * dt * p->inv_inertia[i], p->torque[i]);
+}
+
+/* The spin of a wall's motion (constant rotation about its axis), rad/s. */
+static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
+
 typedef struct contact_result {
   adem_vec3 force;    /* on i */
   adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
   double capacity;    /* per-particle rolling resistance this contact offers (BROF) */
   double elastic;     /* stored energy, J */
+  /* energy bookkeeping: the dissipative forces, whose work the per-particle sums take with the
+   * velocities of the kicks, and what the laws' own limits took in the step */
+  adem_vec3 damping;        /* dashpot force on i (normal and tangential) */
+  adem_vec3 damping_couple; /* dissipative part of the rolling couple on i */
+  double dissipated;        /* J */
 } contact_result;
 
-/* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
- * rolling, each dispatched by a switch generated from the rows, updating the history. */
-static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
-                                           adem_contact_history *h, double dt) {
+/* The normal law of the pair at the geometry g (a: the Hertz radius sqrt(R delta)). */
+static inline adem_normal_result normal_law(const adem_interaction *it, const contact_geometry *g,
+                                            double a) {
   const adem_pair_params *pp = &it->pp;
-  contact_result r;
-  double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
-  adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
-
-  double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
   adem_normal_result nr;
   switch (it->normal) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
@@ -42,43 +55,89 @@ static inline contact_result contact_force(const adem_interaction *it, const con
       nr = adem_normal_hertz_law(pp, g, a);
       break;
   }
+  return nr;
+}
+
+/* The simplified JKR force jumps from 0 to F(0) = -(8/9) F_C when a contact forms at delta = 0
+ * and back when it breaks there (H7-H10). The kicks apply a pass's force from half a step before
+ * to half a step after it, so a jump between two passes lands up to half a step early or late,
+ * an impulse error of F dt/2 at most: first order. Onset at the crossing time t* interpolated in
+ * the overlap: the pass after the contact forms adds F (phi - 1/2), phi = delta_{n+1}/(v_n dt) the
+ * fraction of the step in contact (t_{n+1/2} - t* = (phi - 1/2) dt); the pass after it breaks
+ * adds F(delta_n) (psi - 1/2), psi = delta_n/(delta_n - delta_{n+1}) the fraction still in
+ * contact. Then the impulse is right to second order, and so is the collision. */
+static inline double onset_correction(double f_elastic, double delta, double vn, double dt) {
+  double phi = vn > 0.0 ? fmin(1.0, delta / (vn * dt)) : 0.5;
+  return f_elastic * (phi - 0.5);
+}
+
+static inline double break_correction(const adem_interaction *it, const contact_geometry *g,
+                                      double dt) {
+  double vn = v3_dot(g->w, g->n);   /* < 0 while separating */
+  double prev = g->delta - vn * dt; /* the overlap at the last pass, > 0 */
+  if (!(prev > 0.0) || !(g->delta < 0.0)) return 0.0;
+  contact_geometry gp = *g;
+  gp.delta = prev;
+  adem_normal_result nr = normal_law(it, &gp, adem_hertz_radius(g->R, prev));
+  if (nr.f_critical == 0.0) return 0.0; /* no jump: the Hertz force is 0 at delta = 0 */
+  return nr.f_elastic * (prev / (prev - g->delta) - 0.5);
+}
+
+/* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
+ * rolling, each dispatched by a switch generated from the rows, updating the history. fresh: the
+ * contact formed since the last pass (onset correction of an adhesive law, when asked for). */
+static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
+                                           adem_contact_history *h, double dt, bool fresh) {
+  const adem_pair_params *pp = &it->pp;
+  contact_result r;
+  double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
+  adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
+  /* the dashpots take the velocity at the full step, where their force acts: with the half step's
+   * they would lag by half a step (first order); v + F_old dt/(2m) is second order */
+  double vn_d = v3_dot(g->w_pred, g->n);
+  adem_vec3 vt_d = v3_axpy(g->w_pred, -vn_d, g->n);
+
+  double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
+  adem_normal_result nr = normal_law(it, g, a);
   double Sn = adem_hertz_normal_stiffness(pp->E, a);
   double St = adem_hertz_tangential_stiffness(pp->G, a);
-  double cn, ct;
+  adem_damping_input din = {Sn, St, g->mstar, vn_d, nr.f_elastic, nr.f_critical};
+  adem_damping_output dout = {nr.f_elastic, 0.0};
   switch (it->damping) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
-    cn = kernel(pp, Sn, g->mstar);                               \
-    ct = kernel(pp, St, g->mstar);                               \
+    kernel(pp, &din, &dout);                                     \
     break;
     ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
     default:
-      cn = ct = 0.0;
       break;
   }
-  double fn = nr.f_elastic + cn * vn; /* H5 with H11: damping opposes the normal motion */
+  double fn = dout.f_normal; /* H5 with H11: damping opposes the normal motion */
+  double ct = dout.ct;
+  double f_damp = fn - nr.f_elastic;
+  if (fresh && nr.f_critical != 0.0) fn += onset_correction(nr.f_elastic, g->delta, vn, dt);
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
   double f_limit = pp->friction * f_load;                     /* H17 */
-  bool sliding = false;
-  adem_vec3 ft = v3_zero();
+  adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit};
+  adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (it->tangential) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)           \
-  case ID:                                                                 \
-    ft = kernel(&h->tangential, g->n, vt, dt, St, ct, f_limit, &sliding);  \
+#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
+  case ID:                                                              \
+    kernel(&tin, &h->tangential, &h->tangential_aux, &tout);            \
     break;
     ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
     default:
       break;
   }
-  (void)sliding;
 
-  r.force = v3_axpy(ft, -fn, g->n);
-  r.elastic = nr.e_elastic + 0.5 * St * v3_norm2(h->tangential);
+  r.force = v3_axpy(tout.force, -fn, g->n);
+  r.elastic = nr.e_elastic + tout.elastic;
+  r.damping = v3_axpy(tout.dashpot, -f_damp, g->n);
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
-  adem_rolling_output ro = {v3_zero(), 0.0, 0.0};
+  adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
   switch (it->rolling) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
@@ -92,6 +151,9 @@ static inline contact_result contact_force(const adem_interaction *it, const con
   r.rolling = ro.torque;
   r.capacity = ro.capacity;
   r.elastic += ro.elastic; /* the elastic part is never -0: adding 0 changes nothing */
+  r.damping_couple = ro.dashpot;
+  r.dissipated = tout.dissipated + ro.dissipated;
+  h->elastic = tout.elastic + ro.elastic; /* the springs of the history, not the normal law's */
   return r;
 }
 
@@ -109,6 +171,35 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->rolling_capacity[k] = r->capacity;
   l->elastic[k] = r->elastic;
   l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  /* the dashpots' moments (their normal part has none) and the dissipative couple */
+  l->damping_a[k] = r->damping;
+  l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  l->damping_torque_b[k] =
+      g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
+  l->dissipated[k] = r->dissipated;
+}
+
+/* A wall contact's power: the wall's material at the contact point moves at V and turns at
+ * Omega; it pushes the particle with F and the couple R, so it gives F.V + R.Omega; the
+ * dissipative forces' share is what the particle's kicks count as their work but the relative
+ * motion did not take (the particle-side sums subtract it back). */
+static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
+                                    adem_vec3 v_wall, adem_vec3 omega_wall) {
+  l->wall_power[k] = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->wall_damping_power[k] = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+}
+
+
+
+/* A contact that opened since the last pass: its history's spring energy is gone (dissipated),
+ * and an adhesive law's jump gets its break correction (a force on a; no torque). */
+static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction *it,
+                             const contact_geometry *g, bool onset, double dt) {
+  double lost = l->hist[k].elastic;
+  double f = onset ? break_correction(it, g, dt) : 0.0;
+  adem_pairs_clear(l, k);
+  l->dissipated[k] = lost;
+  l->force_a[k] = v3_scale(g->n, -f);
 }
 
 static inline void particle_pair(const adem_force_scope *w, size_t k) {
@@ -121,7 +212,8 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double ri = p->radius[i], rj = p->radius[j];
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);
-    if (dist2 >= rsum * rsum) {
+    bool was = l->touching[k];
+    if (dist2 >= rsum * rsum && !was) { /* apart now and at the last pass */
       adem_pairs_clear(l, k);
       return;
     }
@@ -136,6 +228,12 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     g.w = v3_add(v3_sub(p->vel[i], p->vel[j]), v3_cross(spin, g.n));
     adem_vec3 om = v3_sub(p->omega[i], p->omega[j]);
     g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+    double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
+    adem_vec3 vpi = predicted_velocity(p, i, hp), vpj = predicted_velocity(p, j, hp);
+    adem_vec3 opi = predicted_spin(p, i, hp), opj = predicted_spin(p, j, hp);
+    g.w_pred = v3_add(v3_sub(vpi, vpj), v3_cross(v3_add(v3_scale(opi, ri), v3_scale(opj, rj)), g.n));
+    adem_vec3 omp = v3_sub(opi, opj);
+    g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = rj;
     /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
@@ -143,7 +241,11 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
     g.inertia_r = Ici * Icj / (Ici + Icj);
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
-    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    if (g.delta <= 0.0) { /* it opened since the last pass */
+      open_pair(l, k, it, &g, w->second_order, dt);
+      return;
+    }
+    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r);
   }
 }
@@ -157,7 +259,8 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_plane_def *pl = &w->walls->planes[l->b[k]].def;
     double ri = p->radius[i];
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
-    if (dist >= ri) {
+    bool was = l->touching[k];
+    if (dist >= ri && !was) {
       adem_pairs_clear(l, k);
       return;
     }
@@ -169,13 +272,26 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->planes[l->b[k]].motion, w->walls->time,
                                                   v3_axpy(p->pos[i], ri, g.n));
     g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
-    g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+    /* rolling laws see the spin relative to the wall's */
+    adem_vec3 spin_wall = motion_spin(&w->walls->planes[l->b[k]].motion);
+    adem_vec3 om = v3_sub(p->omega[i], spin_wall);
+    g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+    double hp = w->second_order ? dt : 0.0;
+    adem_vec3 opi = predicted_spin(p, i, hp);
+    g.w_pred = v3_add(v3_sub(predicted_velocity(p, i, hp), v_wall), v3_cross(v3_scale(opi, ri), g.n));
+    adem_vec3 omp = v3_sub(opi, spin_wall);
+    g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
     g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
-    contact_result r = contact_force(it, &g, &l->hist[k], dt);
+    if (g.delta <= 0.0) {
+      open_pair(l, k, it, &g, w->second_order, dt);
+      return;
+    }
+    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r);
+    store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
   }
 }
 
@@ -207,6 +323,14 @@ static void mesh_pairs(const adem_force_scope *w) {
     if (s == e) continue;
     double ri = p->radius[i];
     size_t nc = adem_triangle_sphere_contacts(m, p->pos[i], ri, &l->b[s], e - s, &pm->found[s]);
+    /* The stored energy of a last-step contact whose key is not found again (it opened, or moved
+     * to another region of the mesh and starts afresh) is gone: dissipated. */
+    double lost = 0.0;
+    for (size_t q = s, k = s; q < e && pm->touching_prev[q]; ++q) {
+      while (k < s + nc && pm->found[k].key < pm->key_prev[q]) ++k;
+      if (k >= s + nc || pm->found[k].key != pm->key_prev[q]) lost += pm->hist_prev[q].elastic;
+    }
+    p->dissipated[i] += lost;
     size_t q = s; /* the previous contacts fill the first slots, sorted by key */
     for (size_t k = s; k < e; ++k) {
       if (k >= s + nc) {
@@ -216,7 +340,8 @@ static void mesh_pairs(const adem_force_scope *w) {
       const adem_mesh_contact *c = &pm->found[k];
       while (q < e && pm->touching_prev[q] && pm->key_prev[q] < c->key) ++q;
       adem_contact_history h;
-      if (q < e && pm->touching_prev[q] && pm->key_prev[q] == c->key) h = pm->hist_prev[q];
+      bool fresh = !(q < e && pm->touching_prev[q] && pm->key_prev[q] == c->key);
+      if (!fresh) h = pm->hist_prev[q];
       else memset(&h, 0, sizeof h);
       uint32_t grp = m->group[c->tri];
       contact_geometry g;
@@ -226,12 +351,19 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.mstar = 1.0 / p->inv_mass[i];
       adem_vec3 v_wall = adem_motion_point_velocity(&w->walls->mesh_motion[grp], w->walls->time, c->point);
       g.w = v3_add(v3_sub(p->vel[i], v_wall), v3_cross(v3_scale(p->omega[i], ri), g.n));
-      g.omega_rel = v3_axpy(p->omega[i], -v3_dot(p->omega[i], g.n), g.n);
+      adem_vec3 spin_wall = motion_spin(&w->walls->mesh_motion[grp]);
+      adem_vec3 om = v3_sub(p->omega[i], spin_wall);
+      g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+      double hp = w->second_order ? dt : 0.0;
+      adem_vec3 opi = predicted_spin(p, i, hp);
+      g.w_pred = v3_add(v3_sub(predicted_velocity(p, i, hp), v_wall), v3_cross(v3_scale(opi, ri), g.n));
+      adem_vec3 omp = v3_sub(opi, spin_wall);
+      g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;
       g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
-      contact_result r = contact_force(it, &g, &h, dt);
+      contact_result r = contact_force(it, &g, &h, dt, w->second_order && fresh);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
       l->hist[k] = h;
       pm->key[k] = c->key;
@@ -244,6 +376,11 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->rolling_capacity[k] = r.capacity;
       l->elastic[k] = r.elastic;
       l->overlap_ratio[k] = g.delta / ri;
+      l->damping_a[k] = r.damping;
+      l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
+      l->damping_torque_b[k] = v3_zero();
+      l->dissipated[k] = r.dissipated;
+      store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->mesh_motion[grp]));
     }
   }
   /* Force on each face, and its moment about the face's group's reference point: the force acts
@@ -259,6 +396,44 @@ static void mesh_pairs(const adem_force_scope *w) {
   }
 }
 
+/* The energy a particle's kicks take out through the dissipative forces of its contacts (sum
+ * G, torques H) and give through moving walls (wall power P_w, of which P_d is the dissipative
+ * forces' share). The force F, T of this pass acts in two half kicks: the closing one of this
+ * step (v_half -> v_full) and the opening one of the next (v_full -> v_next). A force's work in
+ * a half kick is F.(v_before + v_after)/2 dt/2 exactly (the kinetic energy changes by that sum
+ * over all forces), so the dissipation is counted with the same velocities as the kinetic
+ * energy: the closing half now, the opening half at the next pass (held back in *_next, so that
+ * the totals after a step match the kinetic energy after it). */
+typedef struct particle_energy {
+  adem_vec3 G, H;       /* dissipative force and torque on the particle */
+  double P_w, P_d;      /* wall power and its dissipative share, W */
+  double dissipated;    /* the laws' own, of the step just done (its share of pairs'), J */
+} particle_energy;
+
+static inline void account_energy(adem_particles *p, size_t i, const particle_energy *e,
+                                  adem_vec3 f, adem_vec3 t, uint8_t held, double dt) {
+  double hm = 0.5 * dt * p->inv_mass[i], hi = 0.5 * dt * p->inv_inertia[i];
+  adem_vec3 v_half = p->vel[i], v_full = v3_axpy(v_half, hm, f), v_next = v3_axpy(v_full, hm, f);
+  adem_vec3 w_half = p->omega[i], w_full, w_next;
+  double zeroed = 0.0;
+  if (held) { /* the closing kick sets the spin to zero: BROF took its energy (I9-I10) */
+    w_full = w_next = v3_zero();
+    zeroed = 0.5 * v3_norm2(w_half) / p->inv_inertia[i];
+  } else {
+    w_full = v3_axpy(w_half, hi, t);
+    w_next = v3_axpy(w_full, hi, t);
+  }
+  double q = 0.25 * dt;
+  double closing = -q * (v3_dot(e->G, v3_add(v_half, v_full)) + v3_dot(e->H, v3_add(w_half, w_full))) +
+                   0.5 * dt * e->P_d + zeroed;
+  double opening = -q * (v3_dot(e->G, v3_add(v_full, v_next)) + v3_dot(e->H, v3_add(w_full, w_next))) +
+                   0.5 * dt * e->P_d;
+  p->dissipated[i] += p->dissipated_next[i] + closing + e->dissipated;
+  p->dissipated_next[i] = opening;
+  p->wall_work[i] += p->wall_work_next[i] + 0.5 * dt * e->P_w;
+  p->wall_work_next[i] = 0.5 * dt * e->P_w;
+}
+
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
  * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
 static inline void sum_particle(const adem_force_scope *w, size_t i) {
@@ -271,29 +446,54 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
   {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
-    double capacity = 0.0;
+    particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
+    double capacity = 0.0, capacity_pp = 0.0;
+    adem_vec3 wall_spin = v3_zero(); /* sum of capacity x spin of the walls it touches (BROF) */
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
-      if (!pp->touching[k]) continue;
+      en.dissipated += 0.5 * pp->dissipated[k]; /* also of a contact that just opened */
+      if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
+        adem_vec3 fb = pp->force_a[k];
+        if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
+        continue;
+      }
       if (code & 1u) {
         f = v3_sub(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_b[k]);
         roll = v3_sub(roll, pp->rolling_a[k]);
+        en.G = v3_sub(en.G, pp->damping_a[k]);
+        en.H = v3_add(en.H, pp->damping_torque_b[k]);
       } else {
         f = v3_add(f, pp->force_a[k]);
         t = v3_add(t, pp->torque_a[k]);
         roll = v3_add(roll, pp->rolling_a[k]);
+        en.G = v3_add(en.G, pp->damping_a[k]);
+        en.H = v3_add(en.H, pp->damping_torque_a[k]);
       }
       capacity += pp->rolling_capacity[k];
     }
+    capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
-      if (!pw->touching[k]) continue;
+      en.dissipated += pw->dissipated[k];
+      if (!pw->touching[k]) {
+        adem_vec3 fb = pw->force_a[k];
+        if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
+        continue;
+      }
       f = v3_add(f, pw->force_a[k]);
       t = v3_add(t, pw->torque_a[k]);
       roll = v3_add(roll, pw->rolling_a[k]);
       capacity += pw->rolling_capacity[k];
+      if (pw->rolling_capacity[k] > 0.0) {
+        const adem_motion *mo = &w->walls->planes[pw->b[k]].motion;
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->rolling_capacity[k], motion_spin(mo));
+      }
+      en.G = v3_add(en.G, pw->damping_a[k]);
+      en.H = v3_add(en.H, pw->damping_torque_a[k]);
+      en.P_w += pw->wall_power[k];
+      en.P_d += pw->wall_damping_power[k];
     }
     /* mesh contacts: the first slots of the particle's range, by key */
     for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
@@ -302,22 +502,45 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       t = v3_add(t, pm->torque_a[k]);
       roll = v3_add(roll, pm->rolling_a[k]);
       capacity += pm->rolling_capacity[k];
+      if (pm->rolling_capacity[k] > 0.0) {
+        const adem_motion *mo = &w->walls->mesh_motion[w->walls->mesh.group[w->pm->owner[k]]];
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->rolling_capacity[k], motion_spin(mo));
+      }
+      en.G = v3_add(en.G, pm->damping_a[k]);
+      en.H = v3_add(en.H, pm->damping_torque_a[k]);
+      en.dissipated += pm->dissipated[k];
+      en.P_w += pm->wall_power[k];
+      en.P_d += pm->wall_damping_power[k];
     }
     uint8_t held = 0;
     if (capacity > 0.0) {
-      /* BROF (I9-I10). omega is the half-step spin; -I omega/dt - t would stop it within the
-       * step. When the capacity allows that, the particle is held: the resistance cancels every
-       * other torque and the closing half kick sets the spin to exactly zero (a sum of two half
-       * kicks would leave a round-off residue that then never dies out). */
-      adem_vec3 t_stop = v3_sub(v3_scale(p->omega[i], -1.0 / (p->inv_inertia[i] * dt)), t);
+      /* BROF (I9-I10). omega is the half-step spin; -I (omega - omega*)/dt - t would bring it to
+       * omega* within the step. omega* is 0 for particle contacts (I resists the absolute spin)
+       * and the wall's spin for a wall contact, weighted by the contacts' capacities: a particle
+       * turning with a rotating wall (a drum) is not braked. When the capacity allows it and
+       * omega* = 0, the particle is held: the resistance cancels every other torque and the
+       * closing half kick sets the spin to exactly zero (a sum of two half kicks would leave a
+       * round-off residue that then never dies out). */
+      adem_vec3 target = v3_scale(wall_spin, 1.0 / capacity);
+      adem_vec3 t_stop =
+          v3_sub(v3_scale(v3_sub(p->omega[i], target), -1.0 / (p->inv_inertia[i] * dt)), t);
       adem_vec3 t_brof = adem_rolling_brof(t_stop, capacity);
-      if (v3_norm2(t_stop) <= capacity * capacity) {
+      if (v3_norm2(t_stop) <= capacity * capacity && v3_norm2(wall_spin) == 0.0) {
         t_brof = v3_neg(t);
         held = 1;
       }
       t = v3_add(t, t_brof);
       roll = v3_add(roll, t_brof);
+      /* BROF resists the spin relative to omega*: that work is dissipation; t_brof . omega* is
+       * what the walls' spin gives through it */
+      double p_wall = v3_dot(t_brof, target);
+      en.H = v3_add(en.H, t_brof);
+      en.P_d += p_wall;
+      en.P_w += p_wall;
+      /* no partner takes the share of the particle contacts back: angular momentum it adds */
+      p->brof_impulse[i] = v3_axpy(p->brof_impulse[i], dt * capacity_pp / capacity, t_brof);
     }
+    account_energy(p, i, &en, f, t, held, dt);
     adem_particles_set_loads(p, i, f, t, roll, held);
   }
 }

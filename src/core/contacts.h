@@ -22,6 +22,8 @@ typedef struct adem_force_scope {
   adem_vec3 gravity;
   double dt;
   int nthreads;
+  bool second_order; /* predicted dashpot velocities, adhesive jumps at the interpolated crossing
+                      * time (contacts.c) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

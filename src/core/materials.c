@@ -26,7 +26,7 @@ adem_interaction_def adem_default_interaction_def(void) {
   d.friction = -1.0;
   d.normal = ADEM_NORMAL_HERTZ;
   d.damping = ADEM_DAMPING_VISCOELASTIC;
-  d.tangential = ADEM_TANGENTIAL_TOTAL;
+  d.tangential = ADEM_TANGENTIAL_INCREMENTAL;
   d.rolling = ADEM_ROLLING_NONE;
   for (int k = 0; k < ADEM_PARAM_COUNT; ++k) d.param[k] = NAN;
   d.dtk_rolling_modification = 1;
@@ -73,7 +73,7 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   }
   it.normal = ADEM_NORMAL_HERTZ;
   it.damping = ADEM_DAMPING_VISCOELASTIC;
-  it.tangential = ADEM_TANGENTIAL_TOTAL;
+  it.tangential = ADEM_TANGENTIAL_INCREMENTAL;
   it.rolling = ADEM_ROLLING_NONE;
   pp->dtk_rolling_modification = true;
   return it;
@@ -84,6 +84,8 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
 static void finish_pair(adem_interaction *it) {
   adem_pair_params *pp = &it->pp;
   pp->beta = adem_damping_beta(pp->restitution);
+  pp->beta_clamped = it->damping == ADEM_DAMPING_CLAMPED ? adem_damping_beta_clamped(pp->restitution)
+                                                         : pp->beta;
   /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). H24 applies to
    * the pair's effective values, gamma_mod = gamma (E_mod/E)^(2/5), so the separation energy is
    * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give

@@ -18,8 +18,14 @@
 
 /* Contact history carried from step to step, keyed by the pair's stable ids. */
 typedef struct adem_contact_history {
-  adem_vec3 tangential; /* accumulated tangential displacement of i relative to j (H14) */
+  adem_vec3 tangential; /* incremental law: spring force on i (N); total law: accumulated
+                         * tangential displacement of i relative to j (H14, m) */
   adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
+  double tangential_aux; /* incremental law: the S_t its force was stored with (N/m) */
+  double elastic;        /* energy the history's springs (tangential, rolling) stored at the
+                          * last force pass, J: what is lost when the contact opens or a mesh
+                          * contact moves to another region (the normal energy follows the
+                          * overlap, not the history) */
 } adem_contact_history;
 
 /* Roles of the per-pair arrays. */
@@ -41,7 +47,17 @@ enum {
   X(adem_vec3, rolling_a, ADEM_PAIR_RESULT, "rolling couple on a (on b: the opposite), N m")    \
   X(double, rolling_capacity, ADEM_PAIR_RESULT, "BROF: e_c |F_n| this contact offers (I9)")    \
   X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J")              \
-  X(double, overlap_ratio, ADEM_PAIR_RESULT, "overlap / smaller radius")
+  X(double, overlap_ratio, ADEM_PAIR_RESULT, "overlap / smaller radius")                       \
+  X(adem_vec3, damping_a, ADEM_PAIR_RESULT, "dissipative force on a, the dashpots (b: the opposite), N") \
+  X(adem_vec3, damping_torque_a, ADEM_PAIR_RESULT,                                            \
+    "dissipative torque on a: the dashpots' moments and dissipative couples, N m")            \
+  X(adem_vec3, damping_torque_b, ADEM_PAIR_RESULT, "the same on b, N m (0 for a wall)")       \
+  X(double, dissipated, ADEM_PAIR_RESULT,                                                      \
+    "energy the laws took in the step by slip or a spring's limit, J")                        \
+  X(double, wall_power, ADEM_PAIR_RESULT,                                                      \
+    "walls: power the wall gives through the contact, F.V + R.Omega (V, Omega the wall's), W") \
+  X(double, wall_damping_power, ADEM_PAIR_RESULT,                                              \
+    "walls: the dissipative forces' and couples' share of wall_power, W")
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
  * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */

@@ -36,7 +36,13 @@ typedef struct adem_group {
   X(adem_vec3, pos_at_build, "centre when the neighbour list was built (skin check)") \
   X(adem_vec3, rolling_torque, "rolling resistance torque of the last force pass")    \
   X(uint8_t, held, "1: BROF holds the spin at exactly zero this step (force pass)")   \
-  X(double, path_length, "distance the centre has travelled, sum of |v| dt")
+  X(double, path_length, "distance the centre has travelled, sum of |v| dt")                \
+  X(double, dissipated, "energy dissipated in its contacts (half of a pair's) to the last closing kick, J") \
+  X(double, dissipated_next, "of the last force pass, what the next opening kick dissipates, J") \
+  X(double, wall_work, "energy moving walls gave through its contacts to the last closing kick, J") \
+  X(double, wall_work_next, "of the last force pass, what the next opening kick receives, J") \
+  X(adem_vec3, brof_impulse, "angular impulse of BROF's share from particle contacts, which no "  \
+    "partner takes back (I9-I10 act per particle), N m s")
 
 typedef struct adem_particles {
   size_t n, cap;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "hertz.h"
+#include "jkr.h"
 #include "log.h"
 #include "parallel.h"
 #include "world.h"
@@ -17,6 +18,7 @@ adem_world *adem_world_create(void) {
   w->parallel_min = 512;
   w->nb.skin_fraction = 0.2;
   w->max_overlap_ratio = 0.2;
+  w->second_order = true;
   w->next_id = 0;
   adem_world_add_group(w, "default", v3_zero(), NULL, NULL);
   return w;
@@ -200,7 +202,7 @@ adem_status adem_world_gather(adem_world *w) {
 void adem_world_compute_forces(adem_world *w) {
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
-                        w->dt,     adem_world_threads(w)};
+                        w->dt,     adem_world_threads(w), w->second_order};
   adem_contacts_compute(&s);
 }
 
@@ -346,10 +348,30 @@ void adem_world_use_brute_force(adem_world *w, int on) {
   w->prepared = false;
 }
 void adem_world_set_dt(adem_world *w, double dt) { w->dt = dt; }
+void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme) {
+  w->second_order = scheme == ADEM_CONTACTS_SECOND_ORDER;
+}
 double adem_world_dt(const adem_world *w) { return w->dt; }
 double adem_world_time(const adem_world *w) { return w->time; }
 uint64_t adem_world_step_count(const adem_world *w) { return w->step; }
 size_t adem_world_particle_count(const adem_world *w) { return w->p.n; }
+
+/* Collision time of a material pair (notes section 6). A simplified JKR contact speeds the
+ * spheres up to sqrt(v_ref^2 + 2|U_min|/m*) as it pulls them in (U_min the JKR energy at
+ * equilibrium, H7-H10), and once captured they oscillate about the equilibrium with the period
+ * 2 pi sqrt(m* / (1.2 E a0)) (dF/d delta = 6 E a0/5 there): the shortest of t_c at that speed and
+ * half that period. */
+static double pair_collision_time(const adem_interaction *it, double m_eff, double r_eff,
+                                  double v_ref) {
+  const adem_pair_params *pp = &it->pp;
+  if (it->normal != ADEM_NORMAL_JKR || !(pp->gamma > 0.0))
+    return adem_hertz_collision_time(m_eff, r_eff, pp->E, v_ref);
+  double a0 = adem_jkr_a0(pp->gamma, r_eff, pp->E);
+  double u_min = adem_jkr_energy(pp->gamma, r_eff, pp->E, a0); /* < 0 */
+  double v = sqrt(v_ref * v_ref - 2.0 * u_min / m_eff);
+  double t_osc = 2.0 * ADEM_PI * sqrt(m_eff / (1.2 * pp->E * a0));
+  return fmin(adem_hertz_collision_time(m_eff, r_eff, pp->E, v), 0.5 * t_osc);
+}
 
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY};
@@ -378,17 +400,17 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
       if (isfinite(rmin[b])) {
         double rb = rmin[b];
         double mb = w->mat.m[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
-        double tc = adem_hertz_collision_time(m * mb / (m + mb), r * rb / (r + rb), it->pp.E, v_ref);
+        double tc = pair_collision_time(it, m * mb / (m + mb), r * rb / (r + rb), v_ref);
         est.t_collision = fmin(est.t_collision, tc);
       }
     }
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.planes[k].def.material);
-      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->pp.E, v_ref));
+      est.t_collision = fmin(est.t_collision, pair_collision_time(it, m, r, v_ref));
     }
     for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.mesh.groups[k].material);
-      est.t_collision = fmin(est.t_collision, adem_hertz_collision_time(m, r, it->pp.E, v_ref));
+      est.t_collision = fmin(est.t_collision, pair_collision_time(it, m, r, v_ref));
     }
   }
   free(rmin);
@@ -512,6 +534,12 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   if (st) return st;
   default_domain(w);
   adem_world_compute_forces(w);
+  /* the balance starts here: what this pass dissipated belongs to no step (its opening-kick
+   * share, held in *_next, does) */
+  for (size_t i = 0; i < w->p.n; ++i) {
+    w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
+    w->p.brof_impulse[i] = v3_zero();
+  }
   adem_diagnostics d = adem_world_diagnostics(w);
   w->energy_initial = total_energy(&d);
   w->prepared = true;
@@ -658,8 +686,26 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     d.contacts_pw += w->pm.l.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.overlap_ratio[k]);
   }
+  /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
+   * laws' own losses, and the work of moving walls */
+  d.dissipated = adem_sum(p->dissipated, n);
+  d.wall_work = adem_sum(p->wall_work, n);
+  double *c[3] = {&d.angular_momentum.x, &d.angular_momentum.y, &d.angular_momentum.z};
+  double *bi[3] = {&d.brof_impulse.x, &d.brof_impulse.y, &d.brof_impulse.z};
+  for (int a = 0; a < 3; ++a) {
+    for (size_t i = 0; i < n; ++i) {
+      adem_vec3 l = v3_add(v3_scale(v3_cross(p->pos[i], p->vel[i]), 1.0 / p->inv_mass[i]),
+                           v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
+      buf[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
+    }
+    *c[a] = adem_sum(buf, n);
+    for (size_t i = 0; i < n; ++i)
+      buf[i] = a == 0 ? p->brof_impulse[i].x : a == 1 ? p->brof_impulse[i].y : p->brof_impulse[i].z;
+    *bi[a] = adem_sum(buf, n);
+  }
   free(buf);
-  d.dissipated = w->prepared ? w->energy_initial - total_energy(&d) : 0.0;
+  d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
+  d.initial = w->prepared ? w->energy_initial : total_energy(&d);
   return d;
 }
 
@@ -966,6 +1012,7 @@ void adem_world_save_setup(adem_writer *wr, const adem_world *w) {
   adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
   adem_put_f64(wr, w->max_overlap_ratio);
   adem_put_u64(wr, w->parallel_min);
+  adem_put_u8(wr, w->second_order ? 1 : 0);
   adem_put_u32(wr, (uint32_t)w->mat.n);
   for (int k = 0; k < w->mat.n; ++k) adem_put(wr, &w->mat.m[k].def, sizeof w->mat.m[k].def);
   adem_put_u32(wr, (uint32_t)w->mat.ndefs);
@@ -986,6 +1033,7 @@ adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *er
   w->nb.brute_force = adem_get_u8(rd) != 0;
   w->max_overlap_ratio = adem_get_f64(rd);
   w->parallel_min = (size_t)adem_get_u64(rd);
+  w->second_order = adem_get_u8(rd) != 0;
   uint32_t nm = adem_get_u32(rd);
   adem_status st = ADEM_OK;
   for (uint32_t k = 0; k < nm && !st && !rd->failed; ++k) {

@@ -49,6 +49,10 @@ struct adem_world {
   bool has_domain;
   adem_vec3 domain_lo, domain_hi;
 
+  /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
+   * interpolated crossing time; the default) or first order (as before) */
+  bool second_order;
+
   /* energy bookkeeping */
   double energy_initial; /* E_total at prepare */
   bool prepared;

@@ -65,7 +65,7 @@ static const adem_schema_entry base_schema[] = {
     {"interactions[].friction", NULL, NUM, "", NULL, "derived from the two materials", GE(0), .doc = "Sliding friction coefficient of this pair."},
     {"interactions[].normal", NULL, ENUM, "", "hertz", NULL, .choices = "@normal", .doc = "Normal force law (see Contact laws)."},
     {"interactions[].damping", NULL, ENUM, "", "viscoelastic", NULL, .choices = "@damping", .doc = "Damping law of the normal and tangential dashpots."},
-    {"interactions[].tangential", NULL, ENUM, "", "total", NULL, .choices = "@tangential", .doc = "Tangential force law."},
+    {"interactions[].tangential", NULL, ENUM, "", "incremental", NULL, .choices = "@tangential", .doc = "Tangential force law: incremental (Mindlin-Deresiewicz, cannot create energy) or total (H14 as written)."},
     {"interactions[].rolling", NULL, ENUM, "", "none", NULL, .choices = "@rolling", .doc = "Rolling resistance law."},
     {"interactions[]", NULL, ADEM_SCHEMA_LAW_PARAMS, .doc = "(one entry per contact-law parameter)"},
 
@@ -554,7 +554,10 @@ void adem_schema_write_markdown(FILE *f) {
         "- **Time step** (`time.step: auto`): dt = min(t_collision/50, 0.2 t_Rayleigh): the "
         "shortest Hertz collision time at v_ref and the shortest Rayleigh time over the material "
         "pairs in use (particle-particle and particle-wall), each for the smallest sphere of its "
-        "material. A given `time.step` larger than that is used, with a warning saying by how much "
+        "material. A simplified JKR pair takes its collision time at sqrt(v_ref^2 + 2|U_min|/m*), "
+        "the speed its adhesion brings the spheres to (U_min the JKR energy at equilibrium), or "
+        "half its period of small oscillations about the equilibrium, 2 pi sqrt(m*/(1.2 E a0)), "
+        "if that is shorter. A given `time.step` larger than that is used, with a warning saying by how much "
         "it exceeds the proposal.\n"
         "- **Domain** (no `domain`): the bounding box B of the particles (whole spheres) and the "
         "walls (box corners, plane points and mesh vertices), widened on every side by the largest of: the longest "

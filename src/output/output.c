@@ -298,8 +298,8 @@ static void mesh_csv_row(strbuf *b, const adem_world *w) {
 char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
                              const adem_output_extra *extra) {
   strbuf b = {0};
-  sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,contacts_pp,"
-                "contacts_pw,max_overlap_ratio");
+  sb_printf(&b, "time_s,kinetic_J,rotational_J,potential_J,elastic_J,dissipated_J,wall_work_J,"
+                "contacts_pp,contacts_pw,max_overlap_ratio");
   for (int k = 0; k < w->walls.nplanes; ++k) {
     /* Plane names come from the case file: keep the header one CSV field per column. */
     char name[2 * ADEM_NAME_MAX];
@@ -329,9 +329,9 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
   adem_diagnostics d = adem_world_diagnostics(w);
   strbuf b = {0};
   /* %.17g: the times read back on resume compare exactly with the checkpoint's. */
-  sb_printf(&b, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%.17g", w->time, d.kinetic,
-            d.rotational, d.potential, d.elastic, d.dissipated, d.contacts_pp, d.contacts_pw,
-            d.max_overlap_ratio);
+  sb_printf(&b, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu,%.17g", w->time, d.kinetic,
+            d.rotational, d.potential, d.elastic, d.dissipated, d.wall_work, d.contacts_pp,
+            d.contacts_pw, d.max_overlap_ratio);
   adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
   if (!f) {
     free(b.s);
@@ -458,7 +458,7 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
     sb_printf(&b, "plot %.17g with lines dt 2 lc rgb 'black' title 'weight of the particles'", weight);
     for (int k = 0; k < w->walls.mesh.ngroups + w->walls.nplanes; ++k) {
       bool mesh = k < w->walls.mesh.ngroups;
-      int col = mesh ? 10 + 3 * w->walls.nplanes + 6 * k : 10 + 3 * (k - w->walls.mesh.ngroups);
+      int col = mesh ? 11 + 3 * w->walls.nplanes + 6 * k : 11 + 3 * (k - w->walls.mesh.ngroups);
       const char *name = mesh ? w->walls.mesh.groups[k].name : w->walls.planes[k - w->walls.mesh.ngroups].def.name;
       sb_printf(&b, ", \\\n     f skip 1 using 1:(%.17g*column(%d)+%.17g*column(%d)+%.17g*column(%d)) "
                     "with lines lw 2 title %s",

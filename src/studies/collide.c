@@ -33,6 +33,11 @@ adem_collision_spec adem_default_collision_spec(void) {
   s.dtk_modification = true;
   s.rest_periods = 3.0;
   s.max_roll_periods = 400.0;
+  s.tangential = ADEM_TANGENTIAL_INCREMENTAL;
+  s.scheme = ADEM_CONTACTS_SECOND_ORDER;
+  s.approach_steps = 1.5;
+  s.normal_law = -1;
+  s.rolling_law = -1;
   return s;
 }
 
@@ -170,6 +175,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   adem_world_set_neighbor_search(w, ADEM_SEARCH_ALL_PAIRS);
   adem_world_set_max_overlap_ratio(w, 1.0); /* soft spheres overlap a lot; H makes no limit */
   adem_world_set_dt(w, dt);
+  adem_world_set_contact_scheme(w, s->scheme);
   bool wall = s->kind == ADEM_COLLISION_WALL;
   double nu = s->poisson;
   /* 1/E* = sum (1 - nu^2)/E_k (H2): a rigid wall leaves all compliance to the sphere. */
@@ -199,12 +205,15 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   it.material_b = mw;
   it.restitution = s->restitution;
   it.friction = s->friction;
-  it.normal = s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
-  it.rolling = s->dtk ? ADEM_ROLLING_DTK : ADEM_ROLLING_NONE;
+  it.normal = s->normal_law >= 0 ? (adem_normal_model)s->normal_law
+              : s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
+  it.rolling = !s->dtk ? ADEM_ROLLING_NONE
+               : s->rolling_law >= 0 ? (adem_rolling_model)s->rolling_law : ADEM_ROLLING_DTK;
+  it.tangential = s->tangential;
   it.dtk_rolling_modification = s->dtk_modification ? 1 : 0;
   if ((st = adem_world_set_interaction(w, &it, err))) return st;
 
-  double gap = 1.5 * p->v_n * dt;
+  double gap = s->approach_steps * p->v_n * dt;
   double ri = s->radius;
   adem_particle_def a = adem_default_particle_def();
   a.material = ms;
@@ -362,6 +371,7 @@ static const char *check_spec(const adem_collision_spec *s) {
     return "radius, density, modulus, speed and size ratio must be > 0, surface energy >= 0, "
            "steps per collision time >= 10";
   if (wall && !(sin(s->angle) > 0.0)) return "the impact angle must be in (0, 180) degrees";
+  if (!(s->approach_steps > 0.0) || !(s->dt >= 0.0)) return "the approach must take > 0 steps, the step be >= 0";
   if (s->dtk && !(s->surface_energy > 0.0))
     return "DTK rolling needs the JKR contact: a surface energy > 0";
   if (!(s->hysteresis >= 0.0)) return "the adhesion hysteresis must be >= 0";
@@ -392,7 +402,7 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
   bool adhesive = p.gamma_mod > 0.0;
   /* at rest only the oscillation about the equilibrium sets the step */
   double t_ref = s->at_rest ? 0.5 * p.t_osc : adhesive ? fmin(p.t_c, 0.5 * p.t_osc) : p.t_c;
-  double dt = t_ref / s->steps_per_tc;
+  double dt = s->dt > 0.0 ? s->dt : t_ref / s->steps_per_tc;
   r.t_c = p.t_c;
   r.dt = dt;
   r.v_n_in = s->at_rest ? 0.0 : p.v_n;
@@ -440,9 +450,18 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
                hypot(now.v[0].x, now.v[0].y), wall_rolling_distance(w), s->track_user);
     if (touched) {
       r.max_overlap = fmax(r.max_overlap, cur.delta);
-      if (cur.delta <= 0.0) { /* separated: no force acts any more */
+      if (cur.delta <= 0.0) { /* separated: no force acts after the next kick */
         double t_out = t - dt * cur.delta / (cur.delta - prev.delta);
         r.duration = t_out - t_in;
+        /* the force of this pass (an adhesive contact's break correction) still acts in the next
+         * opening half kick: take that step, then read the speed */
+        start = now;
+        st = adem_world_step(w, 1, &err);
+        if (st) break;
+        r.steps++;
+        read_bodies(w, &now);
+        step_work(&start, &now, dt, &r.work, &r.rolling_work);
+        cur = read_normal(&now, wall);
         r.v_n_out = -cur.v_n;
         x_sep = now.x[0];
         done = true;

@@ -19,6 +19,7 @@ static const double stiffness[NF] = {1.0, 0.1, 0.01}; /* E_mod/E of Figs. 5 and 
  * gives it: the wall is rigid and the effective modulus is 271 MPa. */
 static adem_collision_spec psl_on_quartz(double f, bool keep_gamma, double speed) {
   adem_collision_spec s = adem_default_collision_spec();
+  s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   if (adem_collide_psl_quartz(&s, NULL)) abort(); /* the embedded case file is tested to load */
   s.stiffness_factor = f;
   s.keep_gamma = keep_gamma;
@@ -285,6 +286,7 @@ static const double LAMBDA0 = 1e6; /* base of Fig. 8 */
  * gamma follow from lambda and Ad (text definitions). */
 static adem_collision_spec pair_spec(double lambda, double ad, double steps) {
   adem_collision_spec s = adem_default_collision_spec();
+  s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   s.steps_per_tc = steps;
   s.kind = ADEM_COLLISION_PAIR;
   s.radius = 1e-6;
@@ -604,6 +606,7 @@ static adem_status fig13(const adem_validation_context *ctx, const char *name,
 static adem_collision_spec deposition_spec(double lambda, double ad, double e, double fhat,
                                            double steps) {
   adem_collision_spec s = adem_default_collision_spec();
+  s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   s.kind = ADEM_COLLISION_WALL;
   s.radius = 1e-6;
   s.density = 1000.0;

@@ -633,6 +633,13 @@ typedef struct pile_series {
   size_t n;
   double *t, *kinetic, *rotational;
   double lift; /* sum of m g r: the energy scale */
+  /* BROF gives no reaction torque to the partner (I9-I10 act per particle): the angular
+   * impulse it adds through particle contacts, against the largest sum of the spheres' spin
+   * angular momenta I |omega| over the run */
+  adem_vec3 brof_impulse;
+  adem_vec3 brof_torque; /* its rate over the last sample interval: the net torque at rest, N m */
+  double spin_peak;
+  double balance_error, initial; /* energy balance at the end, J */
 } pile_series;
 
 static adem_status pile_run(const adem_validation_context *ctx, const char *model, int count,
@@ -670,6 +677,9 @@ static adem_status pile_run(const adem_validation_context *ctx, const char *mode
     out->lift += T1_GRAVITY * radius[i] / inv_m[i];
   free(radius);
   free(inv_m);
+  double *omega = malloc((3 * np + 1) * sizeof *omega), *inv_i = malloc((np + 1) * sizeof *inv_i);
+  if (!st && (!omega || !inv_i)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_INVERSE_INERTIA, inv_i, np, err);
   for (size_t k = 0; k < n && !st; ++k) {
     if (k > 0) st = adem_world_step(w, every, err);
     adem_diagnostics d = adem_world_diagnostics(w);
@@ -677,7 +687,21 @@ static adem_status pile_run(const adem_validation_context *ctx, const char *mode
     out->kinetic[k] = d.kinetic;
     out->rotational[k] = d.rotational;
     out->n = k + 1;
+    if (k > 0)
+      out->brof_torque = v3_scale(v3_sub(d.brof_impulse, out->brof_impulse), 1.0 / (d.time - out->t[k - 1]));
+    out->brof_impulse = d.brof_impulse;
+    out->balance_error = d.balance_error;
+    out->initial = d.initial;
+    if (!st && !adem_world_get_particles(w, ADEM_FIELD_ANGULAR_VELOCITY, omega, 3 * np, NULL)) {
+      double spin = 0.0;
+      for (size_t i = 0; i < np; ++i)
+        spin += sqrt(omega[3 * i] * omega[3 * i] + omega[3 * i + 1] * omega[3 * i + 1] +
+                     omega[3 * i + 2] * omega[3 * i + 2]) / inv_i[i];
+      out->spin_peak = fmax(out->spin_peak, spin);
+    }
   }
+  free(omega);
+  free(inv_i);
   adem_case_free(c);
   return st;
 }
@@ -753,12 +777,22 @@ static adem_status pile(const adem_validation_context *ctx, const char *name,
              "I section 3.1 (on test case 1): model A's torque instability makes kinetic energy "
              "that 'can be relevant in simulations involving a large amount of particles'; BROF "
              "lets a packing come to rest (zero torque and zero spin at rest).");
+    adem_vec3 jb = s[1].brof_impulse;
     snprintf(rep->measured, sizeof rep->measured,
              "%d spheres, %g s. Kinetic energy over the last 10 %% (translational + rotational): "
              "model A %.3g + %.3g J, BROF %.3g + %.3g J, model C %.3g + %.3g J; energy scale "
              "sum of m g r = %.3g J. Model A translational energy over the tenth before the last "
-             "%.3g J (last/before %.3g).",
-             count, end, ka, ra, kb, rb, kc, rc, lift, ka_before, ka / ka_before);
+             "%.3g J (last/before %.3g). BROF's angular impulse through particle contacts (no "
+             "reaction on the partner): (%.3g, %.3g, %.3g) N m s, |J| = %.3g times the largest "
+             "sum of spin angular momenta I|omega| (%.3g N m s); at rest it still grows at a net "
+             "%.3g N m, %.2g of the pile's rolling-resistance scale sum eta_r r m g = %.3g N m "
+             "(models A and C are couples and add none). Energy balance error at the end: %.2g "
+             "(A), %.2g (BROF), %.2g (C) of the initial energy.",
+             count, end, ka, ra, kb, rb, kc, rc, lift, ka_before, ka / ka_before, jb.x, jb.y,
+             jb.z, v3_norm(jb) / s[1].spin_peak, s[1].spin_peak, v3_norm(s[1].brof_torque),
+             v3_norm(s[1].brof_torque) / (T1_ETA * lift), T1_ETA * lift,
+             s[0].balance_error / s[0].initial, s[1].balance_error / s[1].initial,
+             s[2].balance_error / s[2].initial);
     snprintf(rep->notes, sizeof rep->notes,
              "Not a figure of I: the paper states the effect in words. Table 1 material (E = 4e7 "
              "Pa, eta_r = 0.2, dt = 5e-5 s, about 13 steps per collision at the 3.4 m/s impact "

@@ -80,7 +80,7 @@ static void test_bad_input(void **state) {
   refused(t, w3, 4);
   free(t);
   t = replaced(base, "rolling: brof", "rolling: model_b");
-  const char *w4[] = {"rolling.yaml:12:44", "model_a, model_c, brof"};
+  const char *w4[] = {"rolling.yaml:12:44", "model_a, model_c, model_c_capped, brof"};
   refused(t, w4, 2);
   free(t);
 }

@@ -597,7 +597,7 @@ static void test_reference(void **state) {
   const char *keys[] = {"`materials[].poisson_ratio` | number |  | required unless `rigid: true` | in (-1, 0.5)",
                         "`materials[].density` | number | kg/m^3 |",
                         "`time.step` | `auto` or number | s | `auto` | > 0",
-                        "`interactions[].rolling` | `none` \\| `dtk` \\| `model_a` \\| `model_c` \\| `brof`",
+                        "`interactions[].rolling` | `none` \\| `dtk` \\| `model_a` \\| `model_c` \\| `model_c_capped` \\| `brof`",
                         "`particles[].spacing`", "*(type: lattice)*", "`particles[].radius.std`",
                         "`output.frame_interval`", "time.end / 100", "`limits.max_overlap_ratio`",
                         "`gravity` | [x, y, z] | m/s^2 | `[0, 0, -9.81]`", "sqrt(2 |g| H)"};
