@@ -184,8 +184,10 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
 
   repose_point pts[NCONFIG][NSEEDS];
   memset(pts, 0, sizeof pts);
-  for (int c = 0; c < nconf && !st; ++c)
-    for (int s = 0; s < nseed && !st; ++s)
+  /* Seed by seed over every point, so that a stopped reproduction has one pile of each point
+   * before it has a second of any. */
+  for (int s = 0; s < nseed && !st; ++s)
+    for (int c = 0; c < nconf && !st; ++c)
       st = repose_point_run(ctx, base, &configs[c], full_seeds[s], &pts[c][s], err);
   free(base);
   if (st) return st;
