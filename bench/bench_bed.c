@@ -322,6 +322,23 @@ static double contacts_per_particle(const adem_world *w) {
   return (2.0 * (double)d.contacts_pp + (double)d.contacts_pw) / n;
 }
 
+/* FNV-1a over the positions, velocities and spins: equal hashes mean bitwise equal states
+ * (thread counts, code changes that must not change results). */
+static uint64_t state_hash(const adem_world *w) {
+  size_t n = adem_world_particle_count(w);
+  double *buf = malloc(3 * n * sizeof *buf + 1);
+  adem_error err;
+  uint64_t h = 1469598103934665603ull;
+  adem_particle_field fields[] = {ADEM_FIELD_POSITION, ADEM_FIELD_VELOCITY, ADEM_FIELD_ANGULAR_VELOCITY};
+  for (int f = 0; f < 3 && buf; ++f) {
+    if (adem_world_get_particles(w, fields[f], buf, 3 * n, &err)) die("read back", &err);
+    const unsigned char *c = (const unsigned char *)buf;
+    for (size_t k = 0; k < 3 * n * sizeof *buf; ++k) h = (h ^ c[k]) * 1099511628211ull;
+  }
+  free(buf);
+  return h;
+}
+
 static int run_peer_bed(int argc, char **argv) {
   peer_options o = parse_peer_options(argc, argv);
   adem_world *w = build_peer_world(&o);
@@ -347,6 +364,8 @@ static int run_peer_bed(int argc, char **argv) {
   printf("PEERS wall_contacts %zu\n", d.contacts_pw);
   printf("PEERS kinetic_energy_per_particle %.6e\n", (d.kinetic + d.rotational) / (double)n);
   printf("PEERS max_overlap_ratio %.6f\n", d.max_overlap_ratio);
+  printf("PEERS elastic_energy %.17g\n", d.elastic);
+  printf("PEERS state_hash %016llx\n", (unsigned long long)state_hash(w));
   printf("PEERS peak_rss_bytes %.0f\n", peak_rss_bytes());
   printf("PEERS bytes_per_particle_model %zu\n", adem_world_bytes_per_particle());
   adem_world_free(w);

@@ -50,6 +50,7 @@ typedef struct adem_contact_geometry {
   adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
+  bool energy;         /* the normal law's stored energy is wanted (else it may be left 0) */
 } adem_contact_geometry;
 
 /* ---------------------------------------------------------------- normal slot */
@@ -80,7 +81,7 @@ static inline adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
   adem_normal_result r;
   r.a = adem_jkr_contact_radius(pp->gamma, g->R, pp->E, g->delta); /* H10 */
   r.f_elastic = adem_jkr_force(pp->gamma, g->R, pp->E, r.a);       /* H8-H9 */
-  r.e_elastic = adem_jkr_energy(pp->gamma, g->R, pp->E, r.a);
+  r.e_elastic = g->energy ? adem_jkr_energy(pp->gamma, g->R, pp->E, r.a) : 0.0;
   r.f_critical = adem_jkr_critical_force(pp->gamma, g->R);
   return r;
 }

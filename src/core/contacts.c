@@ -164,19 +164,19 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
                               const contact_result *r) {
   adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
   l->touching[k] = true;
-  l->force_a[k] = r->force;
-  l->torque_a[k] = v3_add(v3_cross(v3_scale(g->n, g->ri), ft), r->rolling);
-  l->torque_b[k] = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
-  l->rolling_a[k] = r->rolling;
-  l->rolling_capacity[k] = r->capacity;
-  l->elastic[k] = r->elastic;
-  l->overlap_ratio[k] = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  l->res[k].force_a = r->force;
+  l->res[k].torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), ft), r->rolling);
+  l->res[k].torque_b = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
+  l->res[k].rolling_a = r->rolling;
+  l->res[k].rolling_capacity = r->capacity;
+  l->res[k].elastic = r->elastic;
+  l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
-  l->damping_a[k] = r->damping;
-  l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
-  l->damping_torque_b[k] =
+  l->res[k].damping_a = r->damping;
+  l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  l->res[k].damping_torque_b =
       g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
-  l->dissipated[k] = r->dissipated;
+  l->res[k].dissipated = r->dissipated;
 }
 
 /* A wall contact's power: the wall's material at the contact point moves at V and turns at
@@ -185,8 +185,8 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
  * motion did not take (the particle-side sums subtract it back). */
 static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
                                     adem_vec3 v_wall, adem_vec3 omega_wall) {
-  l->wall_power[k] = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
-  l->wall_damping_power[k] = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+  l->res[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->res[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
 
 
@@ -198,8 +198,23 @@ static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction
   double lost = l->hist[k].elastic;
   double f = onset ? break_correction(it, g, dt) : 0.0;
   adem_pairs_clear(l, k);
-  l->dissipated[k] = lost;
-  l->force_a[k] = v3_scale(g->n, -f);
+  l->res[k].dissipated = lost;
+  l->res[k].force_a = v3_scale(g->n, -f);
+}
+
+/* The rolling inertia I_r enters only model C's dashpot, c_r = beta_r 2 sqrt(I_r k_r): with
+ * beta_r = 0 it is 0 whatever I_r, and its five divisions are skipped. */
+static inline bool needs_rolling_inertia(const adem_interaction *it) {
+  return it->pp.param[ADEM_PARAM_ROLLING_DAMPING] != 0.0;
+}
+
+/* A candidate apart now and at the last pass. Every field of a pair that is not touching is
+ * zero (the build clears new pairs, open_pair clears an opening one) except what open_pair left
+ * for the pass in which it opened: its lost spring energy and break correction. Zeroing those
+ * two is the same as clearing the pair, and touches two arrays instead of all of them. */
+static inline void forget_opened(adem_pair_list *l, size_t k) {
+  l->res[k].dissipated = 0.0;
+  l->res[k].force_a = v3_zero();
 }
 
 static inline void particle_pair(const adem_force_scope *w, size_t k) {
@@ -214,7 +229,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double dist2 = v3_norm2(d);
     bool was = l->touching[k];
     if (dist2 >= rsum * rsum && !was) { /* apart now and at the last pass */
-      adem_pairs_clear(l, k);
+      forget_opened(l, k);
       return;
     }
     double dist = sqrt(dist2);
@@ -236,11 +251,15 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = rj;
-    /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
-    double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
-    double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
-    g.inertia_r = Ici * Icj / (Ici + Icj);
+    g.energy = w->energy;
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
+    /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
+    g.inertia_r = 0.0;
+    if (needs_rolling_inertia(it)) {
+      double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+      double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
+      g.inertia_r = Ici * Icj / (Ici + Icj);
+    }
     if (g.delta <= 0.0) { /* it opened since the last pass */
       open_pair(l, k, it, &g, w->second_order, dt);
       return;
@@ -261,7 +280,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     bool was = l->touching[k];
     if (dist >= ri && !was) {
-      adem_pairs_clear(l, k);
+      forget_opened(l, k);
       return;
     }
     contact_geometry g;
@@ -283,8 +302,9 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
     g.ri = ri;
     g.rj = 0.0;
-    g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+    g.energy = w->energy;
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
+    g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
       open_pair(l, k, it, &g, w->second_order, dt);
       return;
@@ -361,25 +381,26 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
       g.ri = ri;
       g.rj = 0.0;
-      g.inertia_r = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+      g.energy = w->energy;
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
+      g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
       contact_result r = contact_force(it, &g, &h, dt, w->second_order && fresh);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
       l->hist[k] = h;
       pm->key[k] = c->key;
       pm->owner[k] = c->tri;
       l->touching[k] = true;
-      l->force_a[k] = r.force;
-      l->torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
-      l->torque_b[k] = v3_zero();
-      l->rolling_a[k] = r.rolling;
-      l->rolling_capacity[k] = r.capacity;
-      l->elastic[k] = r.elastic;
-      l->overlap_ratio[k] = g.delta / ri;
-      l->damping_a[k] = r.damping;
-      l->damping_torque_a[k] = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
-      l->damping_torque_b[k] = v3_zero();
-      l->dissipated[k] = r.dissipated;
+      l->res[k].force_a = r.force;
+      l->res[k].torque_a = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
+      l->res[k].torque_b = v3_zero();
+      l->res[k].rolling_a = r.rolling;
+      l->res[k].rolling_capacity = r.capacity;
+      l->res[k].elastic = r.elastic;
+      l->res[k].overlap_ratio = g.delta / ri;
+      l->res[k].damping_a = r.damping;
+      l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
+      l->res[k].damping_torque_b = v3_zero();
+      l->res[k].dissipated = r.dissipated;
       store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->mesh_motion[grp]));
     }
   }
@@ -390,9 +411,9 @@ static void mesh_pairs(const adem_force_scope *w) {
   for (size_t k = 0; k < l->n; ++k) {
     if (!l->touching[k]) continue;
     size_t t = pm->owner[k];
-    adem_vec3 fw = v3_neg(l->force_a[k]);
+    adem_vec3 fw = v3_neg(l->res[k].force_a);
     adem_vec3 arm = v3_sub(pm->found[k].point, w->walls->mesh_ref[m->group[t]]);
-    adem_walls_add_face_load(w->walls, t, fw, v3_sub(v3_cross(arm, fw), l->rolling_a[k]));
+    adem_walls_add_face_load(w->walls, t, fw, v3_sub(v3_cross(arm, fw), l->res[k].rolling_a));
   }
 }
 
@@ -452,65 +473,65 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
-      en.dissipated += 0.5 * pp->dissipated[k]; /* also of a contact that just opened */
+      en.dissipated += 0.5 * pp->res[k].dissipated; /* also of a contact that just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
-        adem_vec3 fb = pp->force_a[k];
+        adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
         continue;
       }
       if (code & 1u) {
-        f = v3_sub(f, pp->force_a[k]);
-        t = v3_add(t, pp->torque_b[k]);
-        roll = v3_sub(roll, pp->rolling_a[k]);
-        en.G = v3_sub(en.G, pp->damping_a[k]);
-        en.H = v3_add(en.H, pp->damping_torque_b[k]);
+        f = v3_sub(f, pp->res[k].force_a);
+        t = v3_add(t, pp->res[k].torque_b);
+        roll = v3_sub(roll, pp->res[k].rolling_a);
+        en.G = v3_sub(en.G, pp->res[k].damping_a);
+        en.H = v3_add(en.H, pp->res[k].damping_torque_b);
       } else {
-        f = v3_add(f, pp->force_a[k]);
-        t = v3_add(t, pp->torque_a[k]);
-        roll = v3_add(roll, pp->rolling_a[k]);
-        en.G = v3_add(en.G, pp->damping_a[k]);
-        en.H = v3_add(en.H, pp->damping_torque_a[k]);
+        f = v3_add(f, pp->res[k].force_a);
+        t = v3_add(t, pp->res[k].torque_a);
+        roll = v3_add(roll, pp->res[k].rolling_a);
+        en.G = v3_add(en.G, pp->res[k].damping_a);
+        en.H = v3_add(en.H, pp->res[k].damping_torque_a);
       }
-      capacity += pp->rolling_capacity[k];
+      capacity += pp->res[k].rolling_capacity;
     }
     capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
-      en.dissipated += pw->dissipated[k];
+      en.dissipated += pw->res[k].dissipated;
       if (!pw->touching[k]) {
-        adem_vec3 fb = pw->force_a[k];
+        adem_vec3 fb = pw->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
         continue;
       }
-      f = v3_add(f, pw->force_a[k]);
-      t = v3_add(t, pw->torque_a[k]);
-      roll = v3_add(roll, pw->rolling_a[k]);
-      capacity += pw->rolling_capacity[k];
-      if (pw->rolling_capacity[k] > 0.0) {
+      f = v3_add(f, pw->res[k].force_a);
+      t = v3_add(t, pw->res[k].torque_a);
+      roll = v3_add(roll, pw->res[k].rolling_a);
+      capacity += pw->res[k].rolling_capacity;
+      if (pw->res[k].rolling_capacity > 0.0) {
         const adem_motion *mo = &w->walls->planes[pw->b[k]].motion;
-        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->rolling_capacity[k], motion_spin(mo));
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->res[k].rolling_capacity, motion_spin(mo));
       }
-      en.G = v3_add(en.G, pw->damping_a[k]);
-      en.H = v3_add(en.H, pw->damping_torque_a[k]);
-      en.P_w += pw->wall_power[k];
-      en.P_d += pw->wall_damping_power[k];
+      en.G = v3_add(en.G, pw->res[k].damping_a);
+      en.H = v3_add(en.H, pw->res[k].damping_torque_a);
+      en.P_w += pw->res[k].wall_power;
+      en.P_d += pw->res[k].wall_damping_power;
     }
     /* mesh contacts: the first slots of the particle's range, by key */
     for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
       if (!pm->touching[k]) break;
-      f = v3_add(f, pm->force_a[k]);
-      t = v3_add(t, pm->torque_a[k]);
-      roll = v3_add(roll, pm->rolling_a[k]);
-      capacity += pm->rolling_capacity[k];
-      if (pm->rolling_capacity[k] > 0.0) {
+      f = v3_add(f, pm->res[k].force_a);
+      t = v3_add(t, pm->res[k].torque_a);
+      roll = v3_add(roll, pm->res[k].rolling_a);
+      capacity += pm->res[k].rolling_capacity;
+      if (pm->res[k].rolling_capacity > 0.0) {
         const adem_motion *mo = &w->walls->mesh_motion[w->walls->mesh.group[w->pm->owner[k]]];
-        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->rolling_capacity[k], motion_spin(mo));
+        if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->res[k].rolling_capacity, motion_spin(mo));
       }
-      en.G = v3_add(en.G, pm->damping_a[k]);
-      en.H = v3_add(en.H, pm->damping_torque_a[k]);
-      en.dissipated += pm->dissipated[k];
-      en.P_w += pm->wall_power[k];
-      en.P_d += pm->wall_damping_power[k];
+      en.G = v3_add(en.G, pm->res[k].damping_a);
+      en.H = v3_add(en.H, pm->res[k].damping_torque_a);
+      en.dissipated += pm->res[k].dissipated;
+      en.P_w += pm->res[k].wall_power;
+      en.P_d += pm->res[k].wall_damping_power;
     }
     uint8_t held = 0;
     if (capacity > 0.0) {

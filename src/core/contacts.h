@@ -24,6 +24,7 @@ typedef struct adem_force_scope {
   int nthreads;
   bool second_order; /* predicted dashpot velocities, adhesive jumps at the interpolated crossing
                       * time (contacts.c) */
+  bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

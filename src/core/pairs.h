@@ -28,6 +28,28 @@ typedef struct adem_contact_history {
                           * overlap, not the history) */
 } adem_contact_history;
 
+/* What a force pass writes for a pair and the per-particle sums read back: one record, so that
+ * the sums gather one or two cache lines per pair rather than one per quantity. Zero when the
+ * pair does not touch (but see forget_opened in contacts.c). The first line holds what the
+ * sums read of every candidate, touching or not. */
+typedef struct adem_pair_result {
+  adem_vec3 force_a;        /* force on a (on b it is the opposite), N */
+  double dissipated;        /* energy the laws took in the step by slip or a spring's limit, J */
+  double rolling_capacity;  /* BROF: e_c |F_n| this contact offers (I9) */
+  adem_vec3 torque_a;       /* every contact torque on a, rolling included, N m */
+  adem_vec3 torque_b;       /* every contact torque on b, N m (0 for a wall) */
+  adem_vec3 rolling_a;      /* rolling couple on a (on b: the opposite), N m */
+  adem_vec3 damping_a;      /* dissipative force on a, the dashpots (b: the opposite), N */
+  adem_vec3 damping_torque_a; /* dissipative torque on a: the dashpots' moments and dissipative
+                               * couples, N m */
+  adem_vec3 damping_torque_b; /* the same on b, N m (0 for a wall) */
+  double elastic;           /* elastic energy stored in the contact, J */
+  double overlap_ratio;     /* overlap / smaller radius */
+  double wall_power;        /* walls: power the wall gives through the contact, F.V + R.Omega
+                             * (V, Omega the wall's), W */
+  double wall_damping_power; /* walls: the dissipative forces' and couples' share of wall_power */
+} adem_pair_result;
+
 /* Roles of the per-pair arrays. */
 enum {
   ADEM_PAIR_KEY = 0,    /* who the pair is: set by the neighbour build */
@@ -41,23 +63,7 @@ enum {
   X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
   X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
-  X(adem_vec3, force_a, ADEM_PAIR_RESULT, "force on a (on b it is the opposite), N")            \
-  X(adem_vec3, torque_a, ADEM_PAIR_RESULT, "every contact torque on a, rolling included, N m")  \
-  X(adem_vec3, torque_b, ADEM_PAIR_RESULT, "every contact torque on b, N m (0 for a wall)")     \
-  X(adem_vec3, rolling_a, ADEM_PAIR_RESULT, "rolling couple on a (on b: the opposite), N m")    \
-  X(double, rolling_capacity, ADEM_PAIR_RESULT, "BROF: e_c |F_n| this contact offers (I9)")    \
-  X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J")              \
-  X(double, overlap_ratio, ADEM_PAIR_RESULT, "overlap / smaller radius")                       \
-  X(adem_vec3, damping_a, ADEM_PAIR_RESULT, "dissipative force on a, the dashpots (b: the opposite), N") \
-  X(adem_vec3, damping_torque_a, ADEM_PAIR_RESULT,                                            \
-    "dissipative torque on a: the dashpots' moments and dissipative couples, N m")            \
-  X(adem_vec3, damping_torque_b, ADEM_PAIR_RESULT, "the same on b, N m (0 for a wall)")       \
-  X(double, dissipated, ADEM_PAIR_RESULT,                                                      \
-    "energy the laws took in the step by slip or a spring's limit, J")                        \
-  X(double, wall_power, ADEM_PAIR_RESULT,                                                      \
-    "walls: power the wall gives through the contact, F.V + R.Omega (V, Omega the wall's), W") \
-  X(double, wall_damping_power, ADEM_PAIR_RESULT,                                              \
-    "walls: the dissipative forces' and couples' share of wall_power, W")
+  X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
  * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
@@ -82,6 +88,20 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
   if (role == ADEM_PAIR_RESULT) memset(&l->name[k], 0, sizeof l->name[k]);
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+}
+
+/* Clears every pair out of contact except what the pass in which it opened left (its lost
+ * spring energy and break correction): what the force pass expects of a pair it skips. A
+ * checkpoint adem wrote already is so; one from elsewhere is made so. */
+static inline void adem_pairs_clear_apart(adem_pair_list *l) {
+  for (size_t k = 0; k < l->n; ++k) {
+    if (l->touching[k]) continue;
+    double lost = l->res[k].dissipated;
+    adem_vec3 f = l->res[k].force_a;
+    adem_pairs_clear(l, k);
+    l->res[k].dissipated = lost;
+    l->res[k].force_a = f;
+  }
 }
 
 /* Grows to at least cap pairs (with headroom: lists are rebuilt often with similar sizes). */

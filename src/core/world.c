@@ -199,12 +199,17 @@ adem_status adem_world_gather(adem_world *w) {
   return adem_neighbors_gather(&w->nb, w->p.n, &w->pp, &w->pw);
 }
 
-void adem_world_compute_forces(adem_world *w) {
+/* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
+ * (a JKR contact's costs a cbrt and four pow): the last pass of a call to adem_world_step and
+ * the pass of prepare, after which the diagnostics can be read. */
+static void compute_forces(adem_world *w, bool energy) {
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
-                        w->dt,     adem_world_threads(w), w->second_order};
+                        w->dt,     adem_world_threads(w), w->second_order, energy};
   adem_contacts_compute(&s);
 }
+
+void adem_world_compute_forces(adem_world *w) { compute_forces(w, true); }
 
 adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
                                    const adem_plane_setting *next_planes,
@@ -592,7 +597,7 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
   for (int s = 0; s < 2; ++s) {
     const adem_pair_list *l = lists[s];
     for (size_t k = 0; k < l->n; ++k) {
-      if (!(l->overlap_ratio[k] > w->max_overlap_ratio)) continue;
+      if (!(l->res[k].overlap_ratio > w->max_overlap_ratio)) continue;
       const char *other = s == 0 ? "particle" : "wall";
       char name[ADEM_NAME_MAX + 32];
       if (s == 0)
@@ -602,18 +607,18 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
       return adem_error_set(err, ADEM_ERR_RUNTIME,
                             "particle id %llu overlaps %s %s by %.3g of its radius (limit %.3g) at "
                             "t = %.9g s (step %llu); the time step is probably too large",
-                            (unsigned long long)p->id[l->a[k]], other, name, l->overlap_ratio[k],
+                            (unsigned long long)p->id[l->a[k]], other, name, l->res[k].overlap_ratio,
                             w->max_overlap_ratio, w->time, (unsigned long long)w->step);
     }
   }
   const adem_pair_list *lm = &w->pm.l;
   for (size_t k = 0; k < lm->n; ++k) {
-    if (!(lm->overlap_ratio[k] > w->max_overlap_ratio)) continue;
+    if (!(lm->res[k].overlap_ratio > w->max_overlap_ratio)) continue;
     return adem_error_set(err, ADEM_ERR_RUNTIME,
                           "particle id %llu overlaps mesh group '%s' by %.3g of its radius (limit "
                           "%.3g) at t = %.9g s (step %llu); the time step is probably too large",
                           (unsigned long long)p->id[lm->a[k]],
-                          w->walls.mesh.groups[w->walls.mesh.group[w->pm.owner[k]]].name, lm->overlap_ratio[k],
+                          w->walls.mesh.groups[w->walls.mesh.group[w->pm.owner[k]]].name, lm->res[k].overlap_ratio,
                           w->max_overlap_ratio, w->time, (unsigned long long)w->step);
   }
   return ADEM_OK;
@@ -639,7 +644,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       adem_status st = adem_world_build_neighbors(w, err);
       if (st) return st;
     }
-    adem_world_compute_forces(w);
+    compute_forces(w, s + 1 == nsteps);
     adem_particles_kick(&w->p, 0.5 * dt, true, nthreads);
     w->step++;
     w->time = (double)w->step * dt;
@@ -647,6 +652,12 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     if (st) return st;
   }
   return ADEM_OK;
+}
+
+/* The stored energies of a pair list, summed in pair order (buf: room for l->n doubles). */
+static double sum_elastic(const adem_pair_list *l, double *buf) {
+  for (size_t k = 0; k < l->n; ++k) buf[k] = l->res[k].elastic;
+  return adem_sum(buf, l->n);
 }
 
 adem_diagnostics adem_world_diagnostics(const adem_world *w) {
@@ -657,6 +668,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   size_t n = p->n;
   size_t m = n > w->pp.n ? n : w->pp.n;
   if (w->pw.n > m) m = w->pw.n;
+  if (w->pm.l.n > m) m = w->pm.l.n;
   double *buf = calloc(m + 1, sizeof *buf);
   if (!buf) return d;
   for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
@@ -670,21 +682,21 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     buf[i] = -v3_dot(f, p->pos[i]);
   }
   d.potential = adem_sum(buf, n);
-  double elastic_pp = adem_sum(w->pp.elastic, w->pp.n);
-  double elastic_pw = adem_sum(w->pw.elastic, w->pw.n);
-  double elastic_pm = adem_sum(w->pm.l.elastic, w->pm.l.n);
+  double elastic_pp = sum_elastic(&w->pp, buf);
+  double elastic_pw = sum_elastic(&w->pw, buf);
+  double elastic_pm = sum_elastic(&w->pm.l, buf);
   d.elastic = elastic_pp + elastic_pw + elastic_pm;
   for (size_t k = 0; k < w->pp.n; ++k) {
     d.contacts_pp += w->pp.touching[k];
-    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.overlap_ratio[k]);
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.res[k].overlap_ratio);
   }
   for (size_t k = 0; k < w->pw.n; ++k) {
     d.contacts_pw += w->pw.touching[k];
-    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pw.overlap_ratio[k]);
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pw.res[k].overlap_ratio);
   }
   for (size_t k = 0; k < w->pm.l.n; ++k) { /* mesh contacts count as wall contacts */
     d.contacts_pw += w->pm.l.touching[k];
-    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.overlap_ratio[k]);
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.res[k].overlap_ratio);
   }
   /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
    * laws' own losses, and the work of moving walls */
@@ -797,6 +809,10 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   adem_status st = adem_particles_load(rd, &w->p, err);
   if (!st) st = adem_pairs_load(rd, &w->pp, err);
   if (!st) st = adem_pairs_load(rd, &w->pw, err);
+  if (!st && !rd->failed) {
+    adem_pairs_clear_apart(&w->pp);
+    adem_pairs_clear_apart(&w->pw);
+  }
   if (!st) st = adem_mesh_pairs_load(rd, &w->pm, w->p.n, err);
   if (st) return st;
   size_t nf = 3 * w->walls.mesh.ntris;
@@ -917,9 +933,9 @@ static void contact_from(adem_contact_info *c, adem_contact_kind kind, uint64_t 
   c->kind = kind;
   c->a = a;
   c->b = b;
-  c->force = l->force_a[k];
-  c->overlap_ratio = l->overlap_ratio[k];
-  c->elastic = l->elastic[k];
+  c->force = l->res[k].force_a;
+  c->overlap_ratio = l->res[k].overlap_ratio;
+  c->elastic = l->res[k].elastic;
   c->tangential_history = l->hist[k].tangential;
   c->rolling_history = l->hist[k].rolling;
 }
@@ -987,7 +1003,7 @@ void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
   const adem_pair_list *l = &w->pw;
   for (size_t k = 0; k < l->n; ++k) {
     uint32_t wall = l->b[k];
-    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->force_a[k]);
+    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->res[k].force_a);
   }
 }
 

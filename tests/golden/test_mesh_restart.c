@@ -105,7 +105,7 @@ static void assert_same(const adem_world *a, const adem_world *b) {
     if (p->key[k] != q->key[k] || p->owner[k] != q->owner[k]) fail_msg("mesh contact %zu differs", k);
     if (memcmp(&p->l.hist[k], &q->l.hist[k], sizeof p->l.hist[k]) != 0)
       fail_msg("mesh contact history %zu differs", k);
-    if (memcmp(&p->l.force_a[k], &q->l.force_a[k], sizeof(adem_vec3)) != 0)
+    if (memcmp(&p->l.res[k].force_a, &q->l.res[k].force_a, sizeof(adem_vec3)) != 0)
       fail_msg("mesh contact force %zu differs", k);
   }
   size_t nf = 3 * a->walls.mesh.ntris;

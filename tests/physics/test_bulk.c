@@ -139,7 +139,7 @@ static void test_floor_carries_weight(void **state) {
   assert_int_equal(adem_world_step(w, (uint64_t)(1.0 / est.dt), &err), ADEM_OK);
   double fz = 0.0; /* the floor pushes the bed up with the force the bed presses down */
   for (size_t k = 0; k < w->pw.n; ++k)
-    if ((int)w->pw.b[k] == floor) fz += w->pw.force_a[k].z;
+    if ((int)w->pw.b[k] == floor) fz += w->pw.res[k].force_a.z;
   adem_diagnostics d = adem_world_diagnostics(w);
   printf("# floor load / weight = %.6f, kinetic energy left = %.3e J\n", fz / weight, d.kinetic);
   assert_true(fabs(fz / weight - 1.0) < 1e-3);

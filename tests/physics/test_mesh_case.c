@@ -221,7 +221,7 @@ static void test_bed_weight_on_floor(void **state) {
   /* and to the force of all mesh contacts on the mesh, summed over the contacts */
   adem_vec3 contacts = v3_zero(), groups_now[5], file_now;
   for (size_t k = 0; k < w->pm.l.n; ++k)
-    if (w->pm.l.touching[k]) contacts = v3_sub(contacts, w->pm.l.force_a[k]);
+    if (w->pm.l.touching[k]) contacts = v3_sub(contacts, w->pm.l.res[k].force_a);
   adem_world_mesh_loads(w, groups_now, NULL, &file_now, NULL);
   printf("# contact sum (%.9g, %.9g, %.9g) N, file total (%.9g, %.9g, %.9g) N\n", contacts.x,
          contacts.y, contacts.z, file_now.x, file_now.y, file_now.z);
