@@ -479,8 +479,19 @@ static adem_status ehat_table(const adem_validation_context *ctx, bool h24, size
       double lambda = log_point(1e2, 1e7, k, nl);
       sp[k * NAD + a] = h24 ? pair_spec_h24(lambda, fig7_ad[a], steps_per_tc(ctx))
                              : pair_spec(lambda, fig7_ad[a], steps_per_tc(ctx));
+      sp[k * NAD + a].normal_law = normal_law_id(ctx);
     }
-  adem_collide_many(sp, res, n, ctx->nthreads);
+  if (h24) {
+    /* Fig. 8: one time step per Ad for every lambda, the stiffest case's (lambda = 1e7), so
+     * that the softer materials take more steps per collision: the comparison then measures
+     * the physics, not one discrete map rescaled */
+    adem_collide_many(&sp[(nl - 1) * NAD], &res[(nl - 1) * NAD], NAD, ctx->nthreads);
+    for (size_t k = 0; k + 1 < nl; ++k)
+      for (int a = 0; a < NAD; ++a) sp[k * NAD + a].dt = res[(nl - 1) * NAD + a].dt;
+    adem_collide_many(sp, res, (nl - 1) * NAD, ctx->nthreads);
+  } else {
+    adem_collide_many(sp, res, n, ctx->nthreads);
+  }
   *sp_out = sp;
   *res_out = res;
   return batch_status(res, n, err);
@@ -592,43 +603,60 @@ static adem_status fig8(const adem_validation_context *ctx, const char *name,
   adem_collision_result *res = NULL;
   adem_status st = ehat_table(ctx, true, nl, &sp, &res, err);
   if (!st) st = fig78_write(ctx, name, true, nl, sp, res, err);
-  /* reference: the same Ad at lambda0 exactly */
+  /* reference: the same Ad at lambda0 (engine) and, for every point, the independent
+   * integration of the same normal equation (normal_ode.c) */
   adem_collision_spec ref_sp[NAD];
   adem_collision_result ref[NAD];
-  for (int a = 0; a < NAD; ++a) ref_sp[a] = pair_spec(LAMBDA0, fig7_ad[a], steps_per_tc(ctx));
+  for (int a = 0; a < NAD; ++a) {
+    ref_sp[a] = pair_spec(LAMBDA0, fig7_ad[a], steps_per_tc(ctx));
+    ref_sp[a].normal_law = normal_law_id(ctx);
+  }
   if (!st) {
     adem_collide_many(ref_sp, ref, NAD, ctx->nthreads);
     st = batch_status(ref, NAD, err);
   }
-  double dev[NAD] = {0}, worst = 0.0;
-  bool same_outcome = true;
-  for (int a = 0; a < NAD && !st; ++a)
+  double dev[NAD] = {0}, worst = 0.0, dode[NAD] = {0}, worst_ode = 0.0, e_ode[NAD];
+  bool same_outcome = true, ode_outcome = true;
+  for (int a = 0; a < NAD && !st; ++a) {
+    e_ode[a] = ode_collide(&ref_sp[a]).e_eff;
     for (size_t k = 0; k < nl; ++k) {
       const adem_collision_result *r = &res[k * NAD + a];
+      adem_normal_ode_result o = ode_collide(&sp[k * NAD + a]);
       dev[a] = fmax(dev[a], fabs(r->e_eff - ref[a].e_eff) / 0.3);
+      double d = fabs(r->e_eff - o.e_eff);
+      dode[a] = fmax(dode[a], isnan(d) ? INFINITY : d);
       if (r->stuck != ref[a].stuck) same_outcome = false;
+      if (r->stuck != o.stuck) ode_outcome = false;
     }
-  for (int a = 0; a < NAD; ++a) worst = fmax(worst, dev[a]);
+  }
+  for (int a = 0; a < NAD; ++a) worst = fmax(worst, dev[a]), worst_ode = fmax(worst_ode, dode[a]);
+  double dt_lo = res[(nl - 1) * NAD].dt, dt_hi = res[(nl - 1) * NAD + NAD - 1].dt;
   free(sp);
   free(res);
   if (st) return st;
-  char list[512] = "";
+  char list[640] = "";
   for (int a = 0, len = 0; a < NAD; ++a)
-    len += snprintf(list + len, sizeof list - (size_t)len, "%s%g: %.4f (max dev %.1e)",
-                    a ? ", " : "", fig7_ad[a], ref[a].e_eff / 0.3, dev[a]);
+    len += snprintf(list + len, sizeof list - (size_t)len, "%s%g: %.4f (ODE %.4f; max dev %.1e)",
+                    a ? ", " : "", fig7_ad[a], ref[a].e_eff / 0.3, e_ode[a] / 0.3, dev[a]);
   snprintf(rep->claim, sizeof rep->claim,
            "H Fig. 8 and section 5.2: when the stiffness is changed from lambda = 1e6 and gamma "
            "follows H24, e_eff/e keeps its value at lambda = 1e6 for every lambda in 1e2-1e7.");
   snprintf(rep->measured, sizeof rep->measured,
-           "%zu lambdas x %d Ad; e_eff/e at lambda = 1e6 and largest deviation over lambda: Ad = "
-           "%s. Worst deviation %.2e; stick/rebound outcome %s.",
-           nl, NAD, list, worst, same_outcome ? "the same everywhere" : "CHANGES");
+           "%zu lambdas x %d Ad, one step per Ad for all lambda (lambda = 1e7's, %.3g-%.3g s); "
+           "e_eff/e at lambda = 1e6: Ad = %s. Largest deviation over lambda %.2e; largest "
+           "|e_eff - e_eff(ODE)| = %.2e (tolerance %.0e); stick/rebound outcome %s, %s the "
+           "ODE's.",
+           nl, NAD, dt_lo, dt_hi, list, worst, worst_ode, e_eff_tol(ctx),
+           same_outcome ? "the same everywhere" : "CHANGES", ode_outcome ? "as" : "NOT as");
   snprintf(rep->notes, sizeof rep->notes,
-           "Ad is the value at lambda = 1e6 (text definition, notes section 7); at lambda the "
-           "surface energy is gamma (lambda/1e6)^(2/5). For lambda > 1e6 this is a stiffer "
-           "material (f > 1), which stiffness_factor does not allow, so E and gamma are set "
-           "directly. Pass: deviation < 0.005 and the same outcome everywhere.");
-  rep->pass = worst < 0.005 && same_outcome;
+           "Detects: an e_eff that differs from an independent adaptive integration of H8-H13 "
+           "at any lambda (a wrong F_C or H24 scaling; with one step for all lambda, a step error "
+           "that grows with softness). Cannot detect: errors of the equation itself. Ad at lambda "
+           "= 1e6 (text definition); at lambda, gamma (lambda/1e6)^(2/5); above 1e6 E and gamma "
+           "are set directly (f > 1). Pass: |e_eff - e_ODE| within the tolerance of Fig. 5 "
+           "(pairs: 2.6e-5 measured at 1000 steps, 2.4e-4 at 200), e_eff/e within 0.005 of its "
+           "value at 1e6 and the same outcome everywhere.");
+  rep->pass = worst < 0.005 && same_outcome && ode_outcome && worst_ode <= e_eff_tol(ctx);
   return ADEM_OK;
 }
 
