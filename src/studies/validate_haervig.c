@@ -587,6 +587,10 @@ static adem_status fig7(const adem_validation_context *ctx, const char *name,
            "%.4f at 1e7.",
            nl, NAD, list, c, slope, ehat_low, ehat_top);
   snprintf(rep->notes, sizeof rep->notes,
+           "Detects: a capture threshold that does not grow with Ad, a fitted exponent off 5/2. "
+           "Cannot detect: a wrong F_C or damping (in JKR units the normal motion has the one "
+           "parameter lambda^(2/3) Ad^(-5/3), so the exponent holds for any law F_C "
+           "phi(delta/delta_c); haervig-fig8 and fig12 check against the ODE). "
            "Ad is the text's 3 gamma/(rho v^2 r) (1+b^3)/((1+b^2) b) with b = 1 (notes section 7), "
            "not the caption's gamma/(rho v^2 R), which is 2/3 of it for equal spheres. The paper's "
            "Ad values are not given: these are chosen so that lambda_crit falls in the plotted "
@@ -953,6 +957,9 @@ static adem_status fig4(const adem_validation_context *ctx, const char *name,
            n + 1, sl[0], xr[0], sl[1], xr[1], pow(f, -1.0 / 3.0), sl[2], pow(f, 0.4), xr[2],
            pow(f, -0.2), sl[3], xr[3], m_max[0], m_max[1], m_max[2], m_max[3], worst, mod_dev);
   snprintf(rep->notes, sizeof rep->notes,
+           "Detects: a DTK torque whose slope, xi_crit or rolling modification differs from "
+           "H18-H22 and section 3.2 (1e-9). Cannot detect: the rolling dynamics (see "
+           "haervig-rolling-invariance). "
            "Each point is one force pass of the engine's own world (adem_collide_dtk_torque): the "
            "sphere of Fig. 5 (R = 0.635 um, E = 271 MPa, gamma = 0.11 J/m^2) resting at the JKR "
            "equilibrium, rolled by xi without slip. delta_gamma/gamma = 0.5 and f = 0.1 are "
@@ -971,7 +978,8 @@ static const double map_f[MAP_F] = {0.5, 2.0};
 
 static adem_status fig10(const adem_validation_context *ctx, const char *name,
                          adem_validation_report *rep, adem_error *err) {
-  size_t nl = ctx->quick ? 8 : 15, na = ctx->quick ? 5 : 9;
+  enum { NA_MAX = 9 };
+  size_t nl = ctx->quick ? 8 : 15, na = ctx->quick ? 5 : NA_MAX;
   size_t n = nl * na * MAP_E * MAP_F;
   adem_collision_spec *sp = malloc(n * sizeof *sp);
   adem_collision_result *res = malloc(n * sizeof *res);
@@ -988,31 +996,37 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
           sp[k++] = deposition_spec(log_point(1e2, 1e9, l, nl), log_point(3.0, 300.0, a, na),
                                     map_e[e], map_f[h], steps_per_tc(ctx));
   adem_collide_many(sp, res, n, ctx->nthreads);
-  /* The border: lambda_crit at Ad = 30 and H25's exponent (haervig-fig11 measures it). */
-  double c[MAP_E];
+  /* The border at every Ad of the grid (bisection, not extended from one Ad by H25), and the
+   * fit of H25 over them. */
+  double lcrit[MAP_E][NA_MAX], ads[NA_MAX], c[MAP_E], kfit[MAP_E];
   adem_status st = ADEM_OK;
+  for (size_t a = 0; a < na; ++a) ads[a] = log_point(3.0, 300.0, a, na);
   for (int e = 0; e < MAP_E && !st; ++e) {
-    adem_collision_spec b = deposition_spec(1e6, 30.0, map_e[e], map_f[0], steps_per_tc(ctx));
-    double lc = NAN;
-    st = critical_lambda(ctx, &b, 0.0, &lc, err);
-    c[e] = lc / pow(30.0, 2.5);
+    double guess = 0.0;
+    for (size_t a = 0; a < na && !st; ++a) {
+      adem_collision_spec b = deposition_spec(1e6, ads[a], map_e[e], map_f[0], steps_per_tc(ctx));
+      st = critical_lambda(ctx, &b, guess, &lcrit[e][a], err);
+      if (!st && a + 1 < na) guess = lcrit[e][a] * pow(ads[a + 1] / ads[a], 2.5);
+    }
+    if (!st) adem_collide_fit_power(ads, lcrit[e], na, &c[e], &kfit[e]);
   }
   size_t lost = 0, off_border = 0, wrong_roll = 0, undecided = 0, count[4] = {0};
   adem_table t;
   if (!st && adem_table_init(&t, "lambda,Ad,restitution,F_hat,outcome_code,roll_distance_over_r,"
-                                 "t_rest_over_T_roll"))
+                                 "t_rest_over_T_roll,lambda_crit_at_Ad"))
     st = nomem(err);
   for (k = 0; k < n && !st; ++k) {
     const adem_collision_result *r = &res[k];
     double lam = adem_collide_lambda(&sp[k]), ad = adem_collide_ad(&sp[k]);
-    double row[7] = {lam, ad, sp[k].restitution, sp[k].force_hat, -1.0, NAN, NAN};
+    int e = sp[k].restitution == map_e[0] ? 0 : 1;
+    size_t a = (k / nl) % na;
+    double lc = lcrit[e][a];
+    double row[8] = {lam, ad, sp[k].restitution, sp[k].force_hat, -1.0, NAN, NAN, lc};
     if (r->status) {
       /* too soft to run (the overlap reached the radius): left out */
       if (r->status != ADEM_ERR_RUNTIME) st = batch_status(r, 1, err);
       ++lost;
     } else {
-      int e = sp[k].restitution == map_e[0] ? 0 : 1;
-      double lc = c[e] * pow(ad, 2.5);
       bool captured = r->outcome != ADEM_OUTCOME_REBOUND;
       if ((lam < lc * (1.0 - 1e-3) && !captured) || (lam > lc * (1.0 + 1e-3) && captured))
         ++off_border;
@@ -1028,57 +1042,78 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
     if (!st && adem_table_add(&t, row)) st = nomem(err);
   }
   if (!st) {
-    char body[4096];
+    /* One outcome map per e: each grid point a tile, F_hat = 0.5 on its left half and 2 on its
+     * right half, coloured by outcome; the border measured at every Ad. */
+    double tile = pow(300.0 / 3.0, 1.0 / (double)(na - 1));
+    double tl = pow(1e7, 1.0 / (double)(nl - 1));
+    char body[6144];
     int len = snprintf(body, sizeof body,
-                       "set multiplot layout 2,2 title 'Oblique wall impacts (psi = 45 deg) with "
-                       "DTK and F_ext parallel to the wall (H Fig. 10): o rebound, + rolling, "
-                       "x stuck'\nset logscale xy\nset xrange [2:400]\nset yrange [50:2e9]\n"
+                       "set multiplot layout 1,2 title 'Oblique wall impacts (psi = 45 deg), DTK, "
+                       "F_ext along the wall (H Fig. 10): blue rebound, green rolling, red stuck; "
+                       "left half of a tile F_hat = 0.5, right half F_hat = 2; grey: not run; dots: lambda_crit "
+                       "by bisection at each Ad'\n"
+                       "set logscale xy\nset xrange [%g:%g]\nset yrange [%g:%g]\n"
                        "set format y '1e%%L'\nset xlabel 'Ad = 3 gamma/(rho v^2 sin^2 psi r)'\n"
-                       "set ylabel 'lambda = E/(rho v^2 sin^2 psi)'\nset grid\nunset key\n");
-    for (int e = 0; e < MAP_E; ++e)
-      for (int h = 0; h < MAP_F; ++h) {
-        char sel[128];
-        snprintf(sel, sizeof sel, "(abs($3-%g)<1e-9 && abs($4-%g)<1e-9 && $5==", map_e[e],
-                 map_f[h]);
-        len += snprintf(body + len, sizeof body - (size_t)len,
-                        "set title 'e = %g, F_ext/F_yield = %g'\n"
-                        "plot f skip 1 using 2:(%s0) ? $1 : 1/0) pt 6 ps 1.2 "
-                        "lc rgb 'royalblue', "
-                        "f skip 1 using 2:(%s2) ? $1 : 1/0) pt 1 ps 1.5 lw 2 "
-                        "lc rgb 'forest-green', "
-                        "f skip 1 using 2:(%s3) ? $1 : 1/0) pt 2 ps 1.2 lw 2 lc rgb 'red', "
-                        "%.6g*x**2.5 with lines lw 2 lc rgb 'black'\n",
-                        map_e[e], map_f[h], sel, sel, sel, c[e]);
-      }
+                       "set ylabel 'lambda = E/(rho v^2 sin^2 psi)'\nunset key\n"
+                       "col(o) = o == 0 ? 0x4169e1 : o == 2 ? 0x228b22 : o == 3 ? 0xdc143c : "
+                       "0xbbbbbb\n",
+                       3.0 / sqrt(tile), 300.0 * sqrt(tile), 1e2 / sqrt(tl), 1e9 * sqrt(tl));
+    for (int e = 0; e < MAP_E; ++e) {
+      char sel[96];
+      snprintf(sel, sizeof sel, "abs($3-%g)<1e-9", map_e[e]);
+      len += snprintf(body + len, sizeof body - (size_t)len,
+                      "set title 'e = %g'\n"
+                      "plot f skip 1 using ((%s && $4 < 1) ? $2/%.6g : 1/0):1:($2/%.6g):($2):"
+                      "($1/%.6g):($1*%.6g):(col($5)) with boxxyerror fs solid 0.8 noborder "
+                      "lc rgb variable, \\\n"
+                      "  f skip 1 using ((%s && $4 > 1) ? $2*%.6g : 1/0):1:($2):($2*%.6g):"
+                      "($1/%.6g):($1*%.6g):(col($5)) with boxxyerror fs solid 0.8 noborder "
+                      "lc rgb variable, \\\n"
+                      "  f skip 1 using ((%s && $4 < 1 && $1 == 1e2) ? $2 : 1/0):8 with "
+                      "linespoints lw 3 pt 7 lc rgb 'black'\n",
+                      map_e[e], sel, pow(tile, 0.25), sqrt(tile), sqrt(tl), sqrt(tl), sel,
+                      pow(tile, 0.25), sqrt(tile), sqrt(tl), sqrt(tl), sel);
+    }
     snprintf(body + len, sizeof body - (size_t)len, "unset multiplot\n");
-    st = write_outputs(ctx, name, &t, body, err);
+    char *csv = adem_validate_path(ctx, name, "csv");
+    st = csv ? adem_table_write_csv(&t, csv, err) : nomem(err);
+    free(csv);
+    if (!st) st = adem_validate_plot(ctx, name, 1500, 700, body, err);
     adem_table_free(&t);
   }
   free(sp);
   free(res);
   if (st) return st;
+  char border[2][160];
+  for (int e = 0; e < MAP_E; ++e) {
+    int len = snprintf(border[e], sizeof border[e], "e = %g:", map_e[e]);
+    for (size_t a = 0; a < na; ++a)
+      len += snprintf(border[e] + len, sizeof border[e] - (size_t)len, " %.3g", lcrit[e][a]);
+  }
   snprintf(rep->claim, sizeof rep->claim,
            "H Fig. 10 and section 5.3: an oblique impact with a constant force parallel to the "
            "wall ends in rebound (high lambda, high e, low Ad), rolling (attached, "
-           "F_ext/F_yield >= 1) or sticking after some rolling (attached, F_ext/F_yield < 1); the border between "
-           "rebound and attachment follows lambda_crit = c(e) Ad^(5/2) (H25).");
+           "F_ext/F_yield >= 1) or sticking after some rolling (attached, F_ext/F_yield < 1); the "
+           "border between rebound and attachment follows lambda_crit = c(e) Ad^(5/2) (H25).");
   snprintf(rep->measured, sizeof rep->measured,
            "%zu impacts (%zu lambda x %zu Ad x e = 0.3, 0.7 x F_hat = 0.5, 2): %zu rebound, "
-           "%zu rolling, %zu stuck, %zu too soft to run (left out), %zu undecided. Border "
-           "lambda_crit = c Ad^2.5 with c = %.4g (e = 0.3), %.4g (e = 0.7) from a bisection at "
-           "Ad = 30: %zu points on the wrong side. Attached spheres with F_hat = 0.5 not stuck or "
-           "with F_hat = 2 not rolling: %zu.",
+           "%zu rolling, %zu stuck, %zu too soft to run (left out), %zu undecided. Border by "
+           "bisection at every Ad (%g-%g): %s; %s; fits c = %.4g Ad^%.4f and %.4g Ad^%.4f. "
+           "Points on the wrong side of their Ad's border: %zu. Attached spheres with F_hat = "
+           "0.5 not stuck or with F_hat = 2 not rolling: %zu.",
            n, nl, na, count[ADEM_OUTCOME_REBOUND], count[ADEM_OUTCOME_ROLLING],
-           count[ADEM_OUTCOME_STUCK], lost, undecided, c[0], c[1], off_border, wrong_roll);
+           count[ADEM_OUTCOME_STUCK], lost, undecided, ads[0], ads[na - 1], border[0], border[1],
+           c[0], kfit[0], c[1], kfit[1], off_border, wrong_roll);
   snprintf(rep->notes, sizeof rep->notes,
-           "H gives no parameters: r = 1 um, rho = 1000 kg/m^3, v = 1 m/s at psi = 45 deg, nu = "
-           "0.3, mu = 0.3, delta_gamma/gamma = 0.5; E and gamma from lambda and Ad with sin^2 psi "
-           "(text definitions). F_yield = 4 F_C xi_crit/r (notes section 4, with the 1/R H "
-           "drops). Outcome rule in src/collide.h (stuck: |xi| < xi_crit and slow for 3 rolling "
-           "periods; rolling: torque saturated, normal motion settled, speed not decaying). Very "
+           "Detects: an outcome that contradicts its Ad's own border or F_hat (a rolling rule "
+           "or a capture that depends on rolling). Cannot detect: the exponent 5/2 (it holds for "
+           "any law F_C phi(delta/delta_c), see haervig-fig12 for the absolute check). H gives "
+           "no parameters: r = 1 um, rho = 1000 kg/m^3, v = 1 m/s at 45 deg, nu = 0.3, mu = 0.3, "
+           "delta_gamma/gamma = 0.5; F_yield = 4 F_C xi_crit/r. Outcome rule in collide.h. Very "
            "soft, very adhesive corners (overlap reaching r) are not run. Pass: no point on the "
-           "wrong side of the border, F_hat alone decides rolling/stuck, c(0.7) < c(0.3).");
+           "wrong side, F_hat alone decides rolling/stuck, c(0.7) < c(0.3), |k - 2.5| < 0.05.");
   rep->pass = off_border == 0 && wrong_roll == 0 && undecided == 0 && c[1] < c[0] &&
+              fabs(kfit[0] - 2.5) < 0.05 && fabs(kfit[1] - 2.5) < 0.05 &&
               count[ADEM_OUTCOME_ROLLING] > 0 && count[ADEM_OUTCOME_STUCK] > 0 &&
               count[ADEM_OUTCOME_REBOUND] > 0;
   return ADEM_OK;
@@ -1170,6 +1205,10 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
            "one; head-on pair lambda_crit ratio wall/pair %.4f (sqrt 2 = 1.4142).",
            na, lambda_tol(ctx), list, worst, normal_dev, ratio);
   snprintf(rep->notes, sizeof rep->notes,
+           "Detects: an exponent off 5/2, a c that does not fall with e, a capture that feels "
+           "DTK or the wall/pair geometry wrongly. Cannot detect: c's absolute value or a wrong "
+           "F_C (any law F_C phi(delta/delta_c) gives 5/2; haervig-fig12 checks c against the "
+           "ODE). "
            "Wall impacts, as H's text says (Fig. 11 is the border of Fig. 10): the spheres of "
            "haervig-fig10 at psi = 45 deg with DTK and F_hat = 0.5. On a flat wall the normal "
            "motion is independent of psi, F_ext and rolling, so the border is that of normal "
@@ -1380,6 +1419,8 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
            a[0].t_rest * 1e6, a[1].t_rest * 1e6, a[2].t_rest * 1e6, fc_mod[0], fc_mod[1],
            fc_mod[2], worst_fc, fc_e[1], fc_e[2], worst_e);
   snprintf(rep->notes, sizeof rep->notes,
+           "Detects: an outcome that changes with f, a threshold at rest off F_hat = 1 (or "
+           "f^(-1/3) with E alone). Cannot detect: the travel distances' values (no reference). "
            "Why farther at lower f (H 3.2, 6.2): at equilibrium the modified law equals the "
            "original, but until the normal oscillation has died out a swings about a0 and "
            "k_r = 4F_C(a/a0)^(3/2) with it, and the saturated torque dips below F_ext r; that "

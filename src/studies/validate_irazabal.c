@@ -379,6 +379,9 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
              a.rest_omega, a.rest_speed, fmax(fabs(b.rest_tmin), fabs(b.rest_tmax)),
              b.rest_omega, b.rest_omega == 0.0 ? "exactly 0" : "not exactly 0", b.rest_speed);
     snprintf(rep->notes, sizeof rep->notes,
+             "Detects: a rolling deceleration or torque off (5/7) eta_r g and e_c|F_n| (1%%), a stop "
+             "point off the closed form (2%%), a BROF that moves at rest, a model A that does not "
+             "flip. Cannot detect: I's curves (no numbers). "
              "Sphere radius %g m (I omits it; Ai et al. 2011 chose theirs), rigid surface with the "
              "sphere's e, mu and eta_r, dt = %g s (Table 1). Settled %g s at its static overlap, "
              "then launched at %g m/s without spin: it slides for %.4f s (closed form) before "
@@ -931,6 +934,8 @@ static adem_status pile(const adem_validation_context *ctx, const char *name,
              s[0].balance_error / s[0].initial, s[1].balance_error / s[1].initial,
              s[2].balance_error / s[2].initial);
     snprintf(rep->notes, sizeof rep->notes,
+             "Detects: a BROF pile that does not come to rest (1e-12 of sum m g r) or a model A "
+             "pile that does. Cannot detect: the size of model A's creep in I (not given). "
              "Not a figure of I: the paper states the effect in words. Table 1 material (E = 4e7 "
              "Pa, eta_r = 0.2, dt = 5e-5 s, about 13 steps per collision at the 3.4 m/s impact "
              "speed of the full-size fall: the engine warns that this is above its proposal); "
