@@ -223,7 +223,8 @@ typedef struct adem_validation_context {
   /* Law overrides, for the tests that show a validation can fail with a wrong law: the name of a
    * row of laws.h used instead of the paper's law (NULL: the paper's). normal_law replaces the
    * simplified JKR law of the Haervig validations (their collisions and the curves of Fig. 3);
-   * rolling_law replaces model C in irazabal-fig6. */
+   * rolling_law replaces model C in irazabal-fig6 and fig9 (Ai et al.'s variant) and DTK in
+   * haervig-fig10. */
   const char *normal_law;
   const char *rolling_law;
 } adem_validation_context;

@@ -995,6 +995,9 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
         for (size_t l = 0; l < nl; ++l)
           sp[k++] = deposition_spec(log_point(1e2, 1e9, l, nl), log_point(3.0, 300.0, a, na),
                                     map_e[e], map_f[h], steps_per_tc(ctx));
+  /* a wrong rolling law in place of DTK: the tests of this figure */
+  const adem_law *roll = ctx->rolling_law ? adem_law_find(ADEM_SLOT_ROLLING, ctx->rolling_law) : NULL;
+  for (k = 0; k < n && roll; ++k) sp[k].rolling_law = roll->id;
   adem_collide_many(sp, res, n, ctx->nthreads);
   /* The border at every Ad of the grid (bisection, not extended from one Ad by H25), and the
    * fit of H25 over them. */

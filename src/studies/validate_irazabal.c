@@ -628,8 +628,14 @@ static adem_status slope_validation(const adem_validation_context *ctx, const ch
   rolling_closed_form cf[3];
   adem_status st = ADEM_OK;
   int made = 0;
+  adem_rolling_model main_model = model;
+  if (!brof && ctx->rolling_law) { /* a wrong law in place of model C: the tests of this figure */
+    const adem_law *l = adem_law_find(ADEM_SLOT_ROLLING, ctx->rolling_law);
+    if (!l) return adem_error_set(err, ADEM_ERR_INPUT, "unknown rolling law %s", ctx->rolling_law);
+    main_model = (adem_rolling_model)l->id;
+  }
   for (int k = 0; k < nrun && !st; ++k) {
-    adem_rolling_model mk = k < 3 ? model : ADEM_ROLLING_C_CAPPED;
+    adem_rolling_model mk = k < 3 ? main_model : ADEM_ROLLING_C_CAPPED;
     sphere_setup su = {mk, etas[k % 3], brof ? 0.0 : MODEL_C_DAMPING, beta};
     st = sphere_run(&su, duration, &tr[k], err);
     if (st) break;

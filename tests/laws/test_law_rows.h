@@ -8,7 +8,12 @@
     "rolling_friction", "test", "Test only: viscous rolling couple -eta_r R_r |F_n| (omega_rel / 1 rad/s).") \
   X(ADEM_ROLLING_TEST_MODEL_C_STIFF, "test_model_c_stiff", adem_rolling_test_model_c_stiff_law, 3, \
     "", 0, "rolling_friction rolling_damping", "test",                                   \
-    "Test only, a wrong law: model C with k_r 1.1 times Ai et al.'s.")
+    "Test only, a wrong law: model C with k_r 1.1 times Ai et al.'s.")                  \
+  X(ADEM_ROLLING_TEST_MODEL_C_HALF_LIMIT, "test_model_c_half_limit",                     \
+    adem_rolling_test_model_c_half_limit_law, 3, "", 0, "rolling_friction rolling_damping", \
+    "test", "Test only, a wrong law: model C limited to half of eta_r R_r |F_n|.")         \
+  X(ADEM_ROLLING_TEST_DTK_SOFT, "test_dtk_soft", adem_rolling_test_dtk_soft_law, 3, "jkr", 0, \
+    "adhesion_hysteresis", "test", "Test only, a wrong law: DTK with k_r 0.2 times H20's.")
 
 /* Deliberately wrong normal laws, for the tests that show a validation fails with a wrong law
  * (tests/laws/test_perturbed_validations.c). */

@@ -1,9 +1,11 @@
 /* Each changed validation can fail: run with a deliberately wrong law (rows that exist only in
  * this test build, tests/laws/test_law_rows.h) its criterion must report FAIL, and with the
  * paper's law PASS. Wrong laws: simplified JKR with gamma (so F_C) x 1.05 (test_jkr_fc105), with
- * gamma x (E/E_real)^0.05, a pull-off that depends on the stiffness factor (test_jkr_epull), and
- * model C with k_r x 1.1 (test_model_c_stiff). Claims: H Figs. 3, 5, 8, 12, 13 and I Fig. 6 as
- * their validations state them (docs/validation.md) are not true by construction. */
+ * gamma x (E/E_real)^0.05, a pull-off that depends on the stiffness factor (test_jkr_epull),
+ * model C with k_r x 1.1 (test_model_c_stiff) or limited to half its bound
+ * (test_model_c_half_limit), DTK with k_r x 0.2 (test_dtk_soft). Claims: H Figs. 3, 5, 8,
+ * 10, 12, 13 and I Figs. 6, 9 as their validations state them (docs/validation.md) are not true
+ * by construction. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -76,6 +78,16 @@ static void test_fig12(void **state) {
   assert_int_equal(run("haervig-fig12", true, "test_jkr_fc105", NULL), 1);
 }
 
+static void test_fig10(void **state) {
+  (void)state;
+  assert_int_equal(run("haervig-fig10", true, NULL, "test_dtk_soft"), 1);
+}
+
+static void test_irazabal_fig9(void **state) {
+  (void)state;
+  assert_int_equal(run("irazabal-fig9", true, NULL, "test_model_c_half_limit"), 1);
+}
+
 static void test_irazabal_fig6(void **state) {
   (void)state;
   assert_int_equal(run("irazabal-fig6", true, NULL, "test_model_c_stiff"), 1);
@@ -85,7 +97,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_fig3),  cmocka_unit_test(test_fig5),
       cmocka_unit_test(test_fig13), cmocka_unit_test(test_fig8),
-      cmocka_unit_test(test_fig12), cmocka_unit_test(test_irazabal_fig6),
+      cmocka_unit_test(test_fig12), cmocka_unit_test(test_fig10),
+      cmocka_unit_test(test_irazabal_fig6), cmocka_unit_test(test_irazabal_fig9),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }
