@@ -1275,10 +1275,10 @@ static adem_status fig12(const adem_validation_context *ctx, const char *name,
              "set title 'Coefficient c of lambda_crit = c Ad^(5/2), wall impacts (H Fig. 12)'\n"
              "set logscale y\nset format y '1e%%L'\nset xlabel 'coefficient of restitution e'\n"
              "set ylabel 'c'\nset grid\nset xrange [0:1]\n"
+             "$ode << EOD\n0.3,%.10g\n0.7,%.10g\nEOD\n"
              "plot f skip 1 using 1:2 with linespoints pt 7 lw 2 title 'Ad = 100', "
              "f skip 1 using 1:3 pt 6 ps 2 lw 2 title 'Ad = 1000', \\\n"
-             "  '-' using 1:2 pt 4 ps 3 lw 2 lc rgb 'black' title 'ODE reference (H8-H13)'\n"
-             "0.3 %.10g\n0.7 %.10g\ne\n",
+             "  $ode using 1:2 pt 4 ps 3 lw 2 lc rgb 'black' title 'ODE reference (H8-H13)'\n",
              c_ode[0], c_ode[1]);
     st = write_outputs(ctx, name, &t, body, err);
   }
