@@ -45,7 +45,7 @@ int cmd_validate(int argc, char **argv) {
   const char **names = calloc((size_t)argc + 1, sizeof *names);
   if (!names) return fail(EXIT_INTERNAL, "out of memory");
   int nnames = 0, threads = 0, list = 0, rc = EXIT_OK;
-  adem_validation_context ctx = {"out/validate", 0, false};
+  adem_validation_context ctx = {"out/validate", 0, false, NULL, NULL};
   for (int i = 0; i < argc && !rc; ++i) {
     const char *a = argv[i], *v;
     int missing = 0;

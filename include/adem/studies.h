@@ -147,6 +147,12 @@ double adem_collide_force(const adem_collision_spec *s);
 adem_status adem_collide_dtk_torque(const adem_collision_spec *s, double xi, double *torque,
                                     adem_error *err);
 
+/* The elastic normal force (N, > 0 repulsive) the engine applies to the spec's sphere resting on
+ * the wall with overlap delta >= 0, at rest (no dashpot): one force pass of the spec's world, so
+ * its normal law (normal_law) and the material derivation (f, H24) are the engine's. */
+adem_status adem_collide_normal_force(const adem_collision_spec *s, double delta, double *force,
+                                      adem_error *err);
+
 /* Hertz collision time t_c = 2.86827 (m*^2/(R E^2 v))^(1/5) (notes section 6). */
 
 /* One collision in its own world (one thread). Never prints.
@@ -214,6 +220,13 @@ typedef struct adem_validation_context {
   const char *out_dir;
   int nthreads;   /* threads the validation may use (collisions in bulk run in parallel) */
   bool quick;     /* a smaller version, for the test suite */
+  /* Law overrides, for the tests that show a validation can fail with a wrong law: the name of a
+   * row of laws.h used instead of the paper's law (NULL: the paper's). normal_law replaces the
+   * simplified JKR law of the Haervig validations (their collisions and the curves of Fig. 3);
+   * rolling_law replaces model C in irazabal-fig6 and fig9 (Ai et al.'s variant) and DTK in
+   * haervig-fig10. */
+  const char *normal_law;
+  const char *rolling_law;
 } adem_validation_context;
 
 typedef struct adem_validation_report {

@@ -618,6 +618,34 @@ adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, 
   return st;
 }
 
+adem_status adem_collide_normal_force(const adem_collision_spec *spec, double delta, double *force,
+                                      adem_error *err) {
+  adem_collision_spec s = *spec;
+  s.at_rest = s.surface_energy > 0.0; /* built at the JKR equilibrium, then moved */
+  s.dtk = false;
+  s.force_ext = s.force_hat = 0.0;
+  const char *bad = check_spec(&s);
+  if (!bad && s.kind != ADEM_COLLISION_WALL) bad = "the normal force needs a wall spec";
+  if (!bad && !(delta >= 0.0 && delta < s.radius)) bad = "the overlap must be in [0, r)";
+  if (bad) return adem_error_set(err, ADEM_ERR_INPUT, "%s", bad);
+  adem_collision_params p = adem_collide_params(&s);
+  double t_ref = p.gamma_mod > 0.0 ? 0.5 * p.t_osc : p.t_c;
+  adem_world *w = adem_world_create();
+  if (!w) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = build_world(&s, &p, t_ref / s.steps_per_tc, w, err);
+  if (!st) {
+    adem_vec3 x = v3(0.0, 0.0, s.radius - delta), zero = v3(0.0, 0.0, 0.0);
+    st = adem_world_set_particle(w, 0, &x, &zero, &zero, err);
+    adem_world_clear_history(w);
+    adem_world_compute_forces(w);
+    bodies b;
+    read_bodies(w, &b);
+    *force = b.f[0].z; /* the force on the sphere along the wall normal: F_N */
+  }
+  adem_world_free(w);
+  return st;
+}
+
 void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
                        int nthreads) {
   if (nthreads < 1) nthreads = 1;

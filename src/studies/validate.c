@@ -210,6 +210,10 @@ adem_status adem_validate_run(const char *const *names, int n, const adem_valida
     if (!adem_validation_find(names[k]))
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "unknown validation '%s' (adem validate --list shows them)", names[k]);
+  if (ctx->normal_law && !adem_law_find(ADEM_SLOT_NORMAL, ctx->normal_law))
+    return adem_error_set(err, ADEM_ERR_INPUT, "unknown normal law '%s'", ctx->normal_law);
+  if (ctx->rolling_law && !adem_law_find(ADEM_SLOT_ROLLING, ctx->rolling_law))
+    return adem_error_set(err, ADEM_ERR_INPUT, "unknown rolling law '%s'", ctx->rolling_law);
   adem_status st = adem_fileio_mkdir_p(ctx->out_dir, err);
   if (!st) st = adem_fileio_check_writable(ctx->out_dir, err);
   if (st) return st;

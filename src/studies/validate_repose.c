@@ -242,6 +242,8 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   else
     snprintf(rep->measured + m, sizeof rep->measured - (size_t)m, "; rises: %s.", rises ? "yes" : "no");
   snprintf(rep->notes, sizeof rep->notes,
+           "Detects: an angle that does not rise with eta_r, is off 40 +- 3 deg at 0.25 or moves "
+           "with E by 2 deg or more. Cannot detect: a slow creep after the measure. "
            "cases/irazabal/repose.yaml (every choice is in its comments): 1,600 spheres of 0.04-"
            "0.06 m poured at 100/s into an open hopper (60 deg walls) so that no arch forms, a "
            "frictional floor plane with BROF, Table 2 material and steps; each run to 19.5 s (at "

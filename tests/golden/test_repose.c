@@ -25,7 +25,7 @@ static int setup(void **state) {
 
 static void test_quick_fig11_rises(void **state) {
   (void)state;
-  adem_validation_context ctx = {tmpdir, 2, true};
+  adem_validation_context ctx = {tmpdir, 2, true, NULL, NULL};
   const char *names[] = {"irazabal-fig11"};
   int failed = -1;
   adem_error err;

@@ -207,7 +207,7 @@ static void test_fig5_quick(void **state) {
   (void)state;
   const adem_validation *v = adem_validation_find("irazabal-fig5");
   assert_non_null(v);
-  adem_validation_context ctx = {tmpdir, 1, true};
+  adem_validation_context ctx = {tmpdir, 1, true, NULL, NULL};
   adem_validation_report rep;
   memset(&rep, 0, sizeof rep);
   adem_error err;
