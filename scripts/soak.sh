@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # Long-run checks of adem's memory (see docs/reliability.md, "Soak"):
-#   scripts/soak.sh [STEPS]      soak: cases/packing.yaml (a pour of 800 spheres, two stages, a
-#                                lid that comes down) run for STEPS steps (default 1000000,
-#                                about 18.5 s simulated), its resident memory (VmRSS of
+#   scripts/soak.sh [STEPS]      soak: cases/packing.yaml with smaller spheres (a pour of 2400
+#                                spheres of 8 to 12 mm, two stages, a lid that comes down) run
+#                                for STEPS steps (default 1000000, about 12 s simulated), its
+#                                resident memory (VmRSS of
 #                                /proc/PID/status) sampled every ADEM_SOAK_EVERY seconds (default
 #                                5) into build-soak/rss.csv; then whether it grew after warm-up
-#   scripts/soak.sh --valgrind   valgrind memcheck of short runs (the packing case: pours, a
-#                                stage change, plane walls, checkpoints; the hopper: mesh walls, a
-#                                moving gate, a stage; a resume): no error and no leak expected
+#   scripts/soak.sh --valgrind   valgrind memcheck of short runs (fuzz/seeds/case/stages_pour.yaml:
+#                                pours, stages, a moving plane, JKR, rolling, checkpoints, and
+#                                its resume; the hopper: mesh walls, a moving gate, a stage): no
+#                                error and no leak expected
 # Warm-up: everything up to the last change of the case (the pour ends at 0.8 s, the lid stops
 # at 1.51 s) and at least the first tenth of the run; after it the RSS must not grow by more
 # than 1 MiB (the pair lists settle with the bed; any leak per step or per rebuild shows as a
@@ -59,16 +61,14 @@ run_valgrind() {
   build_adem
   local out=$build/valgrind-out rc=0
   rm -rf "$out"
-  # packing: the pour's batches, the `pack` stage ending at 0.02 s (friction back, the lid on),
-  # frames, CSV rows and checkpoints; then a resume from its checkpoint to a later end
-  memcheck packing run cases/packing.yaml --out "$out/packing" --set time.end=0.04 \
-    --set pours.0.end=0.02 --set pours.0.interval=0.005 --set stages.0.duration=0.02 \
-    --set output.frame_interval=0.01 --set output.csv_interval=0.002 \
-    --set output.checkpoint_interval=0.01 --set output.plot=false || rc=1
-  memcheck resume run --resume "$out/packing/checkpoint" --set time.end=0.045 || rc=1
-  # hopper: mesh walls (hopper and gate), the gate's motion table and the stage that opens it
-  memcheck hopper run cases/hopper.yaml --out "$out/hopper" --set time.end=0.01 \
-    --set particles.0.count=100 --set output.frame_interval=0.005 \
+  # pours, stages, a plane wall switched on by a stage and moved by a table, JKR and rolling
+  # resistance, tracked particles, frames, CSV rows, checkpoints (the fuzzers' seed case); then a
+  # resume from its checkpoint to a later end
+  memcheck stages run fuzz/seeds/case/stages_pour.yaml --out "$out/stages" || rc=1
+  memcheck resume run --resume "$out/stages/checkpoint" --set time.end=0.007 || rc=1
+  # hopper: mesh walls (hopper and gate), the gate's motion table, the stage that removes it
+  memcheck hopper run cases/hopper.yaml --out "$out/hopper" --set time.end=0.02 \
+    --set particles.0.count=100 --set stages.0.duration=0.01 --set output.frame_interval=0.005 \
     --set output.csv_interval=0.001 --set output.checkpoint_interval=0.005 \
     --set output.plot=false --set output.plot_loads=false || rc=1
   [ "$rc" -eq 0 ] && echo "soak.sh: memcheck clean" >&2 || echo "soak.sh: memcheck found errors" >&2
@@ -81,12 +81,12 @@ run_soak() {
   local out=$build/soak-out csv=$build/rss.csv
   rm -rf "$out"
   # the proposed step of the case, to turn steps into a simulated end time
-  local dt
-  dt=$("$build/adem" check cases/packing.yaml | awk '/chosen step/ {print $3; exit}')
+  local dt size=(--set pours.0.rate=3000 --set 'pours.0.radius.values=[0.008, 0.01, 0.012]')
+  dt=$("$build/adem" check cases/packing.yaml "${size[@]}" | awk '/chosen step/ {print $3; exit}')
   local end
   end=$(awk -v n="$steps" -v dt="$dt" 'BEGIN {printf "%.9g", n * dt}')
   echo "soak.sh: cases/packing.yaml for $steps steps of $dt s (time.end = $end s), RSS every $every s into $csv" >&2
-  nice -n 10 "$build/adem" run cases/packing.yaml --out "$out" --set time.end="$end" \
+  nice -n 10 "$build/adem" run cases/packing.yaml "${size[@]}" --out "$out" --set time.end="$end" \
     --set output.frame_interval="$(awk -v e="$end" 'BEGIN {printf "%.9g", e / 20}')" \
     --set output.checkpoint_interval="$(awk -v e="$end" 'BEGIN {printf "%.9g", e / 10}')" \
     --set output.csv_interval=0.01 --set output.plot=false --threads 1 --quiet &
@@ -121,6 +121,6 @@ run_soak() {
 
 case ${1:-} in
   --valgrind) run_valgrind ;;
-  -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//' >&2 ;;
+  -h | --help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//' >&2 ;;
   *) run_soak "${1:-1000000}" ;;
 esac
