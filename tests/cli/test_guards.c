@@ -117,7 +117,8 @@ static double restitution_at(const char *path, double dt, const char *extra) {
  * material's 0.9 (measured worst 1.6 % over seven contact phases); a step above it is refused
  * with exit 2 and a message naming the file, line, column, key, the limit and the way out; with
  * limits.allow_large_step it runs, and at t_c/2 the collision is off by more than 5 % (which is
- * what the limit keeps out). */
+ * what the limit keeps out); a stage whose materials are stiffer is checked against its own
+ * limit. */
 static void test_step_limit(void **state) {
   (void)state;
   char *path = write_case("pair.yaml", pair_case);
@@ -146,6 +147,12 @@ static void test_step_limit(void **state) {
   assert_mentions(out, "above it (limits.allow_large_step)");
   double e2 = restitution_at(path, tc / 2.0, "--set limits.allow_large_step=true");
   assert_true(fabs(e2 - 0.9) > 0.05 * 0.9);
+  /* a stage that makes the pair 100 times stiffer (t_c 6.3 times shorter) under the same step */
+  assert_int_equal(adem(&out, "check '%s' --set time.step=3e-5 --set 'stages=[{name: soft, "
+                        "duration: 0.001}, {name: stiff, set: {materials.glass.youngs_modulus: "
+                        "1.0e9}}]'", path), 2);
+  assert_mentions(out, "stages[1] (`stiff`)");
+  assert_mentions(out, "5.33x the stability limit");
   /* strict validation of the key */
   assert_int_equal(adem(&out, "check '%s' --set limits.allow_large_step=3", path), 2);
   assert_mentions(out, "limits.allow_large_step");
