@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test suite under sanitizers (see docs/reliability.md):
-#   scripts/sanitize.sh [asan] [tsan]   (default: both)
+#   scripts/sanitize.sh [--quick] [asan] [tsan]   (default: both)
+# --quick leaves out golden_test_repose (three piles of 400 spheres, minutes under ASan), for CI.
 # asan: clang with -fsanitize=address,undefined -fno-sanitize-recover=all in build-asan; runs the
 #       ctest labels unit, cli, golden and fuzz (the fuzz regression inputs). Any report fails.
 # tsan: clang with -fsanitize=thread and LLVM's OpenMP runtime (libomp) in build-tsan, with the
@@ -18,6 +19,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+exclude='^examples_installed$'
+if [ "${1:-}" = --quick ]; then
+  exclude='^(examples_installed|golden_test_repose)$'
+  shift
+fi
 runs=("$@")
 [ ${#runs[@]} -eq 0 ] && runs=(asan tsan)
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -56,7 +62,7 @@ run_asan() {
   # ASan halts, LeakSanitizer reports at exit.
   ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    nice -n 15 ctest --test-dir build-asan -L "$labels" -E '^examples_installed$' -j"$jobs" --output-on-failure
+    nice -n 15 ctest --test-dir build-asan -L "$labels" -E "$exclude" -j"$jobs" --output-on-failure
   echo "sanitize.sh: asan tests took $((SECONDS - t1)) s" >&2
 }
 
@@ -73,7 +79,7 @@ run_tsan() {
   if setarch "$(uname -m)" -R true 2>/dev/null; then setarch=(setarch "$(uname -m)" -R); fi
   OMP_TOOL_LIBRARIES=$archer ARCHER_OPTIONS=verbose=1 \
   TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tools/tsan.supp" \
-    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -L golden -E '^examples_installed$' -j"$jobs" --output-on-failure
+    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -L golden -E "$exclude" -j"$jobs" --output-on-failure
   echo "sanitize.sh: tsan tests took $((SECONDS - t1)) s" >&2
 }
 
@@ -82,6 +88,6 @@ for r in "${runs[@]}"; do
   case $r in
     asan) run_asan ;;
     tsan) run_tsan ;;
-    *) echo "usage: scripts/sanitize.sh [asan] [tsan]" >&2; exit 2 ;;
+    *) echo "usage: scripts/sanitize.sh [--quick] [asan] [tsan]" >&2; exit 2 ;;
   esac
 done
