@@ -2,7 +2,7 @@
 # Long-run checks of adem's memory (see docs/reliability.md, "Soak"):
 #   scripts/soak.sh [STEPS]      soak: cases/packing.yaml with smaller spheres (a pour of 2400
 #                                spheres of 8 to 12 mm, two stages, a lid that comes down) run
-#                                for STEPS steps (default 1000000, about 12 s simulated), its
+#                                for STEPS steps (default 1000000, about 12 s simulated, 40 min), its
 #                                resident memory (VmRSS of
 #                                /proc/PID/status) sampled every ADEM_SOAK_EVERY seconds (default
 #                                5) into build-soak/rss.csv; then whether it grew after warm-up
