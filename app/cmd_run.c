@@ -176,6 +176,15 @@ int cmd_run(int argc, char **argv) {
   st = adem_run(c, &opt, &err);
   double spent = cli_now() - t0;
   end_progress_line();
+  /* steps that may have carried a particle through a mesh wall, however the run ended */
+  const adem_tunnel_event *te = adem_world_tunnel_first(w);
+  if (te)
+    fprintf(stderr,
+            "adem: warning: tunnelling: %llu times a particle moved more than its radius in one "
+            "step next to a mesh wall (first: particle id %llu at t = %.9g s, at (%.6g, %.6g, "
+            "%.6g) m); a smaller time.step avoids it\n",
+            (unsigned long long)adem_world_tunnel_count(w), (unsigned long long)te->id, te->time,
+            te->pos.x, te->pos.y, te->pos.z);
 
   if (st == ADEM_INTERRUPTED) {
     fprintf(stderr, "adem: %s\nadem: continue with: adem run --resume %s/checkpoint\n",

@@ -47,6 +47,9 @@ typedef struct adem_case {
   int dt_auto;                /* 1 when time.step was "auto" */
   double dt_user_ratio;       /* user dt / proposed dt (> 1 means too large) */
   adem_step_estimate estimate;
+  adem_memory_estimate memory; /* of every particle, the pours' totals included */
+  double memory_limit;        /* bytes the run may use: limits.max_memory, or what is available */
+  int memory_auto;            /* 1 when memory_limit is what the machine has available */
   adem_output_settings output;
   uint64_t seed;
   adem_pours *pours;          /* NULL: nothing is poured */

@@ -192,6 +192,11 @@ typedef struct adem_step_estimate {
   double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh) */
 } adem_step_estimate;
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref);
+/* Stability limit of a given step: t_collision / ADEM_STEP_LIMIT_DIVISOR. Measured on a
+ * two-sphere Hertz collision (docs/reliability.md): up to t_c/5 the restitution is off by
+ * 1.6 % at most, at t_c/4 by 3 %, t_c/3 6.5 %, t_c/2.5 15 % (energy created), t_c/2 a factor
+ * 2.3. A case asking for more is refused unless limits.allow_large_step is true. */
+#define ADEM_STEP_LIMIT_DIVISOR 5.0
 /* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5), s. */
 double adem_hertz_collision_time(double mstar, double R, double E, double v);
 
@@ -333,6 +338,42 @@ uint64_t adem_world_neighbor_builds(const adem_world *w);
 /* Memory: bytes per particle and per candidate pair of the world's arrays. */
 size_t adem_world_bytes_per_particle(void);
 size_t adem_world_bytes_per_pair(void);
+
+/* Memory a run of n particles needs, estimated before anything is allocated from the sizes of
+ * the real arrays (particles.h, pairs.h, neighbors.c): the particle table at the capacity that
+ * appending grows it to, ADEM_PAIRS_PER_PARTICLE (1 + skin)^3 candidate particle pairs per
+ * particle (a settled pour with skin 0.2 has 4.7; the bound is 6.9 there), a wall pair per
+ * particle when there are planes and ADEM_MESH_SLOTS_PER_PARTICLE candidate triangles when
+ * there are mesh walls, the pair lists' headroom, the neighbour grid (at most 8 n + 1024
+ * cells) and what a neighbour build allocates while it runs. Bytes. */
+#define ADEM_PAIRS_PER_PARTICLE 4.0
+#define ADEM_MESH_SLOTS_PER_PARTICLE 4.0
+typedef struct adem_memory_estimate {
+  double particles;  /* particle count the estimate is for */
+  double pairs;      /* candidate pairs of every kind */
+  double particle_bytes, pair_bytes, grid_bytes, build_bytes;
+  double total;      /* bytes */
+} adem_memory_estimate;
+adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double nparticles);
+/* Memory the machine can give a new run, bytes: MemAvailable of /proc/meminfo, else the free
+ * physical pages (sysconf); 0 when neither is known. */
+double adem_memory_available(void);
+
+/* Tunnelling: a particle that moved more than its radius in one step while it had candidate
+ * mesh triangles (within radius + skin at the last neighbour build) may have passed through a
+ * mesh wall. Counted since the world was made or loaded (not kept in checkpoints); the first
+ * ADEM_TUNNEL_LOGGED are logged as warnings with id, position and time. */
+#define ADEM_TUNNEL_LOGGED 5
+typedef struct adem_tunnel_event {
+  uint64_t id;
+  adem_vec3 pos;     /* centre after the step, m */
+  double time;       /* s */
+  double moved;      /* |v| dt of the step, m */
+  double radius;     /* m */
+} adem_tunnel_event;
+uint64_t adem_world_tunnel_count(const adem_world *w);
+/* The first event (NULL when there was none). */
+const adem_tunnel_event *adem_world_tunnel_first(const adem_world *w);
 
 #ifdef __cplusplus
 }

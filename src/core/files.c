@@ -6,7 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "adem/world.h"
 #include "log.h"
 
 static char *str_dup(const char *s) {
@@ -73,3 +75,22 @@ adem_status adem_file_read_all(const char *path, char **data, size_t *n, adem_er
   return ADEM_OK;
 }
 
+
+/* adem_memory_available (include/adem/world.h): the kernel's estimate of what a new program can
+ * use without swapping, else the free pages. */
+double adem_memory_available(void) {
+  FILE *f = fopen("/proc/meminfo", "r");
+  if (f) {
+    char line[256];
+    double kib = -1.0;
+    while (fgets(line, sizeof line, f))
+      if (sscanf(line, "MemAvailable: %lf kB", &kib) == 1) break;
+    fclose(f);
+    if (kib >= 0.0) return kib * 1024.0;
+  }
+#if defined(_SC_AVPHYS_PAGES) && defined(_SC_PAGESIZE)
+  long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && size > 0) return (double)pages * (double)size;
+#endif
+  return 0.0;
+}

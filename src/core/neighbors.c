@@ -518,6 +518,15 @@ bool adem_neighbors_need_rebuild(const adem_neighbors *nb, const adem_particles 
   return false;
 }
 
+void adem_neighbors_estimate_bytes(double n, double npairs, bool mesh, double *grid, double *build) {
+  double cells = 8.0 * n + 1024.0 + 1.0; /* sort_by_cell's cap, + 1 start */
+  *grid = cells * (double)sizeof(size_t) * (mesh ? 2.0 : 1.0);
+  *build = npairs * (double)sizeof(saved_history)          /* history kept across the build */
+           + 3.0 * (n + 1.0) * (double)sizeof(size_t)      /* cell_of, perm, offsets */
+           + 2.0 * (n + 1.0) * (double)sizeof(size_t)      /* pp_start, pw_start */
+           + 2.0 * npairs * (double)sizeof(uint32_t);      /* gather entries */
+}
+
 void adem_neighbors_free(adem_neighbors *nb) {
   free(nb->cell_start);
   free(nb->pp_start);

@@ -56,5 +56,9 @@ bool adem_neighbors_need_rebuild(const adem_neighbors *nb, const adem_particles 
 adem_status adem_neighbors_gather(adem_neighbors *nb, size_t nparticles, const adem_pair_list *pp,
                                   const adem_pair_list *pw);
 void adem_neighbors_free(adem_neighbors *nb);
+/* Bytes of the grid (cells at most 8 n + 1024, as sort_by_cell allows; twice with mesh walls)
+ * in *grid, and in *build what a build holds besides the lists for n particles and npairs
+ * candidate pairs: the saved history, the sort's arrays and the gather lists. */
+void adem_neighbors_estimate_bytes(double n, double npairs, bool mesh, double *grid, double *build);
 
 #endif

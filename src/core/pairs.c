@@ -62,6 +62,8 @@ adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err)
   return ADEM_OK;
 }
 
+size_t adem_mesh_pairs_slot_bytes(void) { return adem_soa_item_bytes(slot_layout); }
+
 adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm) {
   size_t cap = pm->l.cap;
   if (cap <= pm->cap) return ADEM_OK;

@@ -138,6 +138,8 @@ typedef struct adem_mesh_pairs {
 /* Grows the per-slot arrays to the capacity of the pair list. */
 adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
 void adem_mesh_pairs_free(adem_mesh_pairs *pm);
+/* Bytes per slot of the extra per-slot arrays. */
+size_t adem_mesh_pairs_slot_bytes(void);
 /* Forgets slot k (state, results, key and owner). */
 static inline void adem_mesh_pairs_clear(adem_mesh_pairs *pm, size_t k) {
   adem_pairs_clear(&pm->l, k);

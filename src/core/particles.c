@@ -1,6 +1,7 @@
 /* Per-particle arrays (the table in particles.h) and the velocity-Verlet integrator. */
 #include "particles.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -77,15 +78,30 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
   ADEM_FOR(nthreads, p->n, kick_one, &a);
 }
 
-static inline void drift_one(const kick_args *a, size_t i) {
-  adem_particles *p = a->p;
-  p->pos[i] = v3_axpy(p->pos[i], a->h, p->vel[i]);
-  p->path_length[i] += a->h * v3_norm(p->vel[i]); /* the drift is a straight segment */
+/* Moves particle i; returns how much farther than its radius it went. */
+static inline double drift_one(adem_particles *p, double dt, size_t i) {
+  p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
+  double moved = dt * v3_norm(p->vel[i]); /* the drift is a straight segment */
+  p->path_length[i] += moved;
+  return moved - p->radius[i];
 }
 
-void adem_particles_drift(adem_particles *p, double dt, int nthreads) {
-  kick_args a = {p, dt, false};
-  ADEM_FOR(nthreads, p->n, drift_one, &a);
+double adem_particles_drift(adem_particles *p, double dt, int nthreads) {
+  double worst = -INFINITY;
+  size_t n = p->n;
+  if (nthreads > 1) {
+    ADEM_PARALLEL_FOR_MAX(worst)
+    for (size_t i = 0; i < n; ++i) {
+      double e = drift_one(p, dt, i);
+      worst = e > worst ? e : worst;
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      double e = drift_one(p, dt, i);
+      worst = e > worst ? e : worst;
+    }
+  }
+  return worst;
 }
 
 void adem_particles_mark_build(adem_particles *p) {

@@ -67,8 +67,9 @@ size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem
 /* Velocity Verlet (H3-H4): a half kick of velocities and spins with the current forces; the
  * closing kick sets the spin of a particle that BROF holds to exactly zero. */
 void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads);
-/* Positions move by dt v; each centre's path length grows by dt |v|. */
-void adem_particles_drift(adem_particles *p, double dt, int nthreads);
+/* Positions move by dt v; each centre's path length grows by dt |v|. Returns the largest
+ * dt |v| - radius: > 0 when some particle moved more than its radius (tunnelling check). */
+double adem_particles_drift(adem_particles *p, double dt, int nthreads);
 /* Records the positions at a neighbour build. */
 void adem_particles_mark_build(adem_particles *p);
 

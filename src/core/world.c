@@ -624,6 +624,35 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
   return ADEM_OK;
 }
 
+/* Particles that moved more than their radius in this step while they had candidate mesh
+ * triangles (within radius + skin at the last build; the ranges still follow that build's
+ * order): each may have passed through the wall between two force passes. */
+static void note_tunnelling(adem_world *w, double dt) {
+  const adem_particles *p = &w->p;
+  const adem_mesh_pairs *pm = &w->pm;
+  if (!pm->start) return;
+  double t = (double)(w->step + 1) * dt;
+  for (size_t i = 0; i < p->n; ++i) {
+    double moved = dt * v3_norm(p->vel[i]);
+    if (!(moved > p->radius[i]) || pm->start[i + 1] == pm->start[i]) continue;
+    adem_tunnel_event e = {p->id[i], p->pos[i], t, moved, p->radius[i]};
+    if (w->tunnel_count == 0) w->tunnel_first = e;
+    if (w->tunnel_count < ADEM_TUNNEL_LOGGED)
+      adem_log(ADEM_LOG_WARN,
+               "particle id %llu moved %.3g m in one step (more than its radius %.3g m) next to a "
+               "mesh wall at t = %.9g s, now at (%.6g, %.6g, %.6g) m: it may have passed through "
+               "the wall; a smaller time.step avoids it",
+               (unsigned long long)e.id, moved, e.radius, t, e.pos.x, e.pos.y, e.pos.z);
+    w->tunnel_count++;
+  }
+}
+
+uint64_t adem_world_tunnel_count(const adem_world *w) { return w->tunnel_count; }
+
+const adem_tunnel_event *adem_world_tunnel_first(const adem_world *w) {
+  return w->tunnel_count ? &w->tunnel_first : NULL;
+}
+
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   if (!w->prepared) {
     adem_status st = adem_world_prepare(w, err);
@@ -638,7 +667,9 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   for (uint64_t s = 0; s < nsteps; ++s) {
     int nthreads = adem_world_threads(w);
     adem_particles_kick(&w->p, 0.5 * dt, false, nthreads);
-    adem_particles_drift(&w->p, dt, nthreads);
+    /* the drift's largest excess over a radius is all the step pays for the tunnelling check */
+    if (adem_particles_drift(&w->p, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
+      note_tunnelling(w, dt);
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads)) {
       adem_status st = adem_world_build_neighbors(w, err);
@@ -1017,6 +1048,33 @@ size_t adem_world_bytes_per_particle(void) {
 size_t adem_world_bytes_per_pair(void) {
   /* the pair table and the gather entries (two for a particle pair) */
   return adem_pairs_item_bytes() + 2 * sizeof(uint32_t);
+}
+
+/* Capacity appending grows a table of n to: doubling from 64 (adem_particles_append). */
+static double grown_capacity(double n) {
+  double cap = 64.0;
+  while (cap < n) cap *= 2.0;
+  return cap;
+}
+
+adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double n) {
+  adem_memory_estimate e;
+  memset(&e, 0, sizeof e);
+  if (!(n >= 0.0)) n = 0.0;
+  e.particles = n;
+  double f = w->nb.skin_fraction;
+  double pp = ADEM_PAIRS_PER_PARTICLE * (1.0 + f) * (1.0 + f) * (1.0 + f) * n;
+  double pw = w->walls.nplanes > 0 ? n : 0.0;
+  double pm = w->walls.mesh.ntris > 0 ? ADEM_MESH_SLOTS_PER_PARTICLE * n : 0.0;
+  e.pairs = pp + pw + pm;
+  e.particle_bytes = grown_capacity(n) * (double)adem_soa_item_bytes(adem_particles_layout()) +
+                     (n + 1.0) * (double)sizeof(size_t); /* mesh slot ranges */
+  /* the lists keep a quarter more than they hold (adem_pairs_reserve) */
+  e.pair_bytes = 1.25 * (e.pairs * (double)adem_pairs_item_bytes() +
+                         pm * (double)adem_mesh_pairs_slot_bytes());
+  adem_neighbors_estimate_bytes(n, e.pairs, w->walls.mesh.ntris > 0, &e.grid_bytes, &e.build_bytes);
+  e.total = e.particle_bytes + e.pair_bytes + e.grid_bytes + e.build_bytes;
+  return e;
 }
 
 /* ---------------------------------------------------------------- set-up in checkpoints */

@@ -53,6 +53,10 @@ struct adem_world {
    * interpolated crossing time; the default) or first order (as before) */
   bool second_order;
 
+  /* steps in which a particle moved more than its radius next to a mesh wall (not saved) */
+  uint64_t tunnel_count;
+  adem_tunnel_event tunnel_first;
+
   /* energy bookkeeping */
   double energy_initial; /* E_total at prepare */
   bool prepared;

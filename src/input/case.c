@@ -704,12 +704,45 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
+/* limits.max_memory: refuses a case whose particles (those made so far, `extra` about to be
+ * made and the pours' totals) would need more memory than the run may use, before they are
+ * allocated. The message points at node, the set or pour asking for them. */
+static adem_status check_memory(case_ctx *ctx, double extra, const yaml_node_t *node,
+                                const char *path) {
+  adem_case *c = ctx->c;
+  double n = (double)ctx->n + extra + ctx->poured;
+  c->memory = adem_world_memory_estimate(ctx->w, n);
+  c->memory_auto = ctx->memory_auto;
+  c->memory_limit = ctx->memory_auto ? adem_memory_available() : ctx->max_memory;
+  const adem_memory_estimate *e = &c->memory;
+  if (!(c->memory_limit > 0.0) || e->total <= c->memory_limit) return ADEM_OK;
+  const double mib = 1024.0 * 1024.0;
+  return adem_yaml_fail(ctx, node, path,
+              "the run would need about %.4g MiB for %.4g particles (%.0f B each with their "
+              "%.3g candidate pairs, the neighbour grid and build included), more than the "
+              "%.4g MiB %s; make fewer particles, or set limits.max_memory (bytes, or auto)",
+              e->total / mib, n, e->total / fmax(n, 1.0), e->pairs / fmax(n, 1.0),
+              c->memory_limit / mib,
+              ctx->memory_auto ? "the machine has available (MemAvailable)"
+                               : "limits.max_memory allows");
+}
+
+/* Spheres a solid fraction of a volume takes, with the distribution's mean r^3 (normal: mean^3
+ * + 3 mean std^2; the others near it). */
+static double spheres_for_volume(const adem_size_dist *d, double volume) {
+  double mean, std;
+  adem_insert_dist_moments(d, &mean, &std);
+  double r3 = mean * mean * mean + 3.0 * mean * std * std;
+  return r3 > 0.0 ? volume / ((4.0 / 3.0) * ADEM_PI * r3) : 0.0;
+}
+
 /* An explicit list of spheres; none of them may overlap another of the list unless
  * limits.initial_overlap accepts some overlap (then the world checks the depth at prepare). */
 static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int group) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, set, "spheres", &l);
   if (st) return st;
+  if ((st = check_memory(ctx, (double)l.n, set->node, set->path))) return st;
   size_t first = ctx->n;
   double rmax = 0;
   for (size_t i = 0; i < l.n; ++i) {
@@ -800,6 +833,7 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   if ((double)count > capacity)
     adem_log(ADEM_LOG_WARN, "%s: the lattice box holds %.0f spheres; count asks for %llu", m->path,
              capacity, (unsigned long long)count);
+  if ((st = check_memory(ctx, n, m->node, m->path))) return st;
   size_t first = ctx->n, total = (size_t)n, nxy = (size_t)nx * (size_t)ny;
   for (size_t k = 0; k < total; ++k) {
     size_t ix = k % (size_t)nx, iy = (k / (size_t)nx) % (size_t)ny, iz = k / nxy;
@@ -1023,6 +1057,9 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   if (!st) st = adem_yaml_get_vec3(ctx, m, "angular_velocity", &w, NULL);
   double fit = adem_insert_region_fit(&reg, &fit_what);
   if (!st) st = read_dist(ctx, m, fit, fit_what, word, &dist, &dm);
+  if (!st)
+    st = check_memory(ctx, count_node ? (double)count : spheres_for_volume(&dist, fraction * reg.volume),
+                      m->node, m->path);
   if (!st) {
     /* Each set draws from its own stream, so editing one set leaves the others' spheres alone. */
     adem_rng rng = adem_rng_seed(ctx->c->seed ^ (0x9e3779b97f4a7c15ULL * (uint64_t)(set_index + 1)));
@@ -1147,6 +1184,15 @@ static adem_status build_pours(case_ctx *ctx, const map_cursor *root) {
     if ((st = read_region(ctx, &m, false, &d.region, &word))) break;
     double fit = adem_insert_region_fit(&d.region, &fit_what);
     if ((st = read_dist(ctx, &m, fit, fit_what, word, &d.dist, &dm))) {
+      adem_insert_region_free(&d.region);
+      adem_insert_dist_free(&d.dist);
+      break;
+    }
+    double window = d.end - d.start;
+    ctx->poured += d.rate > 0.0 ? d.rate * window
+                                : spheres_for_volume(&d.dist, d.mass_rate * window /
+                                                                 w->mat.m[d.material].def.density);
+    if ((st = check_memory(ctx, 0.0, m.node, m.path))) {
       adem_insert_region_free(&d.region);
       adem_insert_dist_free(&d.dist);
       break;
@@ -1446,6 +1492,7 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     v_ref = fmax(fmax(ctx->vmax, sqrt(2.0 * gn * height)), 0.1);
   }
   c->estimate = adem_world_estimate_step(ctx->w, v_ref);
+  double limit = c->estimate.t_collision / ADEM_STEP_LIMIT_DIVISOR;
   bool proposal = c->estimate.dt > 0 && isfinite(c->estimate.dt);
   if (step_auto) {
     if (!proposal)
@@ -1458,12 +1505,23 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     adem_world_set_dt(ctx->w, step);
     c->dt_auto = 0;
     c->dt_user_ratio = proposal ? step / c->estimate.dt : 0.0;
+    if (proposal && isfinite(limit) && step > limit && !ctx->allow_large_step)
+      return adem_yaml_fail(ctx, step_node ? step_node : time->at, "time.step",
+                  "%g s is %.2fx the stability limit t_collision/%g = %g s of the stiffest pair "
+                  "(t_collision %g s at v_ref %g m/s): the explicit integration gains or loses "
+                  "energy beyond it. Allowed: `auto` (%g s) or a step up to %g s; or set "
+                  "limits.allow_large_step: true", step, step / limit, ADEM_STEP_LIMIT_DIVISOR,
+                  limit, c->estimate.t_collision, v_ref, c->estimate.dt, limit);
     if (c->dt_user_ratio > 1.0) {
       bool collision = c->estimate.t_collision / 50.0 <= 0.2 * c->estimate.t_rayleigh;
       char loc[LOC_MAX];
       adem_yaml_where(ctx, step_node, loc, sizeof loc);
-      adem_log(ADEM_LOG_WARN, "%s: time.step %g s is %.1fx the proposed %g s (%s)", loc, step,
-               c->dt_user_ratio, c->estimate.dt, collision ? "t_collision/50" : "0.2 t_Rayleigh");
+      adem_log(ADEM_LOG_WARN,
+               "%s: time.step %g s is %.1fx the proposed %g s (%s); the stability limit "
+               "t_collision/%g = %g s is %.1fx the proposal%s", loc, step, c->dt_user_ratio,
+               c->estimate.dt, collision ? "t_collision/50" : "0.2 t_Rayleigh",
+               ADEM_STEP_LIMIT_DIVISOR, limit, limit / c->estimate.dt,
+               step > limit ? " and the step is above it (limits.allow_large_step)" : "");
     }
   }
   return ADEM_OK;
@@ -1630,8 +1688,17 @@ static adem_status build(case_ctx *ctx) {
   if ((st = adem_yaml_get_number(ctx, &limits, "initial_overlap", &initial, NULL))) return st;
   adem_world_set_initial_overlap(ctx->w, initial);
   ctx->initial_overlap = initial;
+  if ((st = adem_yaml_get_auto(ctx, &limits, "max_memory", &ctx->memory_auto, &ctx->max_memory, NULL)))
+    return st;
+  if ((st = adem_yaml_get_bool(ctx, &limits, "allow_large_step", &ctx->allow_large_step))) return st;
+  /* the skin sets the candidate pairs of the memory estimate */
+  if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
+  if ((st = adem_yaml_get_number(ctx, &nb, "skin", &skin, NULL))) return st;
+  adem_world_set_skin(ctx->w, skin);
   if ((st = build_particles(ctx, &root))) return st;
   if ((st = build_pours(ctx, &root))) return st;
+  if ((st = check_memory(ctx, 0.0, limits.node ? limits.node : root.at, limits.node ? "limits" : "")))
+    return st;
 
   adem_vec3 g;
   if ((st = adem_yaml_get_vec3(ctx, &root, "gravity", &g, NULL))) return st;
@@ -1643,10 +1710,6 @@ static adem_status build(case_ctx *ctx) {
     if (!(c->until = malloc(sizeof *c->until))) return adem_yaml_nomem(ctx);
     adem_until_init(c->until, &ud);
   }
-
-  if ((st = adem_yaml_get_map(ctx, &root, "neighbor", &nb))) return st;
-  if ((st = adem_yaml_get_number(ctx, &nb, "skin", &skin, NULL))) return st;
-  adem_world_set_skin(ctx->w, skin);
 
   adem_output_settings *o = &c->output;
   if ((st = adem_yaml_get_map(ctx, &root, "output", &out))) return st;

@@ -50,6 +50,10 @@ typedef struct case_ctx {
   bool has_box;     /* bounding box of particles and walls */
   adem_vec3 box_lo, box_hi;
   double initial_overlap; /* limits.initial_overlap, read before the particles */
+  bool memory_auto;       /* limits.max_memory: auto (what the machine has) */
+  double max_memory;      /* limits.max_memory in bytes, when not auto */
+  double poured;          /* particles the pours read so far insert in all */
+  bool allow_large_step;  /* limits.allow_large_step */
 } case_ctx;
 
 /* A mapping being read: its node (NULL when the section is absent) and where it sits. */

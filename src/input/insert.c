@@ -866,7 +866,7 @@ adem_status adem_insert_fill(const adem_fill_def *def, adem_rng *rng, const adem
     return st;
   }
   /* Largest first: the big spheres find room while the region is empty, the small fill gaps. */
-  qsort(radii, n, sizeof *radii, compare_descending);
+  if (n > 1) qsort(radii, n, sizeof *radii, compare_descending); /* none: radii may be NULL */
   uint64_t attempts = def->max_attempts;
   if (attempts == 0) attempts = (uint64_t)n * 100 > 1000000 ? (uint64_t)n * 100 : 1000000;
   placer pl = {def->region, def->walls, attempts, false};
@@ -996,7 +996,7 @@ static adem_status pour_batch(adem_pour *p, adem_world *w, const pour_steps *s, 
     free(radii);
     return adem_error_set(err, st, "pour `%s`: %s", p->def.name, why);
   }
-  qsort(radii, n, sizeof *radii, compare_descending);
+  if (n > 1) qsort(radii, n, sizeof *radii, compare_descending); /* none: radii may be NULL */
   adem_vec3 *pos = NULL;
   double *rad = NULL;
   size_t placed = 0;

@@ -16,6 +16,13 @@
 
 static double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 
+/* "12.3 MiB", or KiB below a MiB. */
+static const char *mem_text(char *buf, size_t n, double bytes) {
+  if (bytes < 1024.0 * 1024.0) snprintf(buf, n, "%.1f KiB", bytes / 1024.0);
+  else snprintf(buf, n, "%.1f MiB", mib(bytes));
+  return buf;
+}
+
 
 /* What a JKR pair implies, at its smallest spheres (notes sections 1, 5, 6; H section 6.2). */
 static void print_jkr(FILE *f, const adem_world *w, int a, int b, bool wall, const double *rmin,
@@ -533,17 +540,25 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   else fprintf(f, "  checkpoints  on Ctrl-C and at the end\n");
   fprintf(f, "  energy plot  %s\n", os->plot ? "yes (gnuplot)" : "no");
 
-  /* Bytes per particle and per candidate pair, from the field tables (particles.h, pairs.h). */
-  double per_particle = (double)adem_world_bytes_per_particle();
+  /* The estimate the loader checked against limits.max_memory (adem_world_memory_estimate). */
+  const adem_memory_estimate *me = &c->memory;
   double per_pair = (double)adem_world_bytes_per_pair();
-  double memory = (double)p->n * per_particle + (double)(w->pp.n + w->pw.n) * per_pair + (double)w->nb.ncells * sizeof(size_t);
   double frame = 1500.0 + (double)p->n * (8 + 8 + 4 + 4 * 24 + 8 + 8 + 1);
   double row = (9.0 + 3.0 * w->walls.nplanes) * 24.0;
   double ckpt = (double)strlen(c->source) + (double)p->n * (6 * 24 + 3 * 8 + 8 + 4) +
                 (double)(w->pp.n + w->pw.n) * per_pair;
   fprintf(f, "\nestimates\n");
-  fprintf(f, "  memory       %.1f MiB at the start (%zu particles, %zu candidate pairs; grows with "
-         "the number of contacts)\n", mib(memory), p->n, w->pp.n + w->pw.n);
+  char m0[32], m1[32], m2[32], m3[32], m4[32];
+  fprintf(f, "  memory       %s at most: %.0f particles%s %s, %.0f candidate pairs %s, grid %s, "
+          "neighbour build %s\n", mem_text(m0, sizeof m0, me->total), me->particles,
+          c->pours ? " (the pours' totals included)" : "", mem_text(m1, sizeof m1, me->particle_bytes),
+          me->pairs, mem_text(m2, sizeof m2, me->pair_bytes), mem_text(m3, sizeof m3, me->grid_bytes),
+          mem_text(m4, sizeof m4, me->build_bytes));
+  if (c->memory_limit > 0.0)
+    fprintf(f, "  memory limit %s (%s): the estimate is %.2g of it\n",
+            mem_text(m0, sizeof m0, c->memory_limit),
+            c->memory_auto ? "available on this machine" : "limits.max_memory",
+            me->total / c->memory_limit);
   fprintf(f, "  disk         %.1f MiB: frames %llu x %.2f MiB, CSV %.2f MiB, checkpoint %.2f MiB\n",
          mib((double)nframes * frame + (double)nrows * row + ckpt), (unsigned long long)nframes,
          mib(frame), mib((double)nrows * row), mib(ckpt));

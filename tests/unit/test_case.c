@@ -216,16 +216,28 @@ static void test_full_case(void **state) {
 /* Claim: a step above the proposal is kept but warned about, saying by how much and why. */
 static void test_step_too_large_warns(void **state) {
   (void)state;
-  char *text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\n");
+  /* above the proposal (3.4e-6 s), below the stability limit t_c/5 (3.4e-5 s): a warning */
+  char *text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 2e-5\n");
   adem_case *c = load_ok(text, NULL, 0);
-  assert_float_equal(adem_world_dt(c->world), 1e-3, 0);
+  assert_float_equal(adem_world_dt(c->world), 2e-5, 0);
   assert_true(c->dt_user_ratio > 1.0);
-  assert_float_equal(c->dt_user_ratio, 1e-3 / c->estimate.dt, 1e-12);
+  assert_float_equal(c->dt_user_ratio, 2e-5 / c->estimate.dt, 1e-12);
   assert_contains(logged, "W ");
-  assert_contains(logged, "time.step 0.001 s is ");
+  assert_contains(logged, "time.step 2e-05 s is ");
   assert_contains(logged, "x the proposed");
   assert_contains(logged, "t_collision/50");
+  assert_contains(logged, "the stability limit t_collision/5");
   assert_contains(logged, "test.yaml:23:9");
+  adem_case_free(c);
+  free(text);
+  /* above the limit: refused, unless limits.allow_large_step */
+  expect_bad("  end: 0.5\n", "  end: 0.5\n  step: 1e-3\n",
+             WORDS("test.yaml:23:9: ", "time.step", "29.80x the stability limit t_collision/5",
+                   "limits.allow_large_step: true"));
+  text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\nlimits: {allow_large_step: true}\n");
+  c = load_ok(text, NULL, 0);
+  assert_float_equal(adem_world_dt(c->world), 1e-3, 0);
+  assert_contains(logged, "and the step is above it (limits.allow_large_step)");
   adem_case_free(c);
   free(text);
 }
