@@ -48,6 +48,9 @@ static inline int adem(char **out, const char *fmt, ...) {
   free(log);
   *out = buf;
   printf("# adem %s -> %d\n#   %.*s\n", args, WEXITSTATUS(status), (int)strcspn(buf, "\n"), buf);
+  /* adem's own exit codes are below 10; anything above is a crash or a sanitizer's abort (134):
+   * show all of it */
+  if (WEXITSTATUS(status) >= 10) printf("# full output:\n%s\n", buf);
   return WEXITSTATUS(status);
 }
 
