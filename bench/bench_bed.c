@@ -11,6 +11,8 @@
  *   --normal hertz|jkr  --gamma G  --rolling LAW  --rolling-friction ETA  --skin METRES
  *   --dt SECONDS  --relax STEPS (untimed)  --steps STEPS (timed)  --threads N
  *   --young E --poisson NU --restitution E --friction MU (defaults: the peers' params.sh)
+ *   --energy-balance 1|0 (default 1: adem's per-contact energy bookkeeping; 0: off, as the
+ *   peers' runs, which keep none)
  * and prints "PEERS key value" lines: timed, particles, loop_seconds, rebuilds,
  * contacts_per_particle, kinetic_energy_per_particle, peak_rss_bytes.
  * Uses only the public headers. */
@@ -134,6 +136,7 @@ typedef struct peer_options {
   double young, poisson, restitution, friction, gravity;
   long relax, steps;
   int threads;
+  int energy_balance; /* 1 (adem's default) or 0: the peers keep no energy balance */
 } peer_options;
 
 static double number(const char *opt, const char *text) {
@@ -150,7 +153,7 @@ static double number(const char *opt, const char *text) {
 static peer_options parse_peer_options(int argc, char **argv) {
   /* defaults: bench/peers/params.sh */
   peer_options o = {NULL, "hertz", "model_c", 0.2, 0.1, 0.0005, 1e-5, 1e7, 0.3, 0.5, 0.5, 9.81,
-                    1000, 1000, 1};
+                    1000, 1000, 1, 1};
   for (int k = 1; k < argc; ++k) {
     const char *a = argv[k];
     if (k + 1 >= argc) {
@@ -173,6 +176,7 @@ static peer_options parse_peer_options(int argc, char **argv) {
     else if (!strcmp(a, "--relax")) o.relax = (long)number(a, v);
     else if (!strcmp(a, "--steps")) o.steps = (long)number(a, v);
     else if (!strcmp(a, "--threads")) o.threads = (int)number(a, v);
+    else if (!strcmp(a, "--energy-balance")) o.energy_balance = (int)number(a, v);
     else {
       fprintf(stderr, "bench_bed: unknown option %s (see the comment at the top of bench_bed.c)\n", a);
       exit(2);
@@ -256,6 +260,7 @@ static adem_world *build_peer_world(const peer_options *o) {
   peer_bed b;
   read_data_file(o->data, &b);
   adem_world *w = adem_world_create();
+  adem_world_set_energy_balance(w, o->energy_balance != 0);
   adem_error err;
   adem_material_def m = adem_default_material_def();
   snprintf(m.name, sizeof m.name, "spheres");

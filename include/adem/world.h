@@ -239,6 +239,13 @@ typedef enum adem_contact_scheme {
   ADEM_CONTACTS_FIRST_ORDER = 1
 } adem_contact_scheme;
 void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme);
+/* The energy balance (on by default): every step the contacts' dissipation and the walls' work
+ * are accumulated per particle, contact by contact, so that the diagnostics' dissipated,
+ * wall_work and balance_error close the balance. It changes no force, position or velocity; off,
+ * a step costs less (docs/performance.md) and those three read NaN. Set it before the first
+ * step: a balance cannot start in the middle of a run. */
+void adem_world_set_energy_balance(adem_world *w, bool on);
+bool adem_world_energy_balance(const adem_world *w);
 double adem_world_dt(const adem_world *w);
 
 /* Validates the set-up (overlaps, particles outside walls), derives pair tables, builds the

@@ -86,7 +86,9 @@ static inline double break_correction(const adem_interaction *it, const contact_
 /* One contact through the laws of its pair (include/adem/laws.h): normal, damping, tangential,
  * rolling, each dispatched by a switch generated from the rows, updating the history. fresh: the
  * contact formed since the last pass (onset correction of an adhesive law, when asked for). */
-static inline contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
+/* always inlined: GCC kept it out of line and copied the geometry and the result through the
+ * stack for every contact (2.5% of a step's instructions) */
+static inline __attribute__((always_inline)) contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
                                            adem_contact_history *h, double dt, bool fresh) {
   const adem_pair_params *pp = &it->pp;
   contact_result r;
@@ -161,7 +163,7 @@ static inline contact_result contact_force(const adem_interaction *it, const con
  * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b; the rolling couple is
  * equal and opposite. A wall (r_b = 0) takes no torque. */
 static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
-                              const contact_result *r) {
+                              const contact_result *r, bool balance) {
   adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
   l->touching[k] = true;
   l->res[k].force_a = r->force;
@@ -171,6 +173,7 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->res[k].rolling_capacity = r->capacity;
   l->res[k].elastic = r->elastic;
   l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  if (!balance) return; /* the rest is only the energy balance's, and only it reads them */
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
   l->res[k].damping_a = r->damping;
   l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
@@ -265,7 +268,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
-    store_pair(l, k, &g, &r);
+    store_pair(l, k, &g, &r, w->balance);
   }
 }
 
@@ -310,8 +313,8 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
-    store_pair(l, k, &g, &r);
-    store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
+    store_pair(l, k, &g, &r, w->balance);
+    if (w->balance) store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
   }
 }
 
@@ -350,7 +353,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       while (k < s + nc && pm->found[k].key < pm->key_prev[q]) ++k;
       if (k >= s + nc || pm->found[k].key != pm->key_prev[q]) lost += pm->hist_prev[q].elastic;
     }
-    p->dissipated[i] += lost;
+    if (w->balance) p->dissipated[i] += lost;
     size_t q = s; /* the previous contacts fill the first slots, sorted by key */
     for (size_t k = s; k < e; ++k) {
       if (k >= s + nc) {
@@ -397,6 +400,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->res[k].rolling_capacity = r.capacity;
       l->res[k].elastic = r.elastic;
       l->res[k].overlap_ratio = g.delta / ri;
+      if (!w->balance) continue;
       l->res[k].damping_a = r.damping;
       l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
       l->res[k].damping_torque_b = v3_zero();
@@ -457,7 +461,7 @@ static inline void account_energy(adem_particles *p, size_t i, const particle_en
 
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
  * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
-static inline void sum_particle(const adem_force_scope *w, size_t i) {
+static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool balance) {
   adem_particles *p = w->p;
   const adem_neighbors *nb = w->nb;
   const adem_pair_list *pp = w->pp, *pw = w->pw, *pm = &w->pm->l;
@@ -473,7 +477,7 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
-      en.dissipated += 0.5 * pp->res[k].dissipated; /* also of a contact that just opened */
+      if (balance) en.dissipated += 0.5 * pp->res[k].dissipated; /* also of one just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
         adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
@@ -483,21 +487,25 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
         f = v3_sub(f, pp->res[k].force_a);
         t = v3_add(t, pp->res[k].torque_b);
         roll = v3_sub(roll, pp->res[k].rolling_a);
-        en.G = v3_sub(en.G, pp->res[k].damping_a);
-        en.H = v3_add(en.H, pp->res[k].damping_torque_b);
+        if (balance) {
+          en.G = v3_sub(en.G, pp->res[k].damping_a);
+          en.H = v3_add(en.H, pp->res[k].damping_torque_b);
+        }
       } else {
         f = v3_add(f, pp->res[k].force_a);
         t = v3_add(t, pp->res[k].torque_a);
         roll = v3_add(roll, pp->res[k].rolling_a);
-        en.G = v3_add(en.G, pp->res[k].damping_a);
-        en.H = v3_add(en.H, pp->res[k].damping_torque_a);
+        if (balance) {
+          en.G = v3_add(en.G, pp->res[k].damping_a);
+          en.H = v3_add(en.H, pp->res[k].damping_torque_a);
+        }
       }
       capacity += pp->res[k].rolling_capacity;
     }
     capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
-      en.dissipated += pw->res[k].dissipated;
+      if (balance) en.dissipated += pw->res[k].dissipated;
       if (!pw->touching[k]) {
         adem_vec3 fb = pw->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
@@ -511,10 +519,12 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
         const adem_motion *mo = &w->walls->planes[pw->b[k]].motion;
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->res[k].rolling_capacity, motion_spin(mo));
       }
-      en.G = v3_add(en.G, pw->res[k].damping_a);
-      en.H = v3_add(en.H, pw->res[k].damping_torque_a);
-      en.P_w += pw->res[k].wall_power;
-      en.P_d += pw->res[k].wall_damping_power;
+      if (balance) {
+        en.G = v3_add(en.G, pw->res[k].damping_a);
+        en.H = v3_add(en.H, pw->res[k].damping_torque_a);
+        en.P_w += pw->res[k].wall_power;
+        en.P_d += pw->res[k].wall_damping_power;
+      }
     }
     /* mesh contacts: the first slots of the particle's range, by key */
     for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
@@ -527,11 +537,13 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
         const adem_motion *mo = &w->walls->mesh_motion[w->walls->mesh.group[w->pm->owner[k]]];
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->res[k].rolling_capacity, motion_spin(mo));
       }
-      en.G = v3_add(en.G, pm->res[k].damping_a);
-      en.H = v3_add(en.H, pm->res[k].damping_torque_a);
-      en.dissipated += pm->res[k].dissipated;
-      en.P_w += pm->res[k].wall_power;
-      en.P_d += pm->res[k].wall_damping_power;
+      if (balance) {
+        en.G = v3_add(en.G, pm->res[k].damping_a);
+        en.H = v3_add(en.H, pm->res[k].damping_torque_a);
+        en.dissipated += pm->res[k].dissipated;
+        en.P_w += pm->res[k].wall_power;
+        en.P_d += pm->res[k].wall_damping_power;
+      }
     }
     uint8_t held = 0;
     if (capacity > 0.0) {
@@ -561,9 +573,15 @@ static inline void sum_particle(const adem_force_scope *w, size_t i) {
       /* no partner takes the share of the particle contacts back: angular momentum it adds */
       p->brof_impulse[i] = v3_axpy(p->brof_impulse[i], dt * capacity_pp / capacity, t_brof);
     }
-    account_energy(p, i, &en, f, t, held, dt);
+    if (balance) account_energy(p, i, &en, f, t, held, dt);
     adem_particles_set_loads(p, i, f, t, roll, held);
   }
+}
+
+/* The sum with and without the energy balance, each compiled for its case. */
+static inline void sum_particle(const adem_force_scope *w, size_t i) { sum_particle_as(w, i, true); }
+static inline void sum_particle_loads(const adem_force_scope *w, size_t i) {
+  sum_particle_as(w, i, false);
 }
 
 void adem_contacts_compute(const adem_force_scope *w) {
@@ -571,5 +589,6 @@ void adem_contacts_compute(const adem_force_scope *w) {
   ADEM_FOR(nthreads, w->pp->n, particle_pair, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);
-  ADEM_FOR(nthreads, w->p->n, sum_particle, w);
+  if (w->balance) ADEM_FOR(nthreads, w->p->n, sum_particle, w);
+  else ADEM_FOR(nthreads, w->p->n, sum_particle_loads, w);
 }

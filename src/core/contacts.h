@@ -25,6 +25,7 @@ typedef struct adem_force_scope {
   bool second_order; /* predicted dashpot velocities, adhesive jumps at the interpolated crossing
                       * time (contacts.c) */
   bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
+  bool balance;      /* accumulate the dissipation and wall work (the energy balance) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

@@ -19,6 +19,7 @@ adem_world *adem_world_create(void) {
   w->nb.skin_fraction = 0.2;
   w->max_overlap_ratio = 0.2;
   w->second_order = true;
+  w->energy_balance = true;
   w->next_id = 0;
   adem_world_add_group(w, "default", v3_zero(), NULL, NULL);
   return w;
@@ -205,7 +206,8 @@ adem_status adem_world_gather(adem_world *w) {
 static void compute_forces(adem_world *w, bool energy) {
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
-                        w->dt,     adem_world_threads(w), w->second_order, energy};
+                        w->dt,     adem_world_threads(w), w->second_order, energy,
+                        w->energy_balance};
   adem_contacts_compute(&s);
 }
 
@@ -356,6 +358,8 @@ void adem_world_set_dt(adem_world *w, double dt) { w->dt = dt; }
 void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme) {
   w->second_order = scheme == ADEM_CONTACTS_SECOND_ORDER;
 }
+void adem_world_set_energy_balance(adem_world *w, bool on) { w->energy_balance = on; }
+bool adem_world_energy_balance(const adem_world *w) { return w->energy_balance; }
 double adem_world_dt(const adem_world *w) { return w->dt; }
 double adem_world_time(const adem_world *w) { return w->time; }
 uint64_t adem_world_step_count(const adem_world *w) { return w->step; }
@@ -748,6 +752,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   }
   free(buf);
   d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
+  if (!w->energy_balance) d.dissipated = d.wall_work = d.balance_error = NAN;
   d.initial = w->prepared ? w->energy_initial : total_energy(&d);
   return d;
 }
@@ -1087,6 +1092,7 @@ void adem_world_save_setup(adem_writer *wr, const adem_world *w) {
   adem_put_f64(wr, w->max_overlap_ratio);
   adem_put_u64(wr, w->parallel_min);
   adem_put_u8(wr, w->second_order ? 1 : 0);
+  adem_put_u8(wr, w->energy_balance ? 1 : 0);
   adem_put_u32(wr, (uint32_t)w->mat.n);
   for (int k = 0; k < w->mat.n; ++k) adem_put(wr, &w->mat.m[k].def, sizeof w->mat.m[k].def);
   adem_put_u32(wr, (uint32_t)w->mat.ndefs);
@@ -1108,6 +1114,7 @@ adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *er
   w->max_overlap_ratio = adem_get_f64(rd);
   w->parallel_min = (size_t)adem_get_u64(rd);
   w->second_order = adem_get_u8(rd) != 0;
+  w->energy_balance = adem_get_u8(rd) != 0;
   uint32_t nm = adem_get_u32(rd);
   adem_status st = ADEM_OK;
   for (uint32_t k = 0; k < nm && !st && !rd->failed; ++k) {

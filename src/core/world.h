@@ -52,6 +52,8 @@ struct adem_world {
   /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
    * interpolated crossing time; the default) or first order (as before) */
   bool second_order;
+  /* the per-contact dissipation and wall work are accumulated (the energy balance) */
+  bool energy_balance;
 
   /* steps in which a particle moved more than its radius next to a mesh wall (not saved) */
   uint64_t tunnel_count;

@@ -1726,6 +1726,9 @@ static adem_status build(case_ctx *ctx) {
   o->plot = plot;
   if ((st = adem_yaml_get_bool(ctx, &out, "plot_loads", &plot))) return st;
   o->plot_loads = plot;
+  bool balance;
+  if ((st = adem_yaml_get_bool(ctx, &out, "energy_balance", &balance))) return st;
+  adem_world_set_energy_balance(ctx->w, balance);
   if ((st = read_track(ctx, &out))) return st;
   if ((st = read_output_regions(ctx, &out))) return st;
   if ((st = build_stages(ctx, &root))) return st;
