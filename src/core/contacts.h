@@ -8,6 +8,7 @@
 #include "neighbors.h"
 #include "pairs.h"
 #include "particles.h"
+#include "periodic.h"
 #include "walls.h"
 
 /* What a force pass reads and writes. */
@@ -25,6 +26,7 @@ typedef struct adem_force_scope {
   bool second_order; /* predicted dashpot velocities, adhesive jumps at the interpolated crossing
                       * time (contacts.c) */
   bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
+  const adem_periodic *periodic; /* particle separations are minimum images (periodic.h) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

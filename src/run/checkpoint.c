@@ -28,7 +28,7 @@
 #define CKPT_MAGIC "ADEMCKPT"
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 6u /* 6: pair results saved as one record per pair (adem_pair_result) */
+#define CKPT_VERSION 7u /* 7: periodic box and per-particle image counters */
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
