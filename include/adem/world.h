@@ -176,6 +176,20 @@ void adem_world_set_max_overlap_ratio(adem_world *w, double ratio);
  * settled bed made by another run or code. Larger ones are refused, naming the pair. */
 void adem_world_set_initial_overlap(adem_world *w, double ratio);
 void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape check */
+/* Periodic boundaries: along the axes in `axes` (ADEM_PERIODIC_X | ...; 0 turns them off) the
+ * box lo..hi wraps: a particle leaving through a face comes in through the opposite one (its
+ * image counter counts it) and pairs interact through the faces (minimum image). The box is also
+ * the escape domain of the other axes. Refused here: lo >= hi along a periodic axis; at prepare:
+ * a periodic length below 2 (largest diameter + skin), or a plane wall whose normal has a
+ * component along a periodic axis. Mesh walls are not imaged across the faces (a warning says
+ * so when one comes within reach of a face). */
+enum { ADEM_PERIODIC_X = 1, ADEM_PERIODIC_Y = 2, ADEM_PERIODIC_Z = 4 };
+adem_status adem_world_set_periodic(adem_world *w, adem_vec3 lo, adem_vec3 hi, unsigned axes,
+                                    adem_error *err);
+/* Periodic faces particle `id` has crossed along x, y, z (out[3]; its unwrapped centre is the
+ * position plus out[d] box lengths). */
+adem_status adem_world_particle_image(const adem_world *w, uint64_t id, int32_t out[3],
+                                      adem_error *err);
 /* Neighbour search: a cell grid (default), or every pair (O(N^2): a two-body study is faster
  * without a grid). Results are the same. */
 typedef enum adem_neighbor_search { ADEM_SEARCH_GRID = 0, ADEM_SEARCH_ALL_PAIRS = 1 } adem_neighbor_search;

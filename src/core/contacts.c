@@ -226,7 +226,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
   double dt = w->dt;
   {
     size_t i = l->a[k], j = l->b[k];
-    adem_vec3 d = v3_sub(p->pos[j], p->pos[i]);
+    adem_vec3 d = adem_periodic_min_image(w->periodic, v3_sub(p->pos[j], p->pos[i]));
     double ri = p->radius[i], rj = p->radius[j];
     double rsum = ri + rj;
     double dist2 = v3_norm2(d);

@@ -8,6 +8,7 @@
 #include "neighbors.h"
 #include "pairs.h"
 #include "particles.h"
+#include "periodic.h"
 #include "walls.h"
 
 /* What a force pass reads and writes. */
@@ -26,6 +27,7 @@ typedef struct adem_force_scope {
                       * time (contacts.c) */
   bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
   bool balance;      /* accumulate the dissipation and wall work (the energy balance) */
+  const adem_periodic *periodic; /* particle separations are minimum images (periodic.h) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

@@ -128,6 +128,13 @@ static adem_status sort_by_cell(build_ctx *w, double cell) {
     lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
     hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
   }
+  /* A periodic axis: the grid spans the box, floor(len / cell) cells, the last one taking the
+   * remainder (cells at least `cell` long, so the 3 x 3 x 3 stencil, wrapped, still covers the
+   * cut-off). */
+  const adem_periodic *pb = &nb->periodic;
+  if (pb->axes & 1u) lo.x = pb->lo[0];
+  if (pb->axes & 2u) lo.y = pb->lo[1];
+  if (pb->axes & 4u) lo.z = pb->lo[2];
   /* Few cells per particle at most: a sparse or spread-out system gets coarser cells. */
   size_t max_cells = 8 * n + 1024;
   for (;;) {
@@ -136,6 +143,7 @@ static adem_status sort_by_cell(build_ctx *w, double cell) {
     bool fits = true;
     for (int d = 0; d < 3; ++d) {
       double c = floor(ext[d] / cell) + 1.0;
+      if (pb->axes & (1u << d)) c = fmax(1.0, floor(pb->len[d] / cell));
       if (c > (double)max_cells) {
         fits = false;
         break;
@@ -187,10 +195,28 @@ static adem_status sort_by_cell(build_ctx *w, double cell) {
   return st;
 }
 
-static inline bool pair_close(const adem_particles *p, size_t i, size_t j, double skin) {
-  adem_vec3 d = v3_sub(p->pos[j], p->pos[i]);
+static inline bool pair_close(const adem_neighbors *nb, const adem_particles *p, size_t i, size_t j,
+                              double skin) {
+  adem_vec3 d = adem_periodic_min_image(&nb->periodic, v3_sub(p->pos[j], p->pos[i]));
   double cut = p->radius[i] + p->radius[j] + skin;
   return v3_norm2(d) < cut * cut;
+}
+
+/* The cells next to cell c along one axis (itself included), each once, ascending from c - 1 for
+ * a bounded axis; a periodic one wraps, and with fewer than 4 cells takes each of them once. */
+static inline int stencil(int c, int dim, unsigned periodic, int out[3]) {
+  int n = 0;
+  if (!periodic) {
+    for (int k = c - 1; k <= c + 1; ++k)
+      if (k >= 0 && k < dim) out[n++] = k;
+  } else if (dim <= 3) {
+    for (int k = 0; k < dim; ++k) out[n++] = k;
+  } else {
+    out[n++] = c == 0 ? dim - 1 : c - 1;
+    out[n++] = c;
+    out[n++] = c == dim - 1 ? 0 : c + 1;
+  }
+  return n;
 }
 
 /* Counts (pass 0) or writes (pass 1) the particle pairs of particle i. */
@@ -201,7 +227,7 @@ static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *ou
   double skin = nb->skin;
   if (nb->brute_force) {
     for (size_t j = i + 1; j < p->n; ++j) {
-      if (!pair_close(p, i, j, skin)) continue;
+      if (!pair_close(nb, p, i, j, skin)) continue;
       if (out) {
         bool lower = p->id[i] < p->id[j];
         out->a[at + count] = (uint32_t)(lower ? i : j);
@@ -211,20 +237,21 @@ static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *ou
     }
     return count;
   }
-  int c0[3];
+  int c0[3], near[3][3], nnear[3];
   cell_coords(nb, p->pos[i], c0);
-  int nx = nb->dims[0], ny = nb->dims[1], nz = nb->dims[2];
-  for (int cz = c0[2] - 1; cz <= c0[2] + 1; ++cz) {
-    if (cz < 0 || cz >= nz) continue;
-    for (int cy = c0[1] - 1; cy <= c0[1] + 1; ++cy) {
-      if (cy < 0 || cy >= ny) continue;
-      for (int cx = c0[0] - 1; cx <= c0[0] + 1; ++cx) {
-        if (cx < 0 || cx >= nx) continue;
+  for (int d = 0; d < 3; ++d) nnear[d] = stencil(c0[d], nb->dims[d], (nb->periodic.axes >> d) & 1u, near[d]);
+  int nx = nb->dims[0], ny = nb->dims[1];
+  for (int sz = 0; sz < nnear[2]; ++sz) {
+    int cz = near[2][sz];
+    for (int sy = 0; sy < nnear[1]; ++sy) {
+      int cy = near[1][sy];
+      for (int sx = 0; sx < nnear[0]; ++sx) {
+        int cx = near[0][sx];
         size_t cell = ((size_t)cz * (size_t)ny + (size_t)cy) * (size_t)nx + (size_t)cx;
         size_t jb = nb->cell_start[cell], je = nb->cell_start[cell + 1];
         if (jb < i + 1) jb = i + 1; /* each pair once, from its lower index */
         for (size_t j = jb; j < je; ++j) {
-          if (!pair_close(p, i, j, skin)) continue;
+          if (!pair_close(nb, p, i, j, skin)) continue;
           if (out) {
             bool lower = p->id[i] < p->id[j];
             out->a[at + count] = (uint32_t)(lower ? i : j);
@@ -262,7 +289,9 @@ static int box_cells(const adem_neighbors *nb, adem_vec3 lo, adem_vec3 hi, int c
   double l[3] = {lo.x - nb->origin.x, lo.y - nb->origin.y, lo.z - nb->origin.z};
   double h[3] = {hi.x - nb->origin.x, hi.y - nb->origin.y, hi.z - nb->origin.z};
   for (int d = 0; d < 3; ++d) {
-    if (h[d] < 0.0 || l[d] > nb->dims[d] * nb->cell_size) return 0;
+    /* a periodic axis's last cell reaches the box's face */
+    double top = (nb->periodic.axes >> d) & 1u ? nb->periodic.len[d] : nb->dims[d] * nb->cell_size;
+    if (h[d] < 0.0 || l[d] > top) return 0;
     double a = floor(l[d] / nb->cell_size), b = floor(h[d] / nb->cell_size);
     c0[d] = a < 0.0 ? 0 : (int)a;
     c1[d] = b >= nb->dims[d] ? nb->dims[d] - 1 : (int)b;
@@ -280,7 +309,9 @@ static adem_status bin_triangles(build_ctx *w, double reach) {
   size_t *start = nb->tri_cell_start;
   memset(start, 0, (nb->ncells + 1) * sizeof *start);
   size_t nx = (size_t)nb->dims[0], ny = (size_t)nb->dims[1];
-  double half_diag = 0.5 * sqrt(3.0) * nb->cell_size;
+  /* a periodic axis's last cell is up to twice as long: its farthest point is 1.5 cells from
+   * the centre taken here */
+  double half_diag = (nb->periodic.axes ? 1.5 : 0.5) * sqrt(3.0) * nb->cell_size;
   for (int pass = 0; pass < 2; ++pass) {
     for (size_t t = 0; t < m->ntris; ++t) {
       adem_vec3 a = m->vert[m->tri[t][0]], b = m->vert[m->tri[t][1]], c = m->vert[m->tri[t][2]];
@@ -449,6 +480,8 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   size_t n = p->n;
   if (2 * w->pp->n + 2 >= UINT32_MAX || n >= UINT32_MAX)
     return adem_error_set(err, ADEM_ERR_NOMEM, "too many particles or pairs for 32-bit indices");
+  nb->periodic = scope->periodic ? *scope->periodic : (adem_periodic){0, {0}, {0}};
+  adem_particles_wrap(p, &nb->periodic, w->nthreads);
 
   size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0;
   saved_history *saved_pp = save_history(w, w->pp, false, &nsaved_pp);

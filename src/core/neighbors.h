@@ -11,13 +11,16 @@
 #include "adem/adem.h"
 #include "pairs.h"
 #include "particles.h"
+#include "periodic.h"
 #include "walls.h"
 
 typedef struct adem_neighbors {
   double skin;           /* absolute skin distance, m */
   double skin_fraction;  /* skin as a fraction of the largest diameter */
   bool brute_force;      /* O(N^2) search, for tests */
-  /* cell grid */
+  /* cell grid; along a periodic axis it spans the box, its last cell taking the remainder of
+   * the length, and the cells wrap */
+  adem_periodic periodic; /* of the last build */
   adem_vec3 origin;
   double cell_size;
   int dims[3];
@@ -42,6 +45,7 @@ typedef struct adem_neighbor_scope {
   adem_pair_list *pp, *pw;    /* particle pairs, particle-plane pairs */
   adem_mesh_pairs *pm;        /* particle-triangle candidates */
   const adem_walls *walls;
+  const adem_periodic *periodic; /* positions are wrapped into its box first */
   int nthreads;
 } adem_neighbor_scope;
 

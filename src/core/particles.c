@@ -104,6 +104,28 @@ double adem_particles_drift(adem_particles *p, double dt, int nthreads) {
   return worst;
 }
 
+typedef struct wrap_args {
+  adem_particles *p;
+  const adem_periodic *pb;
+} wrap_args;
+
+static inline void wrap_one(const wrap_args *a, size_t i) {
+  adem_particles *p = a->p;
+  const adem_periodic *pb = a->pb;
+  adem_vec3 x = p->pos[i];
+  int32_t *im = p->image[i].n;
+  if (pb->axes & 1u) x.x = adem_periodic_wrap_component(x.x, pb->lo[0], pb->len[0], &im[0]);
+  if (pb->axes & 2u) x.y = adem_periodic_wrap_component(x.y, pb->lo[1], pb->len[1], &im[1]);
+  if (pb->axes & 4u) x.z = adem_periodic_wrap_component(x.z, pb->lo[2], pb->len[2], &im[2]);
+  p->pos[i] = x;
+}
+
+void adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads) {
+  if (!pb || !pb->axes) return;
+  wrap_args a = {p, pb};
+  ADEM_FOR(nthreads, p->n, wrap_one, &a);
+}
+
 void adem_particles_mark_build(adem_particles *p) {
   if (p->n) memcpy(p->pos_at_build, p->pos, p->n * sizeof *p->pos); /* none yet: both NULL */
 }

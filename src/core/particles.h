@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "adem/adem.h"
+#include "periodic.h"
 #include "soa.h"
 #include "stream.h"
 
@@ -34,6 +35,7 @@ typedef struct adem_group {
   X(uint16_t, material, "material index")                                             \
   X(uint16_t, group, "external-force group index")                                    \
   X(adem_vec3, pos_at_build, "centre when the neighbour list was built (skin check)") \
+  X(adem_image, image, "periodic faces crossed along x, y, z (unwrapped = pos + image len)") \
   X(adem_vec3, rolling_torque, "rolling resistance torque of the last force pass")    \
   X(uint8_t, held, "1: BROF holds the spin at exactly zero this step (force pass)")   \
   X(double, path_length, "distance the centre has travelled, sum of |v| dt")                \
@@ -70,6 +72,9 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
 /* Positions move by dt v; each centre's path length grows by dt |v|. Returns the largest
  * dt |v| - radius: > 0 when some particle moved more than its radius (tunnelling check). */
 double adem_particles_drift(adem_particles *p, double dt, int nthreads);
+/* Wraps every centre into the periodic box along its periodic axes, counting the crossings in
+ * image (called by the neighbour build, before the sort). */
+void adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads);
 /* Records the positions at a neighbour build. */
 void adem_particles_mark_build(adem_particles *p);
 

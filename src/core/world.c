@@ -187,7 +187,9 @@ double adem_world_wall_shift(const adem_world *w) {
 }
 
 static adem_neighbor_scope neighbor_scope(adem_world *w) {
-  adem_neighbor_scope s = {&w->p, &w->pp, &w->pw, &w->pm, &w->walls, adem_world_threads(w)};
+  adem_neighbor_scope s = {&w->p,     &w->pp,      &w->pw,
+                           &w->pm,    &w->walls,   &w->periodic,
+                           adem_world_threads(w)};
   return s;
 }
 
@@ -207,7 +209,7 @@ static void compute_forces(adem_world *w, bool energy) {
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
-                        w->energy_balance};
+                        w->energy_balance, &w->periodic};
   adem_contacts_compute(&s);
 }
 
@@ -241,6 +243,8 @@ void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force) {
 
 void adem_world_change_skin(adem_world *w, double skin_fraction) { w->nb.skin_fraction = skin_fraction; }
 
+static adem_status check_periodic(const adem_world *w, adem_error *err);
+
 adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *err) {
   /* The new particles start with their body forces (nothing touches them), their energy joins
    * the balance, and the neighbour lists take them in; the forces of the others stay those of
@@ -256,7 +260,8 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
               v3_dot(f, p->pos[i]);
   }
   w->energy_initial += energy;
-  adem_status st = adem_world_build_neighbors(w, err);
+  adem_status st = check_periodic(w, err); /* a poured sphere may be the largest */
+  if (!st) st = adem_world_build_neighbors(w, err);
   if (!st) w->prepared = true;
   return st;
 }
@@ -347,6 +352,38 @@ void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi) {
   w->domain_lo = lo;
   w->domain_hi = hi;
 }
+adem_status adem_world_set_periodic(adem_world *w, adem_vec3 lo, adem_vec3 hi, unsigned axes,
+                                    adem_error *err) {
+  const double a[3] = {lo.x, lo.y, lo.z}, b[3] = {hi.x, hi.y, hi.z};
+  if (axes > 7u) return adem_error_set(err, ADEM_ERR_INPUT, "periodic axes %u: allowed are the bits 1 (x), 2 (y), 4 (z)", axes);
+  for (int d = 0; d < 3; ++d)
+    if ((axes >> d) & 1u && !(isfinite(a[d]) && isfinite(b[d]) && a[d] < b[d]))
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "periodic box along %c: max %g must be finite and greater than min %g",
+                            "xyz"[d], b[d], a[d]);
+  adem_world_set_domain(w, lo, hi);
+  memset(&w->periodic, 0, sizeof w->periodic);
+  w->periodic.axes = axes;
+  for (int d = 0; d < 3; ++d)
+    if ((axes >> d) & 1u) {
+      w->periodic.lo[d] = a[d];
+      w->periodic.len[d] = b[d] - a[d];
+    }
+  w->prepared = false;
+  return ADEM_OK;
+}
+
+adem_status adem_world_particle_image(const adem_world *w, uint64_t id, int32_t out[3],
+                                      adem_error *err) {
+  const adem_particles *p = &w->p;
+  for (size_t i = 0; i < p->n; ++i)
+    if (p->id[i] == id) {
+      for (int d = 0; d < 3; ++d) out[d] = p->image[i].n[d];
+      return ADEM_OK;
+    }
+  return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
+}
+
 void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how) {
   adem_world_use_brute_force(w, how == ADEM_SEARCH_ALL_PAIRS);
 }
@@ -472,7 +509,7 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
   const adem_particles *p = &w->p;
   for (size_t k = 0; k < w->pp.n; ++k) {
     size_t i = w->pp.a[k], j = w->pp.b[k];
-    double dist = v3_norm(v3_sub(p->pos[j], p->pos[i]));
+    double dist = v3_norm(adem_periodic_min_image(&w->periodic, v3_sub(p->pos[j], p->pos[i])));
     double overlap = p->radius[i] + p->radius[j] - dist;
     double tol = fmax(1e-9, w->initial_overlap) * fmin(p->radius[i], p->radius[j]);
     if (overlap > tol)
@@ -498,6 +535,52 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
                               pl->name, -d);
     }
   return check_initial_mesh(w, err);
+}
+
+/* Periodic boxes the run cannot use: a length below 2 (largest diameter + skin), where a pair
+ * could touch through two images at once, and a plane cutting a periodic axis. A mesh wall
+ * within reach of a periodic face is only warned about: it is not imaged. */
+static adem_status check_periodic(const adem_world *w, adem_error *err) {
+  const adem_periodic *pb = &w->periodic;
+  if (!pb->axes) return ADEM_OK;
+  double rmax = 0.0;
+  for (size_t i = 0; i < w->p.n; ++i) rmax = fmax(rmax, w->p.radius[i]);
+  double dmax = 2.0 * rmax, skin = w->nb.skin_fraction * dmax;
+  for (int d = 0; d < 3; ++d) {
+    if (!((pb->axes >> d) & 1u)) continue;
+    double need = 2.0 * (dmax + skin);
+    if (pb->len[d] < need)
+      return adem_error_set(err, ADEM_ERR_INPUT,
+                            "the periodic box along %c is %g m long; the minimum image needs at "
+                            "least 2 (largest diameter + skin) = 2 (%g + %g) = %g m",
+                            "xyz"[d], pb->len[d], dmax, skin, need);
+    for (int k = 0; k < w->walls.nplanes; ++k) {
+      const adem_plane_def *pl = &w->walls.planes[k].def;
+      double n[3] = {pl->normal.x, pl->normal.y, pl->normal.z};
+      if (fabs(n[d]) > 1e-12 * v3_norm(pl->normal))
+        return adem_error_set(err, ADEM_ERR_INPUT,
+                              "plane wall '%s' (normal (%g, %g, %g)) cuts the periodic axis %c; a "
+                              "plane in a periodic box must be parallel to its periodic axes",
+                              pl->name, n[0], n[1], n[2], "xyz"[d]);
+    }
+  }
+  if (w->walls.mesh.nverts > 0) {
+    adem_vec3 mlo, mhi;
+    adem_mesh_bounds(&w->walls.mesh, &mlo, &mhi);
+    const double lo[3] = {mlo.x, mlo.y, mlo.z}, hi[3] = {mhi.x, mhi.y, mhi.z};
+    double reach = rmax + skin;
+    for (int d = 0; d < 3; ++d)
+      if ((pb->axes >> d) & 1u &&
+          (lo[d] < pb->lo[d] + reach || hi[d] > pb->lo[d] + pb->len[d] - reach)) {
+        adem_log(ADEM_LOG_WARN,
+                 "mesh walls reach within %g m of the periodic faces along %c (they span %g .. "
+                 "%g m, the box %g .. %g m): meshes are not imaged, a particle on the other "
+                 "side of a face does not touch them",
+                 reach, "xyz"[d], lo[d], hi[d], pb->lo[d], pb->lo[d] + pb->len[d]);
+        break;
+      }
+  }
+  return ADEM_OK;
 }
 
 /* Escape check box: the case's domain, or the initial extent of particles and wall points
@@ -537,6 +620,8 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
     w->dt = isfinite(est.dt) ? est.dt : 1e-6;
   }
   adem_world_place_walls(w, w->time);
+  st = check_periodic(w, err);
+  if (st) return st;
   st = adem_world_build_neighbors(w, err);
   if (st) return st;
   st = check_initial_state(w, err);
@@ -560,8 +645,10 @@ static inline bool particle_ok(const adem_world *w, size_t i) {
   bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
   if (ok && w->has_domain) {
     adem_vec3 x = p->pos[i];
-    ok = x.x >= w->domain_lo.x && x.x <= w->domain_hi.x && x.y >= w->domain_lo.y &&
-         x.y <= w->domain_hi.y && x.z >= w->domain_lo.z && x.z <= w->domain_hi.z;
+    unsigned per = w->periodic.axes; /* crossing a periodic face is no escape */
+    ok = ((per & 1u) || (x.x >= w->domain_lo.x && x.x <= w->domain_hi.x)) &&
+         ((per & 2u) || (x.y >= w->domain_lo.y && x.y <= w->domain_hi.y)) &&
+         ((per & 4u) || (x.z >= w->domain_lo.z && x.z <= w->domain_hi.z));
   }
   return ok;
 }
@@ -714,7 +801,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   for (size_t i = 0; i < n; ++i) {
     adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
                          w->groups[p->group[i]].external_force);
-    buf[i] = -v3_dot(f, p->pos[i]);
+    buf[i] = -v3_dot(f, adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]));
   }
   d.potential = adem_sum(buf, n);
   double elastic_pp = sum_elastic(&w->pp, buf);
@@ -741,7 +828,8 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   double *bi[3] = {&d.brof_impulse.x, &d.brof_impulse.y, &d.brof_impulse.z};
   for (int a = 0; a < 3; ++a) {
     for (size_t i = 0; i < n; ++i) {
-      adem_vec3 l = v3_add(v3_scale(v3_cross(p->pos[i], p->vel[i]), 1.0 / p->inv_mass[i]),
+      adem_vec3 x = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
+      adem_vec3 l = v3_add(v3_scale(v3_cross(x, p->vel[i]), 1.0 / p->inv_mass[i]),
                            v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
       buf[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
     }
@@ -771,6 +859,11 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_put_u8(wr, w->has_domain ? 1 : 0);
   adem_put_vec(wr, w->domain_lo);
   adem_put_vec(wr, w->domain_hi);
+  adem_put_u32(wr, w->periodic.axes);
+  for (int d = 0; d < 3; ++d) {
+    adem_put_f64(wr, w->periodic.lo[d]);
+    adem_put_f64(wr, w->periodic.len[d]);
+  }
   adem_put_f64(wr, w->nb.skin);
   adem_put_f64(wr, w->nb.skin_fraction);
   adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
@@ -820,6 +913,11 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   w->has_domain = adem_get_u8(rd) != 0;
   w->domain_lo = adem_get_vec(rd);
   w->domain_hi = adem_get_vec(rd);
+  w->periodic.axes = adem_get_u32(rd);
+  for (int d = 0; d < 3; ++d) {
+    w->periodic.lo[d] = adem_get_f64(rd);
+    w->periodic.len[d] = adem_get_f64(rd);
+  }
   w->nb.skin = adem_get_f64(rd);
   w->nb.skin_fraction = adem_get_f64(rd);
   w->nb.brute_force = adem_get_u8(rd) != 0;
@@ -877,6 +975,10 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     return damaged(err, nonfinite);
   for (size_t i = 0; i < p->n; ++i)
     if (!(p->radius[i] > 0.0) || !isfinite(p->radius[i]) || !v3_isfinite(p->pos[i]))
+      return damaged(err, nonfinite);
+  if (w->periodic.axes > 7u) return damaged(err, "its periodic axes are not valid");
+  for (int d = 0; d < 3; ++d)
+    if ((w->periodic.axes >> d) & 1u && !(w->periodic.len[d] > 0.0 && isfinite(w->periodic.len[d])))
       return damaged(err, nonfinite);
   return ADEM_OK;
 }

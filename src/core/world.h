@@ -48,6 +48,8 @@ struct adem_world {
   double initial_overlap;   /* overlap allowed at prepare, fraction of the smaller radius */
   bool has_domain;
   adem_vec3 domain_lo, domain_hi;
+  /* periodic axes of the domain box (periodic.h); axes 0: none */
+  adem_periodic periodic;
 
   /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
    * interpolated crossing time; the default) or first order (as before) */

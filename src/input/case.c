@@ -1664,6 +1664,57 @@ static adem_status read_output_regions(case_ctx *ctx, const map_cursor *out) {
   return st;
 }
 
+/* domain.periodic: each periodic length at least 2 (largest diameter + skin), so that a pair
+ * touches through one image at most; no plane wall with a component of its normal along a
+ * periodic axis and no box wall (its faces cut every axis). */
+static adem_status check_periodic(case_ctx *ctx, const map_cursor *root, adem_vec3 lo, adem_vec3 hi,
+                                  const bool per[3], yaml_node_t *const per_items[3],
+                                  double skin_fraction) {
+  const double a[3] = {lo.x, lo.y, lo.z}, b[3] = {hi.x, hi.y, hi.z};
+  double dmax = 2.0 * ctx->rmax, skin = skin_fraction * dmax, need = 2.0 * (dmax + skin);
+  char path[KEY_PATH_MAX], where[LOC_MAX];
+  for (int d = 0; d < 3; ++d) {
+    if (!per[d] || b[d] - a[d] >= need) continue;
+    snprintf(path, sizeof path, "domain.periodic[%d]", d);
+    return adem_yaml_fail(ctx, per_items[d], path,
+                          "the domain is %g m long along %c; a periodic axis needs at least 2 "
+                          "(largest diameter + skin) = 2 (%g + %g) = %g m for the minimum image: "
+                          "lengthen the domain along %c or make it non-periodic",
+                          b[d] - a[d], "xyz"[d], dmax, skin, need, "xyz"[d]);
+  }
+  list_cursor l;
+  adem_status st = adem_yaml_get_list(ctx, root, "walls", &l);
+  for (size_t i = 0; i < l.n && !st; ++i) {
+    map_cursor m;
+    if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    int d = per[0] ? 0 : per[1] ? 1 : 2;
+    if (!strcmp(m.variant, "box")) {
+      adem_yaml_where_short(ctx, per_items[d], where, sizeof where);
+      adem_yaml_join(path, sizeof path, m.path, "type");
+      return adem_yaml_fail(ctx, adem_yaml_map_get(ctx, m.node, "type"), path,
+                            "a box wall has faces across every axis, and %c is periodic "
+                            "(domain.periodic at %s); use plane walls parallel to the periodic "
+                            "axes", "xyz"[d], where);
+    }
+    if (strcmp(m.variant, "plane")) continue;
+    adem_vec3 n;
+    yaml_node_t *node;
+    if ((st = adem_yaml_get_vec3(ctx, &m, "normal", &n, &node))) break;
+    const double c[3] = {n.x, n.y, n.z};
+    for (d = 0; d < 3; ++d) {
+      if (!per[d] || !(fabs(c[d]) > 1e-12 * v3_norm(n))) continue;
+      adem_yaml_where_short(ctx, per_items[d], where, sizeof where);
+      adem_yaml_join(path, sizeof path, m.path, "normal");
+      return adem_yaml_fail(ctx, node, path,
+                            "the plane's normal [%g, %g, %g] has a component along %c, a periodic "
+                            "axis (domain.periodic at %s): a plane would cut the periodic box; it "
+                            "must be parallel to every periodic axis",
+                            c[0], c[1], c[2], "xyz"[d], where);
+    }
+  }
+  return st;
+}
+
 static adem_status build(case_ctx *ctx) {
   adem_case *c = ctx->c;
   map_cursor root, time, nb, limits, out, domain;
@@ -1740,7 +1791,18 @@ static adem_status build(case_ctx *ctx) {
     if ((st = adem_yaml_get_vec3(ctx, &domain, "min", &lo, NULL))) return st;
     if ((st = adem_yaml_get_vec3(ctx, &domain, "max", &hi, &hi_node))) return st;
     if ((st = check_box(ctx, lo, hi, hi_node, &domain))) return st;
-    adem_world_set_domain(ctx->w, lo, hi);
+    bool per[3];
+    yaml_node_t *per_items[3];
+    if ((st = adem_yaml_get_bool3(ctx, &domain, "periodic", per, per_items))) return st;
+    unsigned axes = (per[0] ? 1u : 0u) | (per[1] ? 2u : 0u) | (per[2] ? 4u : 0u);
+    if (axes) {
+      if ((st = check_periodic(ctx, &root, lo, hi, per, per_items, skin))) return st;
+      adem_error werr = {ADEM_OK, ""};
+      if (adem_world_set_periodic(ctx->w, lo, hi, axes, &werr))
+        return adem_yaml_fail(ctx, domain.node, domain.path, "%s", werr.message);
+    } else {
+      adem_world_set_domain(ctx->w, lo, hi);
+    }
   } else if (ctx->has_box) {
     /* Wide enough for free flight over the whole run, so only a blow-up trips it. */
     adem_vec3 ext = v3_sub(ctx->box_hi, ctx->box_lo);

@@ -484,6 +484,38 @@ adem_status adem_yaml_get_bool(case_ctx *ctx, const map_cursor *m, const char *k
   return ADEM_OK;
 }
 
+adem_status adem_yaml_get_bool3(case_ctx *ctx, const map_cursor *m, const char *key, bool b[3],
+                                yaml_node_t *items[3]) {
+  const adem_schema_entry *e;
+  yaml_node_t *v;
+  char path[KEY_PATH_MAX];
+  adem_status st = adem_yaml_lookup(ctx, m, key, &e, &v, path);
+  if (st) return st;
+  for (int k = 0; k < 3; ++k) {
+    if (items) items[k] = NULL;
+    b[k] = false;
+  }
+  if (!v) { /* the default: "[false, false, false]" or with `true` items */
+    const char *s = e->def ? e->def : "";
+    for (int k = 0; k < 3 && (s = strpbrk(s, "tf")); ++k, s += 4) b[k] = *s == 't';
+    return ADEM_OK;
+  }
+  if (v->type != YAML_SEQUENCE_NODE || v->data.sequence.items.top - v->data.sequence.items.start != 3)
+    return adem_yaml_wrong_type(ctx, e, v, path);
+  for (int k = 0; k < 3; ++k) {
+    yaml_node_t *item = adem_yaml_node_at(ctx, v->data.sequence.items.start[k]);
+    if (items) items[k] = item;
+    if (!adem_yaml_parse_bool(item, &b[k])) {
+      char p[KEY_PATH_MAX + 8], t[128];
+      snprintf(p, sizeof p, "%s[%d]", path, k);
+      adem_yaml_node_text(item, t, sizeof t);
+      return adem_yaml_fail(ctx, item, p, "expected true or false (is the %c axis periodic?), got %s",
+                            "xyz"[k], t);
+    }
+  }
+  return ADEM_OK;
+}
+
 adem_status adem_yaml_get_string(case_ctx *ctx, const map_cursor *m, const char *key, char *buf,
                               size_t n, yaml_node_t **node) {
   const adem_schema_entry *e;

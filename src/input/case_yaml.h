@@ -121,6 +121,9 @@ adem_status adem_yaml_lookup(case_ctx *ctx, const map_cursor *m, const char *key
 adem_status adem_yaml_get_number(case_ctx *ctx, const map_cursor *m, const char *key, double *x, yaml_node_t **node);
 adem_status adem_yaml_get_uint(case_ctx *ctx, const map_cursor *m, const char *key, uint64_t *x, yaml_node_t **node);
 adem_status adem_yaml_get_bool(case_ctx *ctx, const map_cursor *m, const char *key, bool *b);
+/* [bool, bool, bool]; items[k] (if not NULL) the item nodes, NULL when the key was not given. */
+adem_status adem_yaml_get_bool3(case_ctx *ctx, const map_cursor *m, const char *key, bool b[3],
+                                yaml_node_t *items[3]);
 adem_status adem_yaml_get_string(case_ctx *ctx, const map_cursor *m, const char *key, char *buf, size_t n, yaml_node_t **node);
 adem_status adem_yaml_get_vec3(case_ctx *ctx, const map_cursor *m, const char *key, adem_vec3 *x, yaml_node_t **node);
 adem_status adem_yaml_get_enum(case_ctx *ctx, const map_cursor *m, const char *key, int *index);

@@ -26,6 +26,7 @@
 #define TABLE ADEM_SCHEMA_TABLE
 #define NUMS ADEM_SCHEMA_NUMBER_LIST
 #define SETS ADEM_SCHEMA_SETTINGS
+#define BOOL3 ADEM_SCHEMA_BOOL3
 #define REQ .need = ADEM_SCHEMA_REQUIRED
 #define GT(x) .lo = (x), .range = ADEM_RANGE_MIN_OPEN
 #define GE(x) .lo = (x), .range = ADEM_RANGE_MIN
@@ -180,9 +181,10 @@ static const adem_schema_entry base_schema[] = {
     {"stages[].set", NULL, SETS, "", NULL, NULL, .doc = "Values that change when the stage begins, as `--set` paths: `{materials.ballast.friction: 0, walls.aux.active: false}`. They stay until a later stage changes them. Allowed: materials, interactions, groups, walls, gravity, limits, neighbor, output.frame_interval, output.csv_interval, output.checkpoint_interval."},
 
     {"gravity", NULL, VEC3, "m/s^2", "[0, 0, -9.81]", NULL, .doc = "Gravitational acceleration."},
-    {"domain", NULL, MAP, "", NULL, "derived, see above", .doc = "Box the particles must stay in; a particle leaving it stops the run (escape check)."},
+    {"domain", NULL, MAP, "", NULL, "derived, see above", .doc = "Box the particles must stay in; a particle leaving it stops the run (escape check), except through a periodic face."},
     {"domain.min", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner."},
     {"domain.max", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner; greater than `min` in every component."},
+    {"domain.periodic", NULL, BOOL3, "", "[false, false, false]", NULL, .doc = "Periodic axes x, y, z: a particle leaving through a face of the box comes in through the opposite one, and pairs touch through the faces (minimum image; docs/architecture.md). A periodic length must be at least 2 (largest diameter + skin); a plane wall must be parallel to every periodic axis (a `box` wall cannot be used); mesh walls are not imaged across the faces (a warning says so when one comes within reach of a face). Random fills and pours do not look through the faces: keep their regions a diameter inside them."},
 
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
@@ -426,6 +428,7 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
     break;
   case ADEM_SCHEMA_SETTINGS: snprintf(buf, n, "a mapping of key paths to values (key.path: value)"); break;
   case ADEM_SCHEMA_LAW_PARAMS: snprintf(buf, n, "contact-law parameters"); break;
+  case ADEM_SCHEMA_BOOL3: snprintf(buf, n, "a list [x, y, z] of 3 booleans (true or false)"); break;
   }
 }
 
@@ -457,6 +460,7 @@ static void md_type(FILE *f, const adem_schema_entry *e) {
   case ADEM_SCHEMA_TABLE: fputs("[[t, x, y, z], ...]", f); break;
   case ADEM_SCHEMA_NUMBER_LIST: fputs("[number, ...]", f); break;
   case ADEM_SCHEMA_SETTINGS: fputs("{key.path: value, ...}", f); break;
+  case ADEM_SCHEMA_BOOL3: fputs("[bool, bool, bool]", f); break;
   default: break;
   }
 }

@@ -29,6 +29,7 @@ typedef enum adem_schema_type {
   ADEM_SCHEMA_TABLE,     /* list of rows [t, x, y, z] of 4 numbers; range bounds the row count */
   ADEM_SCHEMA_NUMBER_LIST, /* [a, b, ...] of numbers; range bounds each number */
   ADEM_SCHEMA_SETTINGS,  /* mapping of case-file key paths to values (stages[].set) */
+  ADEM_SCHEMA_BOOL3,     /* [bool, bool, bool], one per axis x, y, z */
   ADEM_SCHEMA_LAW_PARAMS /* in the source table only: one NUMBER per contact-law parameter */
 } adem_schema_type;
 

@@ -29,7 +29,8 @@
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
 #define CKPT_VERSION 7u /* 6: pair results saved as one record per pair (adem_pair_result); 7: the
-                            * energy-balance switch in the set-up */
+                            * energy-balance switch in the set-up, the periodic box and the
+                            * per-particle image counters */
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
