@@ -653,6 +653,60 @@ const adem_tunnel_event *adem_world_tunnel_first(const adem_world *w) {
   return w->tunnel_count ? &w->tunnel_first : NULL;
 }
 
+/* Stiffness of a touching contact for the servo's stability rule: 1.5 F / delta, exact for Hertz
+ * (F ~ delta^1.5), of the order for the other laws. */
+static double contact_stiffness(const adem_pair_list *l, size_t k, const adem_particles *p) {
+  double delta = l->res[k].overlap_ratio * p->radius[l->a[k]];
+  return l->touching[k] && delta > 0.0 ? 1.5 * v3_norm(l->res[k].force_a) / delta : 0.0;
+}
+
+static void servo_warn(adem_motion *m, const char *name, double K, double dt) {
+  double g = m->servo.gain * K * dt;
+  if (m->servo_warned || !(g > 0.5)) return;
+  m->servo_warned = true;
+  adem_log(ADEM_LOG_WARN,
+           "the servo of wall '%s' may be unstable: gain x stiffness x dt = %.3g x %.3g N/m x %.3g s "
+           "= %.3g (> 0.5, the rule is < 1 with the stiffness of all it presses on, estimated "
+           "from its contacts); lower the gain", name, m->servo.gain, K, dt, g);
+}
+
+/* Warns once per servo whose gain K dt exceeds 0.5, K the sum of its contacts' stiffnesses. */
+static void servo_check(adem_world *w) {
+  adem_walls *wl = &w->walls;
+  for (int k = 0; k < wl->nplanes; ++k) {
+    adem_motion *m = &wl->planes[k].motion;
+    if (!m->servo.on || m->servo_warned) continue;
+    double K = 0.0;
+    for (size_t j = 0; j < w->pw.n; ++j)
+      if (w->pw.b[j] == (uint32_t)k) K += contact_stiffness(&w->pw, j, &w->p);
+    servo_warn(m, wl->planes[k].def.name, K, w->dt);
+  }
+  for (int k = 0; k < wl->nmesh_walls; ++k) {
+    const adem_mesh_wall *mw = &wl->mesh_walls[k];
+    adem_motion *lead = (adem_motion *)adem_walls_mesh_wall_servo(wl, k);
+    if (!lead || lead->servo_warned) continue;
+    double K = 0.0;
+    for (size_t j = 0; j < w->pm.l.n; ++j) {
+      int g = (int)wl->mesh.group[w->pm.owner[j]];
+      if (g >= mw->first && g < mw->first + mw->count && wl->mesh_motion[g].servo.on &&
+          !wl->mesh_motion[g].servo.unmeasured)
+        K += contact_stiffness(&w->pm.l, j, &w->p);
+    }
+    servo_warn(lead, mw->name, K, w->dt);
+  }
+}
+
+/* The servos move by their laws from the last force pass's loads, before the walls are placed. */
+static adem_status servo_step(adem_world *w, double dt) {
+  if (w->step % 64 == 0) servo_check(w); /* a warning: now and then is enough */
+  adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
+  if (!f) return ADEM_ERR_NOMEM;
+  adem_world_plane_forces(w, f);
+  adem_walls_servo_step(&w->walls, f, dt);
+  free(f);
+  return ADEM_OK;
+}
+
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   if (!w->prepared) {
     adem_status st = adem_world_prepare(w, err);
@@ -670,6 +724,10 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     /* the drift's largest excess over a radius is all the step pays for the tunnelling check */
     if (adem_particles_drift(&w->p, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
       note_tunnelling(w, dt);
+    if (adem_walls_has_servo(&w->walls)) {
+      adem_status st = servo_step(w, dt);
+      if (st) return adem_error_set(err, st, "out of memory");
+    }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads)) {
       adem_status st = adem_world_build_neighbors(w, err);
@@ -790,6 +848,7 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   size_t nf = 3 * w->walls.mesh.ntris;
   adem_put_array(wr, w->walls.face_force, nf, sizeof *w->walls.face_force);
   adem_put_array(wr, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
+  adem_walls_save_state(wr, &w->walls);
 }
 
 static adem_status damaged(adem_error *err, const char *why) {
@@ -849,6 +908,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   size_t nf = 3 * w->walls.mesh.ntris;
   adem_get_array(rd, w->walls.face_force, nf, sizeof *w->walls.face_force);
   adem_get_array(rd, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
+  adem_walls_load_state(rd, &w->walls);
   if (rd->failed) return damaged(err, cut);
   /* Indices must be in range before the gather lists and the stepper use them. */
   const char *bad = "its particle, pair or wall indices are out of range";

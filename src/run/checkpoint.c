@@ -28,7 +28,7 @@
 #define CKPT_MAGIC "ADEMCKPT"
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 6u /* 6: pair results saved as one record per pair (adem_pair_result) */
+#define CKPT_VERSION 7u /* 7: where the walls are placed from and their servos' state */
 #define CKPT_ENDIAN 0x01020304u
 #define CKPT_HEADER_BYTES 40u
 
@@ -255,6 +255,10 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
   /* A new end widens the default escape domain as a run with that end would have it. */
   bool has_domain = w->has_domain;
   adem_vec3 domain_lo = w->domain_lo, domain_hi = w->domain_hi;
+  /* The stage in force: its materials, walls and settings, replayed stage start by stage start
+   * as the run made them; then the stored state, which has where the walls started their
+   * motions from (a servo's travel is not a function of time, the replay cannot know it). */
+  if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
   if ((st = adem_world_load(rd, w, err))) goto damaged;
   if (given[RESUME_END]) {
     w->has_domain = has_domain;
@@ -268,9 +272,6 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
     adem_case_free(c);
     return bad_file(err, path, "it has data after its end marker");
   }
-  /* The stage in force: its materials, walls and settings, replayed stage start by stage start
-   * as the run made them (walls that started a new motion start it from where they were). */
-  if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
   /* The per-particle sums run over these lists: rebuilt in the order the neighbour build
    * makes them, so the forces of the next step are summed exactly as without the restart. */
   adem_world_place_walls(w, w->time); /* moving walls are a function of time */
