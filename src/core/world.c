@@ -830,6 +830,7 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_put_u64(wr, w->nb.rebuilds);
   adem_put_f64(wr, w->nb.time_at_build);
   adem_put_u32(wr, (uint32_t)w->mat.n);
+  for (int k = 0; k < w->mat.n; ++k) adem_put_str(wr, w->mat.m[k].def.name);
   adem_put_u32(wr, (uint32_t)w->ngroups);
   for (int k = 0; k < w->ngroups; ++k) adem_put_vec(wr, w->groups[k].external_force);
   adem_put_u32(wr, (uint32_t)w->walls.nplanes);
@@ -849,6 +850,57 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_put_array(wr, w->walls.face_force, nf, sizeof *w->walls.face_force);
   adem_put_array(wr, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
   adem_walls_save_state(wr, &w->walls);
+}
+
+static adem_status damaged(adem_error *err, const char *why);
+
+adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
+                                      char (**names)[ADEM_NAME_MAX], int *nmat, adem_error *err) {
+  const char *cut = "its contents are cut short or damaged";
+  *names = NULL;
+  *nmat = 0;
+  if (!adem_get_u8(rd) || rd->failed)
+    return damaged(err, "it was written before the first step (its particles are its case's)");
+  (void)adem_get_f64(rd); /* time */
+  (void)adem_get_u64(rd); /* step */
+  for (int k = 0; k < 3; ++k) (void)adem_get_f64(rd); /* dt, next id, initial energy */
+  (void)adem_get_vec(rd);                               /* gravity */
+  (void)adem_get_f64(rd);                               /* overlap limit */
+  (void)adem_get_u8(rd);                                /* domain */
+  (void)adem_get_vec(rd);
+  (void)adem_get_vec(rd);
+  (void)adem_get_f64(rd); /* skin */
+  (void)adem_get_f64(rd);
+  (void)adem_get_u8(rd);
+  (void)adem_get_u64(rd);
+  (void)adem_get_f64(rd);
+  uint32_t nm = adem_get_u32(rd);
+  if (rd->failed || nm > 65535) return damaged(err, cut);
+  *names = calloc((size_t)nm + 1, sizeof **names);
+  if (!*names) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  *nmat = (int)nm;
+  for (uint32_t k = 0; k < nm; ++k) adem_get_str_into(rd, (*names)[k], sizeof **names);
+  uint32_t ng = adem_get_u32(rd);
+  for (uint32_t k = 0; k < ng && !rd->failed; ++k) (void)adem_get_vec(rd);
+  uint32_t np = adem_get_u32(rd);
+  for (uint32_t k = 0; k < np && !rd->failed; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    for (int j = 0; j < 3; ++j) (void)adem_get_vec(rd);
+    (void)adem_get_i32(rd);
+  }
+  adem_status st = rd->failed ? ADEM_OK : adem_particles_load(rd, p, err);
+  if (!st && rd->failed) st = damaged(err, cut);
+  for (size_t i = 0; !st && i < p->n; ++i)
+    if (p->material[i] >= nm || !(p->radius[i] > 0.0) || !isfinite(p->radius[i]) ||
+        !v3_isfinite(p->pos[i]) || !v3_isfinite(p->vel[i]) || !v3_isfinite(p->omega[i]))
+      st = damaged(err, "its particles' materials, radii or positions are out of range");
+  if (st) {
+    free(*names);
+    *names = NULL;
+    *nmat = 0;
+  }
+  return st;
 }
 
 static adem_status damaged(adem_error *err, const char *why) {
@@ -880,9 +932,17 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   w->nb.rebuilds = adem_get_u64(rd);
   w->nb.time_at_build = adem_get_f64(rd);
   uint32_t nmat = adem_get_u32(rd);
+  if (rd->failed) return damaged(err, cut);
+  if (nmat != (uint32_t)w->mat.n) return damaged(err, "its materials do not match its own case text");
+  for (int k = 0; k < w->mat.n; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    if (!rd->failed && strcmp(name, w->mat.m[k].def.name))
+      return damaged(err, "its materials do not match its own case text");
+  }
   uint32_t ngroups = adem_get_u32(rd);
   if (rd->failed) return damaged(err, cut);
-  if (nmat != (uint32_t)w->mat.n || ngroups != (uint32_t)w->ngroups)
+  if (ngroups != (uint32_t)w->ngroups)
     return damaged(err, "its materials or groups do not match its own case text");
   for (int k = 0; k < w->ngroups; ++k) w->groups[k].external_force = adem_get_vec(rd);
   uint32_t nplanes = adem_get_u32(rd);

@@ -1539,6 +1539,91 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
+/* `type: state`: the particles of a checkpoint, in the order of their ids, with this case's
+ * materials of the same names. */
+static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
+  char file[ADEM_PATH_MAX], path[KEY_PATH_MAX];
+  yaml_node_t *file_node;
+  adem_status st = adem_yaml_get_string(ctx, m, "file", file, sizeof file, &file_node);
+  if (st) return st;
+  adem_yaml_join(path, sizeof path, m->path, "file");
+  char *resolved = mesh_path(ctx, file);
+  if (!resolved) return adem_yaml_nomem(ctx);
+  char *data = NULL;
+  size_t len = 0;
+  adem_error werr = {ADEM_OK, ""};
+  adem_particles p;
+  memset(&p, 0, sizeof p);
+  char(*names)[ADEM_NAME_MAX] = NULL;
+  int nmat = 0;
+  size_t *order = NULL;
+  adem_reader rd;
+  st = adem_file_read_all(resolved, &data, &len, &werr);
+  if (!st) st = adem_checkpoint_header_check(data, len, resolved, ADEM_CKPT_MAGIC,
+                                              sizeof(adem_contact_history), &rd, &werr);
+  if (!st) { /* the case section, skipped by its length */
+    uint64_t skip = adem_get_u64(&rd);
+    if (rd.failed || skip > (uint64_t)(rd.end - rd.at))
+      st = adem_error_set(&werr, ADEM_ERR_INPUT, "%s is not a usable adem checkpoint: it is cut short", resolved);
+    else
+      rd.at += skip;
+  }
+  if (!st) {
+    st = adem_world_read_particles(&rd, &p, &names, &nmat, &werr);
+    if (st && st != ADEM_ERR_NOMEM) {
+      char why[ADEM_MSG_MAX];
+      snprintf(why, sizeof why, "%s", werr.message);
+      adem_error_set(&werr, st, "%s is not a usable adem checkpoint: %s", resolved, why);
+    }
+  }
+  if (st) {
+    st = st == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
+    goto done;
+  }
+  if ((st = check_memory(ctx, (double)p.n, m->node, m->path))) goto done;
+  /* ids are 0 .. n-1 (particles are never removed): sort by id */
+  order = malloc((p.n + 1) * sizeof *order);
+  if (!order) {
+    st = adem_yaml_nomem(ctx);
+    goto done;
+  }
+  for (size_t i = 0; i < p.n; ++i) order[i] = SIZE_MAX;
+  for (size_t i = 0; i < p.n && !st; ++i) {
+    if (p.id[i] >= p.n || order[p.id[i]] != SIZE_MAX)
+      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: its particle ids are not 0 .. %zu", resolved, p.n - 1);
+    else
+      order[p.id[i]] = i;
+  }
+  for (size_t k = 0; k < p.n && !st; ++k) {
+    size_t i = order[k];
+    const char *name = names[p.material[i]];
+    int mat = -1;
+    for (int j = 0; j < ctx->nmat && mat < 0; ++j)
+      if (!strcmp(ctx->mat_name[j], name)) mat = j;
+    if (mat < 0) {
+      st = adem_yaml_fail(ctx, file_node, path,
+                          "the particles of %s are made of material `%s`, which this case does not "
+                          "have; add a material of that name", resolved, name);
+      break;
+    }
+    if (ctx->mat_rigid[mat] || !ctx->mat_density[mat]) {
+      st = adem_yaml_fail(ctx, file_node, path,
+                          "material `%s` of the particles of %s needs a `density` and must not be "
+                          "rigid here", name, resolved);
+      break;
+    }
+    if ((st = push_sphere(ctx, p.pos[i], p.radius[i], p.vel[i], p.omega[i]))) break;
+    st = flush_spheres(ctx, ctx->n - 1, mat, group, file_node, path);
+  }
+done:
+  free(order);
+  free(names);
+  adem_particles_free(&p);
+  free(data);
+  free(resolved);
+  return st;
+}
+
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, root, "particles", &l);
@@ -1553,6 +1638,13 @@ static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *mat_node, *group_node;
     int mat, group;
     if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
+    if (!strcmp(m.variant, "state")) {
+      if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
+      adem_yaml_join(path, sizeof path, m.path, "group");
+      if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &group))) return st;
+      if ((st = build_state(ctx, &m, group))) return st;
+      continue;
+    }
     if ((st = adem_yaml_get_string(ctx, &m, "material", material, sizeof material, &mat_node))) return st;
     adem_yaml_join(path, sizeof path, m.path, "material");
     if ((st = find_material(ctx, material, mat_node, path, &mat))) return st;

@@ -74,8 +74,9 @@ static const adem_schema_entry base_schema[] = {
     {"groups[].external_force", NULL, VEC3, "N", "[0, 0, 0]", NULL, .doc = "Constant force on every particle of the group."},
 
     {"particles", NULL, LIST, "", NULL, NULL, .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless there are `pours`", .discriminator = "type", .doc = "Particle sets, created in order; each has a `type`."},
-    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box, a cylinder or a closed STL volume (docs/insertion-and-stages.md)."},
-    {"particles[].material", NULL, NAME, "", NULL, NULL, REQ, .doc = "Material of the set's spheres; it needs a `density` and must not be rigid."},
+    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random|state", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box, a cylinder or a closed STL volume (docs/insertion-and-stages.md); `state`: the particles of another run's checkpoint."},
+    {"particles[].file", "state", STR, "", NULL, NULL, REQ, .doc = "A checkpoint written by adem (`OUT/checkpoint`), relative to the case file's folder: its particles' positions, velocities, spins and radii, their materials by name (this case must have them; their properties are this case's) and their ids (the same when this set comes first). Contact history is not carried over; a settled bed overlaps, so set `limits.initial_overlap`."},
+    {"particles[].material", "list|lattice|random", NAME, "", NULL, NULL, REQ, .doc = "Material of the set's spheres; it needs a `density` and must not be rigid."},
     {"particles[].group", NULL, NAME, "", "default", NULL, .doc = "Group of the set's spheres."},
     {"particles[].spheres", "list", LIST, "", NULL, NULL, GE(1), REQ, .doc = "The spheres; two spheres of the list must not overlap."},
     {"particles[].spheres[].position", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Centre."},
