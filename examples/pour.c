@@ -114,7 +114,7 @@ int main(int argc, char **argv) {
   /* piecewise-linear velocity: at rest until 0.35 s, -0.2 m/s from 0.36 s to 0.6 s, then at rest */
   double knots[4] = {0.35, 0.36, 0.6, 0.61};
   adem_vec3 speeds[4] = {{0, 0, 0}, {0, 0, -0.2}, {0, 0, -0.2}, {0, 0, 0}};
-  adem_motion_def motion = {4, knots, speeds, {0, 0, 1}, 0.0, {0, 0, 0}, NULL};
+  adem_motion_def motion = {4, knots, speeds, {0, 0, 1}, 0.0, {0, 0, 0}, NULL, {0}}; /* no servo */
   CHECK(adem_world_set_plane_motion(w, lid_index, &motion, &err));
 
   /* the first layer, then the step: 1/50 of the collision time at the fall's speed */

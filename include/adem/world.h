@@ -61,6 +61,22 @@ typedef struct adem_plane_def {
 } adem_plane_def;
 adem_plane_def adem_default_plane_def(void);
 
+/* Servo (force-controlled) motion of a wall along one axis, from the particles' force on the wall
+ * in the previous force pass: v = clamp(gain (F - target_force), +-max_speed) along axis, the
+ * position integrated (x += v dt). Stable for gain K dt < 1, K the stiffness of what the wall
+ * presses on. */
+typedef struct adem_servo_def {
+  int on;                        /* 0: no servo (the rest is ignored) */
+  adem_vec3 axis;                /* any length > 0; unit once set */
+  double target_force;           /* N: wanted force of the particles on the wall along axis */
+  double gain;                   /* m/s per N, > 0 */
+  double max_speed;              /* m/s, > 0 */
+  double filter;                 /* s >= 0: time constant of a low-pass on the measured force */
+  double travel_min, travel_max; /* m: limits of the servo displacement (min <= 0 <= max) */
+  int unmeasured;                /* 1: a mesh group that moves with its file's servo but whose
+                                    load is not measured (`servo.groups` leaves it out) */
+} adem_servo_def;
+
 /* Prescribed motion of a wall: a translation, given either as a piecewise-linear velocity in
  * time or as a piecewise-linear displacement (positions; the velocity is its derivative, and
  * the wall is exactly at each knot's position at its time), and a constant rotation about an
@@ -77,6 +93,8 @@ typedef struct adem_motion_def {
    * wall is placed (m), linear in between, held at the first before it and at the last after
    * it (the wall stops there). */
   const adem_vec3 *position;
+  /* A servo (force control) along one axis, replacing the translation's component along it. */
+  adem_servo_def servo;
 } adem_motion_def;
 
 /* What loading a mesh does to its coordinates, x' = R (s x) + t, and what its triangles are made

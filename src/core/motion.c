@@ -8,6 +8,36 @@
 #include "log.h"
 #include "adem/vec3.h"
 
+/* Checks a servo's settings; the axis made unit, travel limits of 0 and 0 made none. */
+static adem_status servo_init(adem_servo_def *s, const adem_servo_def *def, adem_error *err) {
+  memset(s, 0, sizeof *s);
+  if (!def->on) return ADEM_OK;
+  *s = *def;
+  s->on = 1;
+  s->unmeasured = def->unmeasured != 0;
+  double len = v3_norm(def->axis);
+  if (!(len > 0.0) || !isfinite(len))
+    return adem_error_set(err, ADEM_ERR_INPUT, "servo: the axis must be finite and non-zero");
+  s->axis = v3_scale(def->axis, 1.0 / len);
+  if (!isfinite(def->target_force))
+    return adem_error_set(err, ADEM_ERR_INPUT, "servo: the target force must be finite");
+  if (!(def->gain > 0.0) || !isfinite(def->gain))
+    return adem_error_set(err, ADEM_ERR_INPUT, "servo: the gain must be > 0 and finite");
+  if (!(def->max_speed > 0.0) || !isfinite(def->max_speed))
+    return adem_error_set(err, ADEM_ERR_INPUT, "servo: the maximum speed must be > 0 and finite");
+  if (!(def->filter >= 0.0) || !isfinite(def->filter))
+    return adem_error_set(err, ADEM_ERR_INPUT, "servo: the filter time must be >= 0 and finite");
+  if (def->travel_min == 0.0 && def->travel_max == 0.0) {
+    s->travel_min = -INFINITY;
+    s->travel_max = INFINITY;
+  } else if (!(def->travel_min <= 0.0 && def->travel_max >= 0.0)) {
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "servo: the travel [%g, %g] m must hold 0 (where the servo starts)",
+                          def->travel_min, def->travel_max);
+  }
+  return ADEM_OK;
+}
+
 adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_error *err) {
   memset(m, 0, sizeof *m);
   const adem_vec3 *given = def->position ? def->position : def->velocity;
@@ -30,6 +60,8 @@ adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_er
   double axis_len = v3_norm(def->axis);
   if (def->angular_speed != 0.0 && !(axis_len > 0.0))
     return adem_error_set(err, ADEM_ERR_INPUT, "a rotating wall needs a non-zero axis");
+  adem_status st = servo_init(&m->servo, &def->servo, err);
+  if (st) return st;
   m->n = def->n;
   if (m->n > 0) {
     m->time = malloc(m->n * sizeof *m->time);
@@ -66,6 +98,7 @@ adem_status adem_motion_init(adem_motion *m, const adem_motion_def *def, adem_er
   for (size_t k = 0; k < m->n; ++k)
     if (v3_norm2(m->velocity[k]) > 0.0 || (m->positions && v3_norm2(m->displacement[k]) > 0.0))
       m->moving = true;
+  if (m->servo.on) m->moving = true;
   return ADEM_OK;
 }
 
@@ -101,12 +134,29 @@ static adem_vec3 velocity_at(const adem_motion *m, double t) {
   return v3_add(v3_scale(m->velocity[k], 1.0 - s), v3_scale(m->velocity[k + 1], s));
 }
 
-adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
+/* The servo's axis component in place of v's. */
+static adem_vec3 servo_replace(const adem_motion *m, adem_vec3 v, double along) {
+  if (!m->servo.on) return v;
+  adem_vec3 a = m->servo.axis;
+  return v3_axpy(v3_axpy(v, -v3_dot(v, a), a), along, a);
+}
+
+static adem_vec3 prescribed_velocity(const adem_motion *m, double t) {
   if (m->n == 0) return v3_zero();
   return velocity_at(m, t - m->t0);
 }
 
+adem_vec3 adem_motion_velocity(const adem_motion *m, double t) {
+  return servo_replace(m, prescribed_velocity(m, t), m->servo_v);
+}
+
+static adem_vec3 prescribed_displacement(const adem_motion *m, double t);
+
 adem_vec3 adem_motion_displacement(const adem_motion *m, double t) {
+  return servo_replace(m, prescribed_displacement(m, t), m->servo_u);
+}
+
+static adem_vec3 prescribed_displacement(const adem_motion *m, double t) {
   if (m->n == 0) return v3_zero();
   t -= m->t0;
   long k = segment(m, t);
@@ -148,13 +198,19 @@ adem_vec3 adem_motion_point_velocity(const adem_motion *m, double t, adem_vec3 x
 }
 
 double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double reach) {
-  double d = v3_norm(v3_sub(adem_motion_displacement(m, t1), adem_motion_displacement(m, t0)));
+  adem_vec3 dd = v3_sub(prescribed_displacement(m, t1), prescribed_displacement(m, t0));
+  double d = v3_norm(servo_replace(m, dd, 0.0));
+  /* the servo's past positions are not kept: bounded by its largest speed */
+  if (m->servo.on) d += m->servo.max_speed * fabs(t1 - t0);
   return d + fabs(m->omega * (t1 - t0)) * reach;
 }
 
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err) {
-  adem_motion_def d = {src->n, src->time, src->positions ? NULL : src->velocity, src->axis,
-                       src->omega, src->center, src->positions ? src->displacement : NULL};
+  adem_motion_def d = {src->n,     src->time,   src->positions ? NULL : src->velocity,
+                       src->axis,  src->omega,  src->center,
+                       src->positions ? src->displacement : NULL, src->servo};
+  if (d.servo.on && isinf(d.servo.travel_min) && isinf(d.servo.travel_max))
+    d.servo.travel_min = d.servo.travel_max = 0.0; /* none, as servo_init reads it */
   adem_status st = adem_motion_init(dst, &d, err);
   if (!st) dst->t0 = src->t0;
   return st;
@@ -164,6 +220,13 @@ adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_erro
 bool adem_motion_same(const adem_motion *a, const adem_motion *b) {
   if (a->n != b->n || a->omega != b->omega || a->positions != b->positions) return false;
   if (memcmp(&a->axis, &b->axis, sizeof a->axis) || memcmp(&a->center, &b->center, sizeof a->center))
+    return false;
+  const adem_servo_def *sa = &a->servo, *sb = &b->servo;
+  if (sa->on != sb->on) return false;
+  if (sa->on && (memcmp(&sa->axis, &sb->axis, sizeof sa->axis) || sa->target_force != sb->target_force ||
+                 sa->gain != sb->gain || sa->max_speed != sb->max_speed || sa->filter != sb->filter ||
+                 sa->travel_min != sb->travel_min || sa->travel_max != sb->travel_max ||
+                 sa->unmeasured != sb->unmeasured))
     return false;
   return a->n == 0 || (!memcmp(a->time, b->time, a->n * sizeof *a->time) &&
                        !memcmp(a->velocity, b->velocity, a->n * sizeof *a->velocity) &&
@@ -181,6 +244,31 @@ void adem_motion_save(adem_writer *wr, const adem_motion *m) {
   adem_put_u8(wr, m->moving ? 1 : 0);
   adem_put_u8(wr, m->positions ? 1 : 0);
   adem_put_f64(wr, m->t0);
+  const adem_servo_def *sv = &m->servo;
+  adem_put_i32(wr, sv->on);
+  adem_put_vec(wr, sv->axis);
+  adem_put_f64(wr, sv->target_force);
+  adem_put_f64(wr, sv->gain);
+  adem_put_f64(wr, sv->max_speed);
+  adem_put_f64(wr, sv->filter);
+  adem_put_f64(wr, sv->travel_min);
+  adem_put_f64(wr, sv->travel_max);
+  adem_put_i32(wr, sv->unmeasured);
+  adem_motion_save_servo(wr, m);
+}
+
+void adem_motion_save_servo(adem_writer *wr, const adem_motion *m) {
+  adem_put_f64(wr, m->servo_u);
+  adem_put_f64(wr, m->servo_v);
+  adem_put_f64(wr, m->servo_force);
+  adem_put_u8(wr, m->servo_started ? 1 : 0);
+}
+
+void adem_motion_load_servo(adem_reader *rd, adem_motion *m) {
+  m->servo_u = adem_get_f64(rd);
+  m->servo_v = adem_get_f64(rd);
+  m->servo_force = adem_get_f64(rd);
+  m->servo_started = adem_get_u8(rd) != 0;
 }
 
 adem_status adem_motion_load(adem_reader *rd, adem_motion *m, adem_error *err) {
@@ -206,5 +294,16 @@ adem_status adem_motion_load(adem_reader *rd, adem_motion *m, adem_error *err) {
   m->moving = adem_get_u8(rd) != 0;
   m->positions = adem_get_u8(rd) != 0;
   m->t0 = adem_get_f64(rd);
+  adem_servo_def *sv = &m->servo;
+  sv->on = adem_get_i32(rd);
+  sv->axis = adem_get_vec(rd);
+  sv->target_force = adem_get_f64(rd);
+  sv->gain = adem_get_f64(rd);
+  sv->max_speed = adem_get_f64(rd);
+  sv->filter = adem_get_f64(rd);
+  sv->travel_min = adem_get_f64(rd);
+  sv->travel_max = adem_get_f64(rd);
+  sv->unmeasured = adem_get_i32(rd);
+  adem_motion_load_servo(rd, m);
   return ADEM_OK;
 }

@@ -25,6 +25,14 @@ typedef struct adem_motion {
   /* Time the motion starts from (0 unless a stage changed the motion): the table's times, the
    * rotation angle and the placement of x0 all count from t0. */
   double t0;
+  /* Servo along servo.axis (servo.on): its definition, and its state, integrated by the walls
+   * (walls.c) rather than a function of time, hence saved in checkpoints. */
+  adem_servo_def servo;
+  double servo_u;     /* displacement along the axis since the motion began, m */
+  double servo_v;     /* velocity along the axis over the last step, m/s */
+  double servo_force; /* measured force along the axis (filtered), N */
+  bool servo_started; /* servo_force holds a measurement */
+  bool servo_warned;  /* its gain has been found too high (a message, not state) */
 } adem_motion;
 
 /* Checks the table (finite, times strictly increasing) and copies it; a table of positions
@@ -48,6 +56,10 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err);
 /* The same motion table (of the same kind), axis and centre (t0 aside). */
 bool adem_motion_same(const adem_motion *a, const adem_motion *b);
+
+/* The servo's state (not its definition), exactly. */
+void adem_motion_save_servo(adem_writer *wr, const adem_motion *m);
+void adem_motion_load_servo(adem_reader *rd, adem_motion *m);
 
 /* Every field, exactly (a restart places the wall bit for bit). */
 void adem_motion_save(adem_writer *wr, const adem_motion *m);

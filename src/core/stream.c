@@ -1,5 +1,6 @@
 #include "stream.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -109,3 +110,52 @@ uint64_t adem_get_count(adem_reader *rd, size_t min_elem) {
   }
   return n;
 }
+
+static adem_status bad_file(adem_error *err, const char *path, const char *why) {
+  return adem_error_set(err, ADEM_ERR_INPUT, "%s is not a usable adem checkpoint: %s", path, why);
+}
+
+/* Checks the header of a checkpoint of kind magic; the payload's reader on success. */
+adem_status adem_checkpoint_header_check(const char *data, size_t len, const char *path,
+                                         const char *magic, uint32_t hist, adem_reader *rd,
+                                         adem_error *err) {
+  const unsigned char *b = (const unsigned char *)data;
+  if (len < 8 || memcmp(b, magic, 8) != 0) {
+    char why[96];
+    snprintf(why, sizeof why, "it does not start with %s (not a %s)", magic,
+             strcmp(magic, ADEM_CKPT_MAGIC) ? "world checkpoint" : "checkpoint");
+    return bad_file(err, path, why);
+  }
+  if (len < ADEM_CKPT_HEADER_BYTES) return bad_file(err, path, "it is truncated (header)");
+  uint32_t version, endian, vec_size, hist_size;
+  uint64_t payload, hash;
+  memcpy(&version, b + 8, 4);
+  memcpy(&endian, b + 12, 4);
+  memcpy(&payload, b + 16, 8);
+  memcpy(&hash, b + 24, 8);
+  memcpy(&vec_size, b + 32, 4);
+  memcpy(&hist_size, b + 36, 4);
+  char why[160];
+  if (endian != ADEM_CKPT_ENDIAN)
+    return bad_file(err, path, "it was written on a machine with another byte order");
+  if (version != ADEM_CKPT_VERSION) {
+    snprintf(why, sizeof why, "it has format version %u, this adem reads version %u", version,
+             ADEM_CKPT_VERSION);
+    return bad_file(err, path, why);
+  }
+  if (vec_size != sizeof(adem_vec3) || hist_size != hist)
+    return bad_file(err, path, "it was written by a build with another contact-history layout");
+  if (payload != (uint64_t)(len - ADEM_CKPT_HEADER_BYTES)) {
+    snprintf(why, sizeof why, "it is %s: %zu bytes instead of %llu",
+             payload > (uint64_t)(len - ADEM_CKPT_HEADER_BYTES) ? "truncated" : "too long", len,
+             (unsigned long long)(payload + ADEM_CKPT_HEADER_BYTES));
+    return bad_file(err, path, why);
+  }
+  if (adem_fnv1a(ADEM_FNV_START, b + ADEM_CKPT_HEADER_BYTES, (size_t)payload) != hash)
+    return bad_file(err, path, "its checksum does not match (the file is damaged)");
+  rd->at = b + ADEM_CKPT_HEADER_BYTES;
+  rd->end = b + len;
+  rd->failed = 0;
+  return ADEM_OK;
+}
+

@@ -64,4 +64,21 @@ uint64_t adem_get_count(adem_reader *rd, size_t min_elem);
 /* Bytes left. */
 size_t adem_reader_left(const adem_reader *rd);
 
+/* Checkpoint files (written by the run layer, read by it and by the case loader's `type: state`):
+ * header "ADEMCKPT" (or "ADEMWRLD"), u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a
+ * of the payload, u32 sizeof(adem_vec3), u32 history bytes; then the payload. */
+#define ADEM_CKPT_MAGIC "ADEMCKPT"
+#define ADEM_CKPT_VERSION 7u /* 6: pair results as one record per pair; 7: where the walls are
+                                placed from, servo state, material names, the case section's
+                                length, the energy-balance switch, the periodic box and the
+                                per-particle image counters */
+#define ADEM_CKPT_ENDIAN 0x01020304u
+#define ADEM_CKPT_HEADER_BYTES 40u
+/* Checks the header of checkpoint bytes of kind magic (hist_size: the build's contact-history
+ * size); the payload's reader on success, else ADEM_ERR_INPUT "PATH is not a usable adem
+ * checkpoint: why". */
+adem_status adem_checkpoint_header_check(const char *data, size_t len, const char *path,
+                                         const char *magic, uint32_t hist_size, adem_reader *rd,
+                                         adem_error *err);
+
 #endif

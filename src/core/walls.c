@@ -8,6 +8,8 @@
 #include "adem/vec3.h"
 #include "walls.h"
 
+static void note_plane(adem_plane *pl, const adem_motion *m);
+
 adem_plane_def adem_default_plane_def(void) {
   adem_plane_def d;
   memset(&d, 0, sizeof d);
@@ -48,6 +50,7 @@ int adem_walls_add_plane(adem_walls *wl, const adem_plane_def *def, int nmateria
     md.velocity = &def->velocity;
   }
   if (adem_motion_init(&np->motion, &md, err)) return -1;
+  note_plane(np, &np->motion);
   return wl->nplanes++;
 }
 
@@ -232,6 +235,30 @@ void adem_walls_mesh_loads(const adem_walls *wl, adem_vec3 *group_force, adem_ve
   }
 }
 
+static uint8_t csv_flags(const adem_motion *m) {
+  return (uint8_t)((m->moving ? ADEM_WALL_CSV_MOVES : 0u) | (m->servo.on ? ADEM_WALL_CSV_SERVO : 0u));
+}
+
+static void note_plane(adem_plane *pl, const adem_motion *m) { pl->csv |= csv_flags(m); }
+
+/* The mesh wall (file) group g belongs to, or -1. */
+static int wall_of_group(const adem_walls *wl, int g) {
+  for (int k = 0; k < wl->nmesh_walls; ++k)
+    if (g >= wl->mesh_walls[k].first && g < wl->mesh_walls[k].first + wl->mesh_walls[k].count) return k;
+  return -1;
+}
+
+static void note_mesh(adem_walls *wl, int g, const adem_motion *m) {
+  int k = wall_of_group(wl, g);
+  if (k >= 0) wl->mesh_walls[k].csv |= csv_flags(m);
+}
+
+void adem_walls_note_settings(adem_walls *wl, const adem_plane_setting *planes,
+                              const adem_mesh_setting *meshes) {
+  for (int k = 0; k < wl->nplanes; ++k) note_plane(&wl->planes[k], &planes[k].motion);
+  for (int g = 0; g < wl->mesh.ngroups; ++g) note_mesh(wl, g, &meshes[g].motion);
+}
+
 adem_status adem_walls_set_mesh_motion(adem_walls *wl, int group, const adem_motion_def *def,
                                        adem_error *err) {
   if (group < 0 || group >= wl->mesh.ngroups)
@@ -248,6 +275,7 @@ adem_status adem_walls_set_mesh_motion(adem_walls *wl, int group, const adem_mot
   }
   adem_motion_free(&wl->mesh_motion[group]);
   wl->mesh_motion[group] = m;
+  note_mesh(wl, group, &m);
   double reach = 0.0;
   for (uint32_t v = g->vert_first; v < g->vert_first + g->vert_count; ++v)
     reach = fmax(reach, v3_norm(v3_sub(wl->mesh_vert0[v], m.center)));
@@ -265,6 +293,7 @@ adem_status adem_walls_set_plane_motion(adem_walls *wl, int plane, const adem_mo
   if (st) return st;
   adem_motion_free(&wl->planes[plane].motion);
   wl->planes[plane].motion = m;
+  note_plane(&wl->planes[plane], &m);
   return ADEM_OK;
 }
 
@@ -368,6 +397,7 @@ adem_status adem_walls_change(adem_walls *wl, const adem_plane_setting *prev_pla
       m.t0 = t_s;
       adem_motion_free(&pl->motion);
       pl->motion = m;
+      note_plane(pl, &m);
       pl->def.velocity = adem_motion_velocity(&pl->motion, t_s);
     }
     pl->def.material = b->def.material;
@@ -392,6 +422,7 @@ adem_status adem_walls_change(adem_walls *wl, const adem_plane_setting *prev_pla
     mo.t0 = t_s;
     adem_motion_free(&wl->mesh_motion[g]);
     wl->mesh_motion[g] = mo;
+    note_mesh(wl, g, &mo);
     double reach = 0.0;
     for (uint32_t v = grp->vert_first; v < grp->vert_first + grp->vert_count; ++v)
       reach = fmax(reach, v3_norm(v3_sub(wl->mesh_vert0[v], mo.center)));
@@ -557,4 +588,132 @@ adem_status adem_walls_load_setup(adem_reader *rd, adem_walls *wl, int nmaterial
     free(ref0);
   }
   return st;
+}
+
+/* ---------------------------------------------------------------- servos */
+
+bool adem_walls_has_servo(const adem_walls *wl) {
+  for (int k = 0; k < wl->nplanes; ++k)
+    if (wl->planes[k].motion.servo.on) return true;
+  for (int g = 0; g < wl->mesh.ngroups; ++g)
+    if (wl->mesh_motion[g].servo.on) return true;
+  return false;
+}
+
+/* One step of the servo law from the measured force F along its axis. */
+static void servo_advance(adem_motion *m, double f, double dt) {
+  const adem_servo_def *s = &m->servo;
+  if (!m->servo_started || !(s->filter > 0.0))
+    m->servo_force = f;
+  else /* backward-Euler low-pass: stable for any dt */
+    m->servo_force += dt / (s->filter + dt) * (f - m->servo_force);
+  m->servo_started = true;
+  double v = s->gain * (m->servo_force - s->target_force);
+  v = fmin(fmax(v, -s->max_speed), s->max_speed);
+  double u = m->servo_u + v * dt;
+  if (u > s->travel_max || u < s->travel_min) { /* stops at the limit */
+    u = fmin(fmax(u, s->travel_min), s->travel_max);
+    v = (u - m->servo_u) / dt;
+  }
+  m->servo_u = u;
+  m->servo_v = v;
+}
+
+/* First group of mesh wall k with a servo, or -1. */
+static int wall_servo_group(const adem_walls *wl, int k) {
+  const adem_mesh_wall *mw = &wl->mesh_walls[k];
+  for (int g = mw->first; g < mw->first + mw->count; ++g)
+    if (wl->mesh_motion[g].servo.on) return g;
+  return -1;
+}
+
+void adem_walls_servo_step(adem_walls *wl, const adem_vec3 *plane_force, double dt) {
+  for (int k = 0; k < wl->nplanes; ++k) {
+    adem_plane *pl = &wl->planes[k];
+    if (!pl->motion.servo.on || pl->inactive) continue; /* a switched-off wall stays put */
+    servo_advance(&pl->motion, v3_dot(plane_force[k], pl->motion.servo.axis), dt);
+  }
+  const adem_mesh *m = &wl->mesh;
+  for (int k = 0; k < wl->nmesh_walls; ++k) {
+    int g0 = wall_servo_group(wl, k);
+    if (g0 < 0) continue;
+    const adem_mesh_wall *mw = &wl->mesh_walls[k];
+    adem_motion *lead = &wl->mesh_motion[g0];
+    adem_vec3 f = v3_zero();
+    bool measured = false;
+    for (int g = g0; g < mw->first + mw->count; ++g) {
+      const adem_motion *mo = &wl->mesh_motion[g];
+      if (!mo->servo.on || mo->servo.unmeasured || !adem_walls_mesh_active(wl, (uint32_t)g)) continue;
+      measured = true;
+      const adem_mesh_group *grp = &m->groups[g];
+      adem_vec3 fg = v3_zero(); /* as adem_walls_mesh_loads sums it */
+      for (size_t j = grp->first; j < (size_t)grp->first + grp->count; ++j)
+        fg = v3_add(fg, v3(wl->face_force[3 * j], wl->face_force[3 * j + 1], wl->face_force[3 * j + 2]));
+      f = v3_add(f, fg);
+    }
+    if (!measured) continue;
+    servo_advance(lead, v3_dot(f, lead->servo.axis), dt);
+    for (int g = g0 + 1; g < mw->first + mw->count; ++g) {
+      adem_motion *mo = &wl->mesh_motion[g];
+      if (!mo->servo.on) continue;
+      mo->servo_u = lead->servo_u;
+      mo->servo_v = lead->servo_v;
+      mo->servo_force = lead->servo_force;
+      mo->servo_started = lead->servo_started;
+    }
+  }
+}
+
+const adem_motion *adem_walls_plane_servo(const adem_walls *wl, int k) {
+  return wl->planes[k].motion.servo.on ? &wl->planes[k].motion : NULL;
+}
+
+const adem_motion *adem_walls_mesh_wall_servo(const adem_walls *wl, int k) {
+  int g = wall_servo_group(wl, k);
+  return g >= 0 ? &wl->mesh_motion[g] : NULL;
+}
+
+adem_vec3 adem_walls_plane_displacement(const adem_walls *wl, int k) {
+  const adem_plane *pl = &wl->planes[k];
+  return pl->motion.moving ? v3_sub(pl->def.point, pl->point0) : v3_zero();
+}
+
+adem_vec3 adem_walls_mesh_wall_displacement(const adem_walls *wl, int k) {
+  const adem_mesh_wall *mw = &wl->mesh_walls[k];
+  if (mw->count == 0) return v3_zero();
+  /* the wall's point travels with its first group (adem_walls_mesh_loads) */
+  return v3_sub(adem_motion_place(&wl->mesh_motion[mw->first], wl->time, mw->ref0), mw->ref0);
+}
+
+void adem_walls_save_state(adem_writer *wr, const adem_walls *wl) {
+  for (int k = 0; k < wl->nplanes; ++k) {
+    adem_put_vec(wr, wl->planes[k].point0);
+    adem_put_vec(wr, wl->planes[k].normal0);
+    adem_motion_save_servo(wr, &wl->planes[k].motion);
+  }
+  const adem_mesh *m = &wl->mesh;
+  adem_put_array(wr, wl->mesh_vert0, m->nverts, sizeof *wl->mesh_vert0);
+  adem_put_array(wr, wl->mesh_normal0, m->ntris, sizeof *wl->mesh_normal0);
+  for (int g = 0; g < m->ngroups; ++g) {
+    adem_put_vec(wr, wl->mesh_ref0[g]);
+    adem_motion_save_servo(wr, &wl->mesh_motion[g]);
+  }
+  for (int k = 0; k < wl->nmesh_walls; ++k) adem_put_vec(wr, wl->mesh_walls[k].ref0);
+}
+
+void adem_walls_load_state(adem_reader *rd, adem_walls *wl) {
+  for (int k = 0; k < wl->nplanes; ++k) {
+    wl->planes[k].point0 = adem_get_vec(rd);
+    wl->planes[k].normal0 = adem_get_vec(rd);
+    adem_motion_load_servo(rd, &wl->planes[k].motion);
+  }
+  const adem_mesh *m = &wl->mesh;
+  adem_get_array(rd, wl->mesh_vert0, m->nverts, sizeof *wl->mesh_vert0);
+  adem_get_array(rd, wl->mesh_normal0, m->ntris, sizeof *wl->mesh_normal0);
+  for (int g = 0; g < m->ngroups; ++g) {
+    wl->mesh_ref0[g] = adem_get_vec(rd);
+    if (!wl->mesh_motion[g].moving) wl->mesh_ref[g] = wl->mesh_ref0[g]; /* placing skips it */
+    adem_motion_load_servo(rd, &wl->mesh_motion[g]);
+  }
+  for (int k = 0; k < wl->nmesh_walls; ++k) wl->mesh_walls[k].ref0 = adem_get_vec(rd);
 }

@@ -18,7 +18,11 @@ typedef struct adem_plane {
   adem_vec3 point0, normal0; /* at time 0 */
   adem_motion motion;        /* prescribed motion (def.velocity makes a constant one) */
   bool inactive;             /* switched off (walls[].active: false, or a stage): no contacts */
+  uint8_t csv;               /* ADEM_WALL_CSV_*: which columns the CSV gives it */
 } adem_plane;
+
+/* CSV columns a wall gets when some configuration of the run moves it or gives it a servo. */
+enum { ADEM_WALL_CSV_MOVES = 1u, ADEM_WALL_CSV_SERVO = 2u };
 
 /* One mesh wall: the groups one STL file made (several for an ASCII file with several solids),
  * for its whole-file loads. */
@@ -26,6 +30,7 @@ typedef struct adem_mesh_wall {
   char name[ADEM_NAME_MAX]; /* the group's name, or the prefix of its groups' names */
   int first, count;         /* its groups */
   adem_vec3 ref0;           /* point its total torque is taken about, at time 0 */
+  uint8_t csv;              /* ADEM_WALL_CSV_* */
 } adem_mesh_wall;
 
 typedef struct adem_walls {
@@ -125,6 +130,29 @@ static inline void adem_walls_add_face_load(adem_walls *wl, size_t t, adem_vec3 
   ft[2] += tq.z;
 }
 void adem_walls_free(adem_walls *wl);
+
+/* ---- servos (motion.servo) ---- */
+bool adem_walls_has_servo(const adem_walls *wl);
+/* Advances every servo of a switched-on wall by dt: its measured force from the loads of the last
+ * force pass (plane_force: the particles' force on each plane; mesh walls from the face loads,
+ * summed in face order, so the same for any thread count), filtered, then v = clamp(gain (F -
+ * target)), u += v dt within the travel. A mesh wall's servo is its file's: the first servo
+ * group's settings, the measured groups' loads, one state copied to all its servo groups. */
+void adem_walls_servo_step(adem_walls *wl, const adem_vec3 *plane_force, double dt);
+/* The servo of plane k / mesh wall k (NULL: none now). */
+const adem_motion *adem_walls_plane_servo(const adem_walls *wl, int k);
+const adem_motion *adem_walls_mesh_wall_servo(const adem_walls *wl, int k);
+/* Displacement of plane k's point / mesh wall k's torque point since its motion began (the
+ * case's start, or the stage that gave it its motion): prescribed and servo parts. */
+adem_vec3 adem_walls_plane_displacement(const adem_walls *wl, int k);
+adem_vec3 adem_walls_mesh_wall_displacement(const adem_walls *wl, int k);
+/* Marks the walls the settings move or servo (ADEM_WALL_CSV_*), for the CSV columns. */
+void adem_walls_note_settings(adem_walls *wl, const adem_plane_setting *planes,
+                              const adem_mesh_setting *meshes);
+/* Where the walls are placed from and their servos' state: what a stage change sets from where the
+ * walls are (not a function of time once a servo has moved them), for checkpoints. */
+void adem_walls_save_state(adem_writer *wr, const adem_walls *wl);
+void adem_walls_load_state(adem_reader *rd, adem_walls *wl);
 /* The walls' whole set-up (planes, meshes as time-0 triangles, motions, on/off, torque points),
  * for checkpoints of worlds made through the API; loading adds them to empty walls. */
 void adem_walls_save_setup(adem_writer *wr, const adem_walls *wl);

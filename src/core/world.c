@@ -744,6 +744,60 @@ const adem_tunnel_event *adem_world_tunnel_first(const adem_world *w) {
   return w->tunnel_count ? &w->tunnel_first : NULL;
 }
 
+/* Stiffness of a touching contact for the servo's stability rule: 1.5 F / delta, exact for Hertz
+ * (F ~ delta^1.5), of the order for the other laws. */
+static double contact_stiffness(const adem_pair_list *l, size_t k, const adem_particles *p) {
+  double delta = l->res[k].overlap_ratio * p->radius[l->a[k]];
+  return l->touching[k] && delta > 0.0 ? 1.5 * v3_norm(l->res[k].force_a) / delta : 0.0;
+}
+
+static void servo_warn(adem_motion *m, const char *name, double K, double dt) {
+  double g = m->servo.gain * K * dt;
+  if (m->servo_warned || !(g > 0.5)) return;
+  m->servo_warned = true;
+  adem_log(ADEM_LOG_WARN,
+           "the servo of wall '%s' may be unstable: gain x stiffness x dt = %.3g x %.3g N/m x %.3g s "
+           "= %.3g (> 0.5, the rule is < 1 with the stiffness of all it presses on, estimated "
+           "from its contacts); lower the gain", name, m->servo.gain, K, dt, g);
+}
+
+/* Warns once per servo whose gain K dt exceeds 0.5, K the sum of its contacts' stiffnesses. */
+static void servo_check(adem_world *w) {
+  adem_walls *wl = &w->walls;
+  for (int k = 0; k < wl->nplanes; ++k) {
+    adem_motion *m = &wl->planes[k].motion;
+    if (!m->servo.on || m->servo_warned) continue;
+    double K = 0.0;
+    for (size_t j = 0; j < w->pw.n; ++j)
+      if (w->pw.b[j] == (uint32_t)k) K += contact_stiffness(&w->pw, j, &w->p);
+    servo_warn(m, wl->planes[k].def.name, K, w->dt);
+  }
+  for (int k = 0; k < wl->nmesh_walls; ++k) {
+    const adem_mesh_wall *mw = &wl->mesh_walls[k];
+    adem_motion *lead = (adem_motion *)adem_walls_mesh_wall_servo(wl, k);
+    if (!lead || lead->servo_warned) continue;
+    double K = 0.0;
+    for (size_t j = 0; j < w->pm.l.n; ++j) {
+      int g = (int)wl->mesh.group[w->pm.owner[j]];
+      if (g >= mw->first && g < mw->first + mw->count && wl->mesh_motion[g].servo.on &&
+          !wl->mesh_motion[g].servo.unmeasured)
+        K += contact_stiffness(&w->pm.l, j, &w->p);
+    }
+    servo_warn(lead, mw->name, K, w->dt);
+  }
+}
+
+/* The servos move by their laws from the last force pass's loads, before the walls are placed. */
+static adem_status servo_step(adem_world *w, double dt) {
+  if (w->step % 64 == 0) servo_check(w); /* a warning: now and then is enough */
+  adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
+  if (!f) return ADEM_ERR_NOMEM;
+  adem_world_plane_forces(w, f);
+  adem_walls_servo_step(&w->walls, f, dt);
+  free(f);
+  return ADEM_OK;
+}
+
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   if (!w->prepared) {
     adem_status st = adem_world_prepare(w, err);
@@ -761,6 +815,10 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     /* the drift's largest excess over a radius is all the step pays for the tunnelling check */
     if (adem_particles_drift(&w->p, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
       note_tunnelling(w, dt);
+    if (adem_walls_has_servo(&w->walls)) {
+      adem_status st = servo_step(w, dt);
+      if (st) return adem_error_set(err, st, "out of memory");
+    }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     if (adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads)) {
       adem_status st = adem_world_build_neighbors(w, err);
@@ -870,6 +928,7 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   adem_put_u64(wr, w->nb.rebuilds);
   adem_put_f64(wr, w->nb.time_at_build);
   adem_put_u32(wr, (uint32_t)w->mat.n);
+  for (int k = 0; k < w->mat.n; ++k) adem_put_str(wr, w->mat.m[k].def.name);
   adem_put_u32(wr, (uint32_t)w->ngroups);
   for (int k = 0; k < w->ngroups; ++k) adem_put_vec(wr, w->groups[k].external_force);
   adem_put_u32(wr, (uint32_t)w->walls.nplanes);
@@ -888,6 +947,62 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
   size_t nf = 3 * w->walls.mesh.ntris;
   adem_put_array(wr, w->walls.face_force, nf, sizeof *w->walls.face_force);
   adem_put_array(wr, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
+  adem_walls_save_state(wr, &w->walls);
+}
+
+static adem_status damaged(adem_error *err, const char *why);
+
+/* Reads past what adem_world_save writes before the particles: keep the two in step (the state
+ * import test, tests/unit/test_state.c, fails when they are not). */
+adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
+                                      char (**names)[ADEM_NAME_MAX], int *nmat, adem_error *err) {
+  const char *cut = "its contents are cut short or damaged";
+  *names = NULL;
+  *nmat = 0;
+  if (!adem_get_u8(rd) || rd->failed)
+    return damaged(err, "it was written before the first step (its particles are its case's)");
+  (void)adem_get_f64(rd); /* time */
+  (void)adem_get_u64(rd); /* step */
+  for (int k = 0; k < 3; ++k) (void)adem_get_f64(rd); /* dt, next id, initial energy */
+  (void)adem_get_vec(rd);                               /* gravity */
+  (void)adem_get_f64(rd);                               /* overlap limit */
+  (void)adem_get_u8(rd);                                /* domain */
+  (void)adem_get_vec(rd);
+  (void)adem_get_vec(rd);
+  (void)adem_get_u32(rd); /* periodic axes, then lo and length per axis */
+  for (int d = 0; d < 6; ++d) (void)adem_get_f64(rd);
+  (void)adem_get_f64(rd); /* skin */
+  (void)adem_get_f64(rd);
+  (void)adem_get_u8(rd);
+  (void)adem_get_u64(rd);
+  (void)adem_get_f64(rd);
+  uint32_t nm = adem_get_u32(rd);
+  if (rd->failed || nm > 65535) return damaged(err, cut);
+  *names = calloc((size_t)nm + 1, sizeof **names);
+  if (!*names) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  *nmat = (int)nm;
+  for (uint32_t k = 0; k < nm; ++k) adem_get_str_into(rd, (*names)[k], sizeof **names);
+  uint32_t ng = adem_get_u32(rd);
+  for (uint32_t k = 0; k < ng && !rd->failed; ++k) (void)adem_get_vec(rd);
+  uint32_t np = adem_get_u32(rd);
+  for (uint32_t k = 0; k < np && !rd->failed; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    for (int j = 0; j < 3; ++j) (void)adem_get_vec(rd);
+    (void)adem_get_i32(rd);
+  }
+  adem_status st = rd->failed ? ADEM_OK : adem_particles_load(rd, p, err);
+  if (!st && rd->failed) st = damaged(err, cut);
+  for (size_t i = 0; !st && i < p->n; ++i)
+    if (p->material[i] >= nm || !(p->radius[i] > 0.0) || !isfinite(p->radius[i]) ||
+        !v3_isfinite(p->pos[i]) || !v3_isfinite(p->vel[i]) || !v3_isfinite(p->omega[i]))
+      st = damaged(err, "its particles' materials, radii or positions are out of range");
+  if (st) {
+    free(*names);
+    *names = NULL;
+    *nmat = 0;
+  }
+  return st;
 }
 
 static adem_status damaged(adem_error *err, const char *why) {
@@ -924,9 +1039,17 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   w->nb.rebuilds = adem_get_u64(rd);
   w->nb.time_at_build = adem_get_f64(rd);
   uint32_t nmat = adem_get_u32(rd);
+  if (rd->failed) return damaged(err, cut);
+  if (nmat != (uint32_t)w->mat.n) return damaged(err, "its materials do not match its own case text");
+  for (int k = 0; k < w->mat.n; ++k) {
+    char name[ADEM_NAME_MAX];
+    adem_get_str_into(rd, name, sizeof name);
+    if (!rd->failed && strcmp(name, w->mat.m[k].def.name))
+      return damaged(err, "its materials do not match its own case text");
+  }
   uint32_t ngroups = adem_get_u32(rd);
   if (rd->failed) return damaged(err, cut);
-  if (nmat != (uint32_t)w->mat.n || ngroups != (uint32_t)w->ngroups)
+  if (ngroups != (uint32_t)w->ngroups)
     return damaged(err, "its materials or groups do not match its own case text");
   for (int k = 0; k < w->ngroups; ++k) w->groups[k].external_force = adem_get_vec(rd);
   uint32_t nplanes = adem_get_u32(rd);
@@ -952,6 +1075,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
   size_t nf = 3 * w->walls.mesh.ntris;
   adem_get_array(rd, w->walls.face_force, nf, sizeof *w->walls.face_force);
   adem_get_array(rd, w->walls.face_torque, nf, sizeof *w->walls.face_torque);
+  adem_walls_load_state(rd, &w->walls);
   if (rd->failed) return damaged(err, cut);
   /* Indices must be in range before the gather lists and the stepper use them. */
   const char *bad = "its particle, pair or wall indices are out of range";

@@ -138,6 +138,11 @@ adem_status adem_world_load_prepared(adem_reader *rd, bool *prepared, adem_error
 /* The rest, into a world prepared from the same case. */
 adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err);
 
+/* From a world section adem_world_save wrote: its particles (into p, empty) and its materials'
+ * names (*names, free it), the rest skipped; for a case that starts from another run's state. */
+adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
+                                      char (**names)[ADEM_NAME_MAX], int *nmat, adem_error *err);
+
 /* The whole set-up of a world made through the API (settings, materials, interactions, groups,
  * walls), before its dynamic state: loading it into a fresh world remakes that world. */
 void adem_world_save_setup(adem_writer *wr, const adem_world *w);

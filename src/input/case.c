@@ -376,6 +376,111 @@ static adem_status read_table(case_ctx *ctx, const map_cursor *mo, const char *k
   return ADEM_OK;
 }
 
+static adem_status get_numbers(case_ctx *ctx, const map_cursor *m, const char *key, double **out,
+                               size_t *n, yaml_node_t **node);
+
+/* `motion.servo` (absent: def->on = 0). `groups` is read with the mesh (servo_groups). */
+static adem_status read_servo(case_ctx *ctx, const map_cursor *mo, adem_servo_def *def) {
+  map_cursor sv;
+  memset(def, 0, sizeof *def);
+  adem_status st = adem_yaml_get_map(ctx, mo, "servo", &sv);
+  if (st || !sv.node) return st;
+  yaml_node_t *axis_node, *travel_node;
+  char path[KEY_PATH_MAX];
+  def->on = 1;
+  if ((st = adem_yaml_get_vec3(ctx, &sv, "axis", &def->axis, &axis_node))) return st;
+  if (!(v3_norm(def->axis) > 0.0) || !isfinite(v3_norm(def->axis))) {
+    adem_yaml_join(path, sizeof path, sv.path, "axis");
+    return adem_yaml_fail(ctx, axis_node, path, "must be a non-zero vector (the direction the servo acts along)");
+  }
+  if ((st = adem_yaml_get_number(ctx, &sv, "target_force", &def->target_force, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, &sv, "gain", &def->gain, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, &sv, "max_speed", &def->max_speed, NULL))) return st;
+  if ((st = adem_yaml_get_number(ctx, &sv, "filter", &def->filter, NULL))) return st;
+  double *travel = NULL;
+  size_t nt = 0;
+  if ((st = get_numbers(ctx, &sv, "travel", &travel, &nt, &travel_node))) return st;
+  if (travel_node) {
+    adem_yaml_join(path, sizeof path, sv.path, "travel");
+    bool ok = nt == 2 && travel[0] <= 0.0 && travel[1] >= 0.0 && !(travel[0] == 0.0 && travel[1] == 0.0);
+    if (ok) {
+      def->travel_min = travel[0];
+      def->travel_max = travel[1];
+    }
+    free(travel);
+    if (!ok)
+      return adem_yaml_fail(ctx, travel_node, path,
+                            "expected [min, max] in m with min <= 0 <= max, not both 0 (the servo "
+                            "starts at 0)");
+  }
+  yaml_node_t *groups = adem_yaml_map_get(ctx, sv.node, "groups");
+  if (groups && !adem_yaml_is_null(groups) && groups->type != YAML_SCALAR_NODE &&
+      groups->type != YAML_SEQUENCE_NODE) {
+    adem_yaml_join(path, sizeof path, sv.path, "groups");
+    return adem_yaml_fail(ctx, groups, path, "expected a group name or a list of group names");
+  }
+  ctx->vmax = fmax(ctx->vmax, def->max_speed);
+  return ADEM_OK;
+}
+
+/* Whether mesh group `name` of a file is among the names of `servo.groups` (its solid's name, or
+ * the whole group name). */
+static bool servo_group_listed(case_ctx *ctx, yaml_node_t *groups, const char *name) {
+  const char *dot = strrchr(name, '.');
+  size_t n = groups->type == YAML_SEQUENCE_NODE
+                 ? (size_t)(groups->data.sequence.items.top - groups->data.sequence.items.start)
+                 : 1;
+  for (size_t k = 0; k < n; ++k) {
+    yaml_node_t *it = groups->type == YAML_SEQUENCE_NODE
+                          ? adem_yaml_node_at(ctx, groups->data.sequence.items.start[k])
+                          : groups;
+    const char *v = it->type == YAML_SCALAR_NODE ? adem_yaml_sval(it) : "";
+    if (!strcmp(v, name) || (dot && !strcmp(v, dot + 1))) return true;
+  }
+  return false;
+}
+
+/* `servo.groups` of mesh wall `m`, whose groups are first .. ngroups - 1: every name must be one
+ * of them; the others are marked unmeasured in md. Returns the groups not measured via flags. */
+static adem_status servo_groups(case_ctx *ctx, const map_cursor *m, int first, bool *unmeasured) {
+  adem_world *w = ctx->w;
+  int ng = w->walls.mesh.ngroups;
+  yaml_node_t *mo = adem_yaml_map_get(ctx, m->node, "motion");
+  yaml_node_t *sv = mo && mo->type == YAML_MAPPING_NODE ? adem_yaml_map_get(ctx, mo, "servo") : NULL;
+  yaml_node_t *groups = sv && sv->type == YAML_MAPPING_NODE ? adem_yaml_map_get(ctx, sv, "groups") : NULL;
+  for (int g = first; g < ng; ++g) unmeasured[g - first] = false;
+  if (!groups || adem_yaml_is_null(groups)) return ADEM_OK;
+  char path[KEY_PATH_MAX], gp[KEY_PATH_MAX];
+  adem_yaml_join(gp, sizeof gp, m->path, "motion.servo.groups");
+  size_t n = groups->type == YAML_SEQUENCE_NODE
+                 ? (size_t)(groups->data.sequence.items.top - groups->data.sequence.items.start)
+                 : 1;
+  if (n == 0) return adem_yaml_fail(ctx, groups, gp, "needs at least one group name");
+  for (size_t k = 0; k < n; ++k) {
+    yaml_node_t *it = groups->type == YAML_SEQUENCE_NODE
+                          ? adem_yaml_node_at(ctx, groups->data.sequence.items.start[k])
+                          : groups;
+    snprintf(path, sizeof path, "%.200s[%zu]", gp, k);
+    const char *v = it->type == YAML_SCALAR_NODE ? adem_yaml_sval(it) : NULL;
+    bool found = false;
+    for (int g = first; v && g < ng && !found; ++g) {
+      const char *name = w->walls.mesh.groups[g].name, *dot = strrchr(name, '.');
+      found = !strcmp(v, name) || (dot && !strcmp(v, dot + 1));
+    }
+    if (!found) {
+      char list[512] = "";
+      for (int g = first; g < ng; ++g) adem_yaml_list_append(list, sizeof list, w->walls.mesh.groups[g].name);
+      char t[128];
+      adem_yaml_node_text(it, t, sizeof t);
+      return adem_yaml_fail(ctx, it, groups->type == YAML_SEQUENCE_NODE ? path : gp,
+                            "%s is not a group of this mesh; its groups are: %s", t, list);
+    }
+  }
+  for (int g = first; g < ng; ++g)
+    unmeasured[g - first] = !servo_group_listed(ctx, groups, w->walls.mesh.groups[g].name);
+  return ADEM_OK;
+}
+
 /* A prescribed motion read from `motion` (absent: *given = false). The table's arrays are
  * allocated into *time and *vel (free them); def points into them. */
 static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motion_def *def,
@@ -429,6 +534,7 @@ static adem_status read_motion(case_ctx *ctx, const map_cursor *wall, adem_motio
     def->velocity = *vel;
     for (size_t k = 0; k < def->n; ++k) ctx->vmax = fmax(ctx->vmax, v3_norm((*vel)[k]));
   }
+  if ((st = read_servo(ctx, &mo, &def->servo))) return st;
   if ((st = adem_yaml_get_map(ctx, &mo, "rotation", &rot))) return st;
   if (rot.node) {
     yaml_node_t *axis_node;
@@ -562,15 +668,24 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
     st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
     goto done;
   }
-  for (int g = first; g < w->walls.mesh.ngroups && moves; ++g) {
+  bool *unmeasured = calloc((size_t)(w->walls.mesh.ngroups - first) + 1, sizeof *unmeasured);
+  if (!unmeasured) {
+    st = adem_yaml_nomem(ctx);
+    goto done;
+  }
+  st = md.servo.on ? servo_groups(ctx, m, first, unmeasured) : ADEM_OK;
+  for (int g = first; !st && g < w->walls.mesh.ngroups && moves; ++g) {
+    md.servo.unmeasured = unmeasured[g - first];
     if (adem_world_set_mesh_motion(w, g, &md, &werr)) {
       adem_yaml_join(path, sizeof path, m->path, "motion");
       st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, motion_node, path, "%s", werr.message);
-      goto done;
+      break;
     }
     /* a rotating mesh's points move at up to omega times their distance from the axis */
     ctx->vmax = fmax(ctx->vmax, fabs(md.angular_speed) * w->walls.mesh_reach[g]);
   }
+  free(unmeasured);
+  if (st) goto done;
   if (about_node && adem_world_set_mesh_torque_point(w, w->walls.nmesh_walls - 1, about, &werr)) {
     adem_yaml_join(path, sizeof path, m->path, "torque_about");
     st = adem_yaml_fail(ctx, about_node, path, "%s", werr.message);
@@ -602,6 +717,13 @@ static adem_status plane_motion(case_ctx *ctx, const map_cursor *m, int plane,
   char path[KEY_PATH_MAX];
   adem_status st = read_motion(ctx, m, &md, &times, &vels, &moves, &at);
   adem_yaml_join(path, sizeof path, m->path, "motion");
+  yaml_node_t *sv = !st && md.servo.on ? adem_yaml_map_get(ctx, at, "servo") : NULL;
+  yaml_node_t *groups = sv ? adem_yaml_map_get(ctx, sv, "groups") : NULL;
+  if (groups && !adem_yaml_is_null(groups)) {
+    char gp[KEY_PATH_MAX];
+    adem_yaml_join(gp, sizeof gp, path, "servo.groups");
+    st = adem_yaml_fail(ctx, groups, gp, "is for mesh walls only (a plane is one wall)");
+  }
   if (!st && moves && velocity_node)
     st = adem_yaml_fail(ctx, at, path, "give either `velocity` or `motion`, not both");
   adem_error werr = {ADEM_OK, ""};
@@ -1417,6 +1539,91 @@ static adem_status build_stages(case_ctx *ctx, const map_cursor *root) {
   return st;
 }
 
+/* `type: state`: the particles of a checkpoint, in the order of their ids, with this case's
+ * materials of the same names. */
+static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
+  char file[ADEM_PATH_MAX], path[KEY_PATH_MAX];
+  yaml_node_t *file_node;
+  adem_status st = adem_yaml_get_string(ctx, m, "file", file, sizeof file, &file_node);
+  if (st) return st;
+  adem_yaml_join(path, sizeof path, m->path, "file");
+  char *resolved = mesh_path(ctx, file);
+  if (!resolved) return adem_yaml_nomem(ctx);
+  char *data = NULL;
+  size_t len = 0;
+  adem_error werr = {ADEM_OK, ""};
+  adem_particles p;
+  memset(&p, 0, sizeof p);
+  char(*names)[ADEM_NAME_MAX] = NULL;
+  int nmat = 0;
+  size_t *order = NULL;
+  adem_reader rd;
+  st = adem_file_read_all(resolved, &data, &len, &werr);
+  if (!st) st = adem_checkpoint_header_check(data, len, resolved, ADEM_CKPT_MAGIC,
+                                              sizeof(adem_contact_history), &rd, &werr);
+  if (!st) { /* the case section, skipped by its length */
+    uint64_t skip = adem_get_u64(&rd);
+    if (rd.failed || skip > (uint64_t)(rd.end - rd.at))
+      st = adem_error_set(&werr, ADEM_ERR_INPUT, "%s is not a usable adem checkpoint: it is cut short", resolved);
+    else
+      rd.at += skip;
+  }
+  if (!st) {
+    st = adem_world_read_particles(&rd, &p, &names, &nmat, &werr);
+    if (st && st != ADEM_ERR_NOMEM) {
+      char why[ADEM_MSG_MAX];
+      snprintf(why, sizeof why, "%s", werr.message);
+      adem_error_set(&werr, st, "%s is not a usable adem checkpoint: %s", resolved, why);
+    }
+  }
+  if (st) {
+    st = st == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
+    goto done;
+  }
+  if ((st = check_memory(ctx, (double)p.n, m->node, m->path))) goto done;
+  /* ids are 0 .. n-1 (particles are never removed): sort by id */
+  order = malloc((p.n + 1) * sizeof *order);
+  if (!order) {
+    st = adem_yaml_nomem(ctx);
+    goto done;
+  }
+  for (size_t i = 0; i < p.n; ++i) order[i] = SIZE_MAX;
+  for (size_t i = 0; i < p.n && !st; ++i) {
+    if (p.id[i] >= p.n || order[p.id[i]] != SIZE_MAX)
+      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: its particle ids are not 0 .. %zu", resolved, p.n - 1);
+    else
+      order[p.id[i]] = i;
+  }
+  for (size_t k = 0; k < p.n && !st; ++k) {
+    size_t i = order[k];
+    const char *name = names[p.material[i]];
+    int mat = -1;
+    for (int j = 0; j < ctx->nmat && mat < 0; ++j)
+      if (!strcmp(ctx->mat_name[j], name)) mat = j;
+    if (mat < 0) {
+      st = adem_yaml_fail(ctx, file_node, path,
+                          "the particles of %s are made of material `%s`, which this case does not "
+                          "have; add a material of that name", resolved, name);
+      break;
+    }
+    if (ctx->mat_rigid[mat] || !ctx->mat_density[mat]) {
+      st = adem_yaml_fail(ctx, file_node, path,
+                          "material `%s` of the particles of %s needs a `density` and must not be "
+                          "rigid here", name, resolved);
+      break;
+    }
+    if ((st = push_sphere(ctx, p.pos[i], p.radius[i], p.vel[i], p.omega[i]))) break;
+    st = flush_spheres(ctx, ctx->n - 1, mat, group, file_node, path);
+  }
+done:
+  free(order);
+  free(names);
+  adem_particles_free(&p);
+  free(data);
+  free(resolved);
+  return st;
+}
+
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, root, "particles", &l);
@@ -1431,6 +1638,13 @@ static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *mat_node, *group_node;
     int mat, group;
     if ((st = adem_yaml_list_item(ctx, &l, i, &m))) return st;
+    if (!strcmp(m.variant, "state")) {
+      if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
+      adem_yaml_join(path, sizeof path, m.path, "group");
+      if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &group))) return st;
+      if ((st = build_state(ctx, &m, group))) return st;
+      continue;
+    }
     if ((st = adem_yaml_get_string(ctx, &m, "material", material, sizeof material, &mat_node))) return st;
     adem_yaml_join(path, sizeof path, m.path, "material");
     if ((st = find_material(ctx, material, mat_node, path, &mat))) return st;
@@ -1969,6 +2183,8 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
     }
     st = check_same_world(c, sc, g, err);
     if (!st) st = stage_config_extract(&g->config, sc, err);
+    /* a wall the stage moves or servos gets its CSV columns from the start */
+    if (!st) adem_walls_note_settings(&c->world->walls, g->config.planes, g->config.meshes);
     adem_case_free(sc);
     if (st) break;
     double ratio = adem_world_dt(c->world) / g->config.dt_proposed;

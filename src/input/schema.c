@@ -75,8 +75,9 @@ static const adem_schema_entry base_schema[] = {
     {"groups[].external_force", NULL, VEC3, "N", "[0, 0, 0]", NULL, .doc = "Constant force on every particle of the group."},
 
     {"particles", NULL, LIST, "", NULL, NULL, .need = ADEM_SCHEMA_REQUIRED_IF, .need_doc = "unless there are `pours`", .discriminator = "type", .doc = "Particle sets, created in order; each has a `type`."},
-    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box, a cylinder or a closed STL volume (docs/insertion-and-stages.md)."},
-    {"particles[].material", NULL, NAME, "", NULL, NULL, REQ, .doc = "Material of the set's spheres; it needs a `density` and must not be rigid."},
+    {"particles[].type", NULL, ENUM, "", NULL, NULL, REQ, .choices = "list|lattice|random|state", .doc = "`list`: explicit spheres; `lattice`: simple cubic lattice in a box; `random`: random non-overlapping fill of a box, a cylinder or a closed STL volume (docs/insertion-and-stages.md); `state`: the particles of another run's checkpoint."},
+    {"particles[].file", "state", STR, "", NULL, NULL, REQ, .doc = "A checkpoint written by adem (`OUT/checkpoint`), relative to the case file's folder: its particles' positions, velocities, spins and radii, their materials by name (this case must have them; their properties are this case's) and their ids (the same when this set comes first). Contact history is not carried over; a settled bed overlaps, so set `limits.initial_overlap`."},
+    {"particles[].material", "list|lattice|random", NAME, "", NULL, NULL, REQ, .doc = "Material of the set's spheres; it needs a `density` and must not be rigid."},
     {"particles[].group", NULL, NAME, "", "default", NULL, .doc = "Group of the set's spheres."},
     {"particles[].spheres", "list", LIST, "", NULL, NULL, GE(1), REQ, .doc = "The spheres; two spheres of the list must not overlap."},
     {"particles[].spheres[].position", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "Centre."},
@@ -131,6 +132,16 @@ static const adem_schema_entry base_schema[] = {
     {"walls[].motion.rotation.axis", NULL, VEC3, "", NULL, NULL, REQ, .doc = "Axis direction (any length > 0); the rotation is right-handed about it."},
     {"walls[].motion.rotation.center", NULL, VEC3, "m", NULL, NULL, REQ, .doc = "A point of the axis at t = 0."},
     {"walls[].motion.rotation.speed", NULL, NUM, "rad/s", NULL, NULL, REQ, .doc = "Angular speed."},
+    /* ---- servo (force-controlled) wall motion ---- */
+    {"walls[].motion.servo", NULL, MAP, "", NULL, NULL, .doc = "Force control along `axis`: the wall's velocity along it is clamp(gain (F - target_force), +-max_speed), F the particles' force on the wall (a mesh: on its whole file, or on `groups`) along `axis` in the last force pass; this replaces the translation's component along `axis` (the others and the rotation are kept) and the displacement is integrated step by step (in checkpoints). Stable for gain K dt < 1, K the stiffness of what the wall presses on (adem warns above 0.5 from its contacts); a time constant 1/(gain K) of many collision times is a good choice. CSV columns `WALL_servo_u_m` and `WALL_servo_F_N` (the measured, filtered force)."},
+    {"walls[].motion.servo.axis", NULL, VEC3, "", NULL, NULL, REQ, .doc = "Direction the servo acts along (any length > 0): the wall moves along +axis when the particles push on it along +axis harder than `target_force`."},
+    {"walls[].motion.servo.target_force", NULL, NUM, "N", NULL, NULL, REQ, .doc = "Wanted force of the particles on the wall along `axis` (e.g. a sleeper's weight W on the ballast under it: axis [0, 0, 1], target W)."},
+    {"walls[].motion.servo.gain", NULL, NUM, "m/(N s)", NULL, NULL, GT(0), REQ, .doc = "Speed per newton of force error."},
+    {"walls[].motion.servo.max_speed", NULL, NUM, "m/s", NULL, NULL, GT(0), REQ, .doc = "Largest speed along `axis`; it also bounds the servo's travel the neighbour skin must cover."},
+    {"walls[].motion.servo.filter", NULL, NUM, "s", "0", NULL, GE(0), .doc = "Time constant of a first-order low-pass on the measured force; 0: none."},
+    {"walls[].motion.servo.travel", NULL, NUMS, "m", NULL, "no limits", .doc = "`[min, max]`, min <= 0 <= max: limits of the servo displacement from where the motion began; the wall stops at them."},
+    {"walls[].motion.servo.groups", NULL, STR, "", NULL, "every group of the file", .doc = "Mesh walls: the group (or list of groups), by solid name or full group name, whose load is measured; the whole file moves."},
+    /* ---- end of servo ---- */
     {"walls[].min", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Lower corner of the box."},
     {"walls[].max", "box", VEC3, "m", NULL, NULL, REQ, .doc = "Upper corner of the box; greater than `min` in every component."},
     {"walls[].file", "mesh", STR, "", NULL, NULL, REQ, .doc = "STL file, ASCII or binary; a relative path is taken from the folder of the case file."},

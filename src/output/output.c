@@ -295,6 +295,42 @@ static void mesh_csv_row(strbuf *b, const adem_world *w) {
   free(f);
 }
 
+/* Walls that move or have a servo in some configuration of the run (ADEM_WALL_CSV_*): the
+ * displacement of their reference point since their motion began, and the servo's displacement
+ * and measured force. After the loads, so that the loads' columns keep their places. */
+static void motion_csv_header(strbuf *b, const adem_world *w) {
+  char name[2 * ADEM_NAME_MAX];
+  int np = w->walls.nplanes;
+  for (int k = 0; k < np + w->walls.nmesh_walls; ++k) {
+    uint8_t csv = k < np ? w->walls.planes[k].csv : w->walls.mesh_walls[k - np].csv;
+    if (!csv) continue;
+    csv_field_name(name, sizeof name,
+                   k < np ? w->walls.planes[k].def.name : w->walls.mesh_walls[k - np].name);
+    if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
+    sb_printf(b, ",%s_ux_m,%s_uy_m,%s_uz_m", name, name, name);
+    if (csv & ADEM_WALL_CSV_SERVO) sb_printf(b, ",%s_servo_u_m,%s_servo_F_N", name, name);
+  }
+}
+
+static void motion_csv_row(strbuf *b, const adem_world *w) {
+  int np = w->walls.nplanes;
+  for (int k = 0; k < np + w->walls.nmesh_walls; ++k) {
+    uint8_t csv = k < np ? w->walls.planes[k].csv : w->walls.mesh_walls[k - np].csv;
+    if (!csv) continue;
+    adem_vec3 u = k < np ? adem_walls_plane_displacement(&w->walls, k)
+                         : adem_walls_mesh_wall_displacement(&w->walls, k - np);
+    sb_printf(b, ",%.17g,%.17g,%.17g", u.x, u.y, u.z);
+    if (!(csv & ADEM_WALL_CSV_SERVO)) continue;
+    const adem_motion *m = k < np ? adem_walls_plane_servo(&w->walls, k)
+                                  : adem_walls_mesh_wall_servo(&w->walls, k - np);
+    /* a stage without the servo: no servo displacement, no measurement */
+    if (m)
+      sb_printf(b, ",%.17g,%.17g", m->servo_u, m->servo_force);
+    else
+      sb_printf(b, ",0,nan");
+  }
+}
+
 char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
                              const adem_output_extra *extra) {
   strbuf b = {0};
@@ -308,6 +344,7 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
     sb_printf(&b, ",%s_fx_N,%s_fy_N,%s_fz_N", name, name, name);
   }
   mesh_csv_header(&b, w);
+  motion_csv_header(&b, w);
   for (int k = 0; track && k < track->n; ++k) {
     unsigned long long id = (unsigned long long)track->id[k];
     sb_printf(&b, ",p%llu_rolling_torque_x_Nm,p%llu_rolling_torque_y_Nm,p%llu_rolling_torque_z_Nm", id,
@@ -341,6 +378,7 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
   for (int k = 0; k < w->walls.nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
   free(f);
   mesh_csv_row(&b, w);
+  motion_csv_row(&b, w);
   const adem_particles *p = &w->p;
   for (int k = 0; track && k < track->n; ++k) {
     size_t i = 0; /* particles are reordered by cell: find the id (a few per row) */

@@ -25,14 +25,12 @@
 #include "stream.h"
 #include "world.h"
 
-#define CKPT_MAGIC "ADEMCKPT"
+#define CKPT_MAGIC ADEM_CKPT_MAGIC
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
 #define CKPT_END "ADEMEND"
-#define CKPT_VERSION 7u /* 6: pair results saved as one record per pair (adem_pair_result); 7: the
-                            * energy-balance switch in the set-up, the periodic box and the
-                            * per-particle image counters */
-#define CKPT_ENDIAN 0x01020304u
-#define CKPT_HEADER_BYTES 40u
+#define CKPT_VERSION ADEM_CKPT_VERSION
+#define CKPT_ENDIAN ADEM_CKPT_ENDIAN
+#define CKPT_HEADER_BYTES ADEM_CKPT_HEADER_BYTES
 
 /* ---------------------------------------------------------------- writing */
 
@@ -110,8 +108,20 @@ static adem_status write_file(const char *path, const char *magic, save_fn *save
   return adem_fileio_commit(&af, err);
 }
 
+static int count_sink(void *ctx, const void *data, size_t n) {
+  (void)ctx;
+  (void)data;
+  (void)n;
+  return 1;
+}
+
 static void save_case_and_world(adem_writer *wr, const void *what, int *nomem) {
   const adem_case *c = what;
+  /* the case section's length first, so that a reader of the world alone (a case's `type:
+   * state`) can skip it */
+  adem_writer counter = adem_writer_make(count_sink, NULL);
+  save_case(&counter, c, nomem);
+  adem_put_u64(wr, counter.bytes);
   save_case(wr, c, nomem);
   adem_world_save(wr, c->world);
 }
@@ -212,6 +222,7 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
   bool given[RESUME_KEYS];
   adem_case *c = NULL;
   adem_status st = resume_sets_check(extra, nextra, given, err);
+  (void)adem_get_u64(rd); /* the case section's length */
   if (!st) st = load_case(rd, path, extra, nextra, &c, err);
   if (st) return st;
   adem_world *w = c->world;
@@ -257,6 +268,10 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
   /* A new end widens the default escape domain as a run with that end would have it. */
   bool has_domain = w->has_domain;
   adem_vec3 domain_lo = w->domain_lo, domain_hi = w->domain_hi;
+  /* The stage in force: its materials, walls and settings, replayed stage start by stage start
+   * as the run made them; then the stored state, which has where the walls started their
+   * motions from (a servo's travel is not a function of time, the replay cannot know it). */
+  if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
   if ((st = adem_world_load(rd, w, err))) goto damaged;
   if (given[RESUME_END]) {
     w->has_domain = has_domain;
@@ -270,9 +285,6 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
     adem_case_free(c);
     return bad_file(err, path, "it has data after its end marker");
   }
-  /* The stage in force: its materials, walls and settings, replayed stage start by stage start
-   * as the run made them (walls that started a new motion start it from where they were). */
-  if ((st = adem_stages_resume(c, (int)stage, err))) goto mismatch;
   /* The per-particle sums run over these lists: rebuilt in the order the neighbour build
    * makes them, so the forces of the next step are summed exactly as without the restart. */
   adem_world_place_walls(w, w->time); /* moving walls are a function of time */
@@ -298,47 +310,9 @@ mismatch:
   return bad_file(err, path, why);
 }
 
-/* Checks the header of a checkpoint of kind magic; the payload's reader on success. */
 static adem_status check_header(const char *data, size_t len, const char *path, const char *magic,
                                 adem_reader *rd, adem_error *err) {
-  const unsigned char *b = (const unsigned char *)data;
-  if (len < 8 || memcmp(b, magic, 8) != 0) {
-    char why[96];
-    snprintf(why, sizeof why, "it does not start with %s (not a %s)", magic,
-             strcmp(magic, CKPT_MAGIC) ? "world checkpoint" : "checkpoint");
-    return bad_file(err, path, why);
-  }
-  if (len < CKPT_HEADER_BYTES) return bad_file(err, path, "it is truncated (header)");
-  uint32_t version, endian, vec_size, hist_size;
-  uint64_t payload, hash;
-  memcpy(&version, b + 8, 4);
-  memcpy(&endian, b + 12, 4);
-  memcpy(&payload, b + 16, 8);
-  memcpy(&hash, b + 24, 8);
-  memcpy(&vec_size, b + 32, 4);
-  memcpy(&hist_size, b + 36, 4);
-  char why[160];
-  if (endian != CKPT_ENDIAN)
-    return bad_file(err, path, "it was written on a machine with another byte order");
-  if (version != CKPT_VERSION) {
-    snprintf(why, sizeof why, "it has format version %u, this adem reads version %u", version,
-             CKPT_VERSION);
-    return bad_file(err, path, why);
-  }
-  if (vec_size != sizeof(adem_vec3) || hist_size != sizeof(adem_contact_history))
-    return bad_file(err, path, "it was written by a build with another contact-history layout");
-  if (payload != (uint64_t)(len - CKPT_HEADER_BYTES)) {
-    snprintf(why, sizeof why, "it is %s: %zu bytes instead of %llu",
-             payload > (uint64_t)(len - CKPT_HEADER_BYTES) ? "truncated" : "too long", len,
-             (unsigned long long)(payload + CKPT_HEADER_BYTES));
-    return bad_file(err, path, why);
-  }
-  if (adem_fnv1a(ADEM_FNV_START, b + CKPT_HEADER_BYTES, (size_t)payload) != hash)
-    return bad_file(err, path, "its checksum does not match (the file is damaged)");
-  rd->at = b + CKPT_HEADER_BYTES;
-  rd->end = b + len;
-  rd->failed = 0;
-  return ADEM_OK;
+  return adem_checkpoint_header_check(data, len, path, magic, sizeof(adem_contact_history), rd, err);
 }
 
 adem_status adem_checkpoint_read_bytes(const char *data, size_t len, const char *path,
