@@ -1580,6 +1580,17 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
     st = st == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, file_node, path, "%s", werr.message);
     goto done;
   }
+  /* keep_inside: trim to the centres inside a box (a levelled bed) */
+  bool trim = adem_yaml_map_get(ctx, m->node, "keep_inside") != NULL;
+  adem_vec3 keep_lo = {0, 0, 0}, keep_hi = {0, 0, 0};
+  if (trim) {
+    map_cursor km;
+    yaml_node_t *hi_node;
+    if ((st = adem_yaml_get_map(ctx, m, "keep_inside", &km))) goto done;
+    if ((st = adem_yaml_get_vec3(ctx, &km, "min", &keep_lo, NULL))) goto done;
+    if ((st = adem_yaml_get_vec3(ctx, &km, "max", &keep_hi, &hi_node))) goto done;
+    if ((st = check_box(ctx, keep_lo, keep_hi, hi_node, &km))) goto done;
+  }
   if ((st = check_memory(ctx, (double)p.n, m->node, m->path))) goto done;
   /* ids are 0 .. n-1 (particles are never removed): sort by id */
   order = malloc((p.n + 1) * sizeof *order);
@@ -1596,6 +1607,10 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
   }
   for (size_t k = 0; k < p.n && !st; ++k) {
     size_t i = order[k];
+    adem_vec3 x = p.pos[i];
+    if (trim && !(x.x >= keep_lo.x && x.x <= keep_hi.x && x.y >= keep_lo.y && x.y <= keep_hi.y &&
+                  x.z >= keep_lo.z && x.z <= keep_hi.z))
+      continue;
     const char *name = names[p.material[i]];
     int mat = -1;
     for (int j = 0; j < ctx->nmat && mat < 0; ++j)

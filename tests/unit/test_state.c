@@ -94,6 +94,44 @@ static void test_import_bitwise(void **state) {
   adem_case_free(c);
 }
 
+/* keep_inside keeps exactly the particles whose centre is in the box, in the order of their
+ * old ids, renumbered from 0; a box with max <= min is refused with its key. */
+static void test_import_trimmed(void **state) {
+  (void)state;
+  const adem_world *a = source->world;
+  double zcut = 0.005;
+  size_t want = 0;
+  for (size_t i = 0; i < a->p.n; ++i) want += a->p.pos[i].z <= zcut;
+  char box[160];
+  snprintf(box, sizeof box, "file: src/checkpoint, keep_inside: {min: [-1, -1, -1], max: [1, 1, %.17g]}}", zcut);
+  char *t = replaced(import_case, "file: src/checkpoint}", box);
+  adem_case *c = NULL;
+  adem_error err;
+  if (load_import(t, &c, &err)) fail_msg("%s", err.message);
+  const adem_world *b = c->world;
+  printf("# kept %zu of %zu particles (centre z <= %g m)\n", b->p.n, a->p.n, zcut);
+  assert_true(want > 0 && want < a->p.n);
+  assert_int_equal(b->p.n, want);
+  size_t k = 0; /* walk the source by id; the kept ones come in that order */
+  for (uint64_t id = 0; id < a->p.n; ++id)
+    for (size_t i = 0; i < a->p.n; ++i)
+      if (a->p.id[i] == id && a->p.pos[i].z <= zcut) {
+        assert_true(b->p.id[k] == k);
+        assert_memory_equal(&b->p.pos[k], &a->p.pos[i], sizeof(adem_vec3));
+        ++k;
+      }
+  assert_int_equal(k, want);
+  adem_case_free(c);
+  free(t);
+  snprintf(box, sizeof box, "file: src/checkpoint, keep_inside: {min: [-1, -1, 1], max: [1, 1, 0.5]}}");
+  t = replaced(import_case, "file: src/checkpoint}", box);
+  if (load_import(t, &c, &err) == ADEM_OK) fail_msg("accepted");
+  printf("# %s\n", err.message);
+  assert_mentions(err.message, "particles[0].keep_inside.max");
+  assert_mentions(err.message, "greater than `min`");
+  free(t);
+}
+
 static void expect_refused(const char *text, const char *const *words) {
   adem_case *c = NULL;
   adem_error err;
@@ -138,6 +176,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_import_bitwise),
       cmocka_unit_test(test_import_errors),
+      cmocka_unit_test(test_import_trimmed),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
