@@ -230,9 +230,9 @@ typedef struct adem_validation_context {
 } adem_validation_context;
 
 typedef struct adem_validation_report {
-  char claim[1024];    /* what the paper says, with its figure or section */
-  char measured[1024]; /* the figure measured here, with numbers */
-  char notes[1024];    /* parameters the paper omits and the choice made, missing data, ... */
+  char claim[2048];    /* what the paper says, with its figure or section */
+  char measured[2048]; /* the figure measured here, with numbers */
+  char notes[2048];    /* parameters the paper omits and the choice made, missing data, ... */
   bool pass;
 } adem_validation_report;
 
@@ -282,6 +282,9 @@ extern const size_t adem_validations_irazabal_count;
 /* Paper-scale runs of whole cases, resumable (validate_repose.c). */
 extern const adem_validation adem_validations_repose[];
 extern const size_t adem_validations_repose_count;
+/* The ballast lateral-resistance test, Figs 16-17 (validate_ballast.c), resumable. */
+extern const adem_validation adem_validations_ballast[];
+extern const size_t adem_validations_ballast_count;
 
 #ifdef __cplusplus
 }

@@ -9,4 +9,18 @@ extern const char adem_case_irazabal_repose_yaml[];    /* cases/irazabal/repose.
 /* cases/irazabal/meshes/repose_hopper.stl (ASCII) */
 extern const char adem_case_irazabal_meshes_repose_hopper_stl[];
 
+/* cases/irazabal/ballast/: the packing, the push and their meshes (full size and quick/) */
+extern const char adem_case_irazabal_ballast_pack_yaml[];
+extern const char adem_case_irazabal_ballast_push_yaml[];
+#define ADEM_BALLAST_MESH(m)                                  \
+  extern const char adem_case_irazabal_ballast_meshes_##m##_stl[]; \
+  extern const char adem_case_irazabal_ballast_meshes_quick_##m##_stl[];
+ADEM_BALLAST_MESH(container)
+ADEM_BALLAST_MESH(sides)
+ADEM_BALLAST_MESH(aux_slopes)
+ADEM_BALLAST_MESH(aux_sleeper)
+ADEM_BALLAST_MESH(fill_region)
+ADEM_BALLAST_MESH(sleeper)
+#undef ADEM_BALLAST_MESH
+
 #endif

@@ -10,7 +10,7 @@
 
 size_t adem_validation_count(void) {
   return adem_validations_haervig_count + adem_validations_irazabal_count +
-         adem_validations_repose_count;
+         adem_validations_repose_count + adem_validations_ballast_count;
 }
 
 const adem_validation *adem_validation_at(size_t i) {
@@ -19,6 +19,8 @@ const adem_validation *adem_validation_at(size_t i) {
   if (i < adem_validations_irazabal_count) return &adem_validations_irazabal[i];
   i -= adem_validations_irazabal_count;
   if (i < adem_validations_repose_count) return &adem_validations_repose[i];
+  i -= adem_validations_repose_count;
+  if (i < adem_validations_ballast_count) return &adem_validations_ballast[i];
   return NULL;
 }
 
