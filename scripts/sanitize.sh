@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The test suite under sanitizers (see docs/reliability.md):
 #   scripts/sanitize.sh [--quick] [asan] [tsan]   (default: both)
-# --quick (for CI) leaves out golden_test_repose under ASan (piles of 400 spheres: 383 s in
+# --quick (for CI) leaves out golden_test_repose and golden_test_ballast under ASan (piles of 400
+# spheres: 383 s in
 # Release alone) and runs under TSan only the six tests that compare thread counts and restarts
 # (not test_run_control and examples_pour, one thread each and many minutes under TSan).
 # asan: clang with -fsanitize=address,undefined -fno-sanitize-recover=all in build-asan; runs the
@@ -24,7 +25,7 @@ cd "$(dirname "$0")/.."
 exclude='^examples_installed$'
 tsan_only='.'
 if [ "${1:-}" = --quick ]; then
-  exclude='^(examples_installed|golden_test_repose)$'
+  exclude='^(examples_installed|golden_test_repose|golden_test_ballast)$'
   tsan_only='^golden_test_(threads|mesh_restart|stages|restart|periodic_box|servo)$'
   shift
 fi

@@ -1,0 +1,101 @@
+/* The ballast lateral-resistance reproduction (I Figs 16-17) in its quick form: a packing of
+ * 2,700 spheres twice the paper's size and two pushes at a tenth and a thirtieth of 17.7 GPa.
+ * Claims: the quick irazabal-fig16 finds the initial slope lower at the lower E and the sleeper's
+ * force equal to the sum of its face groups; the quick irazabal-fig17 finds the base's share
+ * falling and the shoulder's rising. And the validation can fail: the same push with a
+ * frictionless sleeper-ballast contact (the base can then carry no lateral force) fails
+ * irazabal-fig17. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <cmocka.h>
+
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "adem/adem.h"
+#include "tmpdir.h"
+
+static int setup(void **state) {
+  (void)state;
+  return tmpdir_make("adem_ballast");
+}
+
+static int teardown(void **state) {
+  (void)state;
+  return tmpdir_remove();
+}
+
+static void print_measured(const char *dir, const char *name) {
+  char path[600];
+  snprintf(path, sizeof path, "%s/summary.md", dir);
+  char *text = NULL;
+  size_t n = 0;
+  adem_error err;
+  if (adem_file_read_all(path, &text, &n, &err)) return;
+  const char *m = strstr(text, name);
+  const char *row = m ? strstr(m, "| Initial") : NULL;
+  if (!row && m) row = strstr(m, "| E1.77");
+  printf("# %s: %.420s\n", name, row ? row + 2 : "(no row)");
+  free(text);
+}
+
+static void test_quick_figs_and_a_wrong_law(void **state) {
+  (void)state;
+  char good[512], bad[512];
+  snprintf(good, sizeof good, "%s/good", tmpdir);
+  snprintf(bad, sizeof bad, "%s/bad", tmpdir);
+  adem_validation_context ctx = {good, 2, true, NULL, NULL};
+  const char *names[] = {"irazabal-fig16", "irazabal-fig17"};
+  int failed = -1;
+  adem_error err;
+  if (adem_validate_run(names, 2, &ctx, &failed, &err)) fail_msg("%s", err.message);
+  print_measured(good, "irazabal-fig16 ");
+  print_measured(good, "irazabal-fig17 ");
+  assert_int_equal(failed, 0);
+
+  /* The wrong law: no friction between sleeper and ballast. The packing and the other push are
+   * shared with the run above; the validation finds them finished. */
+  char base[600], from[700], to[700];
+  snprintf(base, sizeof base, "%s/irazabal-ballast", bad);
+  assert_int_equal(adem_fileio_mkdir_p(base, &err), ADEM_OK);
+  const char *shared[] = {"pack", "push-E0.59"};
+  for (int k = 0; k < 2; ++k) {
+    snprintf(from, sizeof from, "%s/irazabal-ballast/%s", good, shared[k]);
+    snprintf(to, sizeof to, "%s/%s", base, shared[k]);
+    assert_int_equal(symlink(from, to), 0);
+  }
+  char out[700], cas[700];
+  snprintf(out, sizeof out, "output.dir=%s/push-E1.77", base);
+  snprintf(cas, sizeof cas, "%s/irazabal-ballast/push.yaml", good);
+  const char *sets[] = {out, "particles.0.file=pack/checkpoint",
+                        "materials.ballast.youngs_modulus=1.77e9", "time.step=2.5e-5",
+                        "time.end=0.46", "walls.sleeper.motion.servo.gain=1e-6",
+                        "walls.container.file=meshes/quick/container.stl",
+                        "walls.sides.file=meshes/quick/sides.stl",
+                        "walls.sleeper.file=meshes/quick/sleeper.stl", "output.frame_interval=0.46",
+                        "interactions.2.friction=0"};
+  adem_case *c = NULL;
+  /* the case from the good run's folder, so pack/checkpoint and meshes/ resolve there */
+  if (adem_case_load_file(cas, sets, (int)(sizeof sets / sizeof *sets), &c, &err)) fail_msg("%s", err.message);
+  adem_run_options o = adem_default_run_options();
+  o.nthreads = 2;
+  if (adem_run(c, &o, &err)) fail_msg("%s", err.message);
+  adem_case_free(c);
+  adem_validation_context bctx = {bad, 2, true, NULL, NULL};
+  const char *fig17[] = {"irazabal-fig17"};
+  failed = -1;
+  if (adem_validate_run(fig17, 1, &bctx, &failed, &err)) fail_msg("%s", err.message);
+  print_measured(bad, "irazabal-fig17 ");
+  assert_int_equal(failed, 1);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_quick_figs_and_a_wrong_law),
+  };
+  return cmocka_run_group_tests(tests, setup, teardown);
+}
