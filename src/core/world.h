@@ -127,6 +127,11 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 /* The gather lists after a checkpoint load. */
 adem_status adem_world_gather(adem_world *w);
+/* Stores the particles in a random order (seeded), with the pair lists in a random order too
+ * and every pair, slot and history moved along: the state is the same, only where it is
+ * stored changes (tests/golden/test_storage_order.c; an MPI rank stores its particles in its
+ * own order). Not while particles wait to be admitted. */
+adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error *err);
 
 /* Checkpoints: the world's dynamic state, each module saving and loading its own part. The
  * static set-up (materials, walls, meshes) comes from the case and must match. A damaged or
