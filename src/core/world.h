@@ -153,6 +153,11 @@ adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
 void adem_world_save_setup(adem_writer *wr, const adem_world *w);
 adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *err);
 
+/* The particles in order of id (adem_particles_id_order) in a new array (free it), NULL when
+ * out of memory: sums over particles run in this order (docs/architecture.md, "Order
+ * independence"). */
+uint32_t *adem_world_id_order(const adem_world *w);
+
 /* Deterministic sum: fixed blocks, independent of the thread count. */
 double adem_sum(const double *x, size_t n);
 

@@ -7,7 +7,7 @@
  * independence"): what an MPI run, whose ranks each store their own subset in their own order,
  * needs to give the serial run's bits (issue 15). Cases: the settle case (planes, friction), and
  * a mesh box with a moving, spinning plate, JKR adhesion and rolling resistance (BROF between
- * spheres, model C on the walls), the shuffled run on 2 threads. */
+ * spheres, model C on the walls). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -39,7 +39,7 @@ static const char *const mesh_case =
     "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
     "    min: [0.0002, 0.0002, 0.0065]\n"
     "    max: [0.0298, 0.0298, 0.013]\n"
-    "    count: 250\n"
+    "    count: 400\n"
     "    velocity: [0.05, -0.03, -0.5]\n"
     "walls:\n"
     "  - {type: mesh, name: box, material: steel, file: cube.stl, scale: 0.03}\n"
@@ -49,10 +49,10 @@ static const char *const mesh_case =
     "    file: plate.stl\n"
     "    translate: [0.015, 0.015, 0.005]\n"
     "    motion:\n"
-    "      table: [[0, 0.3, 0, 0], [0.007, -0.3, 0, 0]]\n"
-    "      rotation: {axis: [0, 0, 1], center: [0.015, 0.015, 0.005], speed: 20}\n"
+    "      table: [[0, 0.1, 0, 0], [0.007, -0.1, 0, 0]]\n"
+    "      rotation: {axis: [0, 0, 1], center: [0.015, 0.015, 0.005], speed: 5}\n"
     "time:\n"
-    "  end: 0.014\n"
+    "  end: 0.0294\n"
     "  step: 7.0e-6\n";
 
 static int setup(void **state) {
@@ -76,11 +76,10 @@ static adem_case *load(const char *text) {
 
 /* Steps in three chunks (the same in both runs: the last pass of a call computes the stored
  * energies the diagnostics read); shuffled before each chunk when seed != 0. */
-static void run(adem_case *c, const uint64_t chunks[3], uint64_t seed, int nthreads) {
+static void run(adem_case *c, const uint64_t chunks[3], uint64_t seed) {
   adem_error err;
   adem_world *w = c->world;
-  adem_world_set_threads(w, nthreads);
-  w->parallel_min = 0;
+  adem_world_set_threads(w, 1); /* the thread count is golden/test_threads.c's claim */
   if (adem_world_prepare(w, &err)) fail_msg("%s", err.message);
   for (int k = 0; k < 3; ++k) {
     if (seed && adem_world_shuffle_storage(w, seed + (uint64_t)k, &err)) fail_msg("%s", err.message);
@@ -185,8 +184,8 @@ static void test_settle_shuffled(void **state) {
   (void)state;
   const uint64_t chunks[3] = {600, 700, SETTLE_STEPS - 1300};
   adem_case *a = load(settle_case), *b = load(settle_case);
-  run(a, chunks, 0, 1);
-  run(b, chunks, 42, 1);
+  run(a, chunks, 0);
+  run(b, chunks, 42);
   size_t n = assert_same_results(a->world, b->world);
   printf("# settle: %zu touching contacts, %zu with a loaded spring\n", n,
          settle_loaded_contacts(a->world));
@@ -197,16 +196,15 @@ static void test_settle_shuffled(void **state) {
 
 static void test_mesh_jkr_shuffled(void **state) {
   (void)state;
-  const uint64_t chunks[3] = {500, 700, 800};
+  const uint64_t chunks[3] = {1200, 1400, 1600};
   adem_case *a = load(mesh_case), *b = load(mesh_case);
-  run(a, chunks, 0, 1);
-  run(b, chunks, 1234, 2);
+  run(a, chunks, 0);
+  run(b, chunks, 1234);
   size_t n = assert_same_results(a->world, b->world);
-  size_t mesh = 0, held = 0;
+  size_t mesh = 0;
   for (size_t k = 0; k < a->world->pm.l.n; ++k) mesh += a->world->pm.l.touching[k];
-  for (size_t i = 0; i < a->world->p.n; ++i) held += a->world->p.held[i];
-  printf("# mesh: %zu touching contacts, %zu on the mesh, %zu spheres held by BROF\n", n, mesh, held);
-  assert_true(mesh > 50 && n > 300);
+  printf("# mesh: %zu touching contacts, %zu on the mesh\n", n, mesh);
+  assert_true(mesh > 100 && n > 200);
   adem_case_free(a);
   adem_case_free(b);
 }
