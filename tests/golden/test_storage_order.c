@@ -5,9 +5,9 @@
  * give. Each pair is evaluated with the lower id first, each particle's sum runs over its
  * partners by id, and global sums run over the particles by id (docs/architecture.md, "Order
  * independence"): what an MPI run, whose ranks each store their own subset in their own order,
- * needs to give the serial run's bits (issue 15). Cases: the settle case (planes, friction), and
- * a mesh box with a moving, spinning plate, JKR adhesion and rolling resistance (BROF between
- * spheres, model C on the walls). */
+ * needs to give the serial run's bits (issue 15). Cases: the settle case (planes, friction), the
+ * periodic bed (contacts through the periodic faces), and a mesh box with a moving, spinning
+ * plate, JKR adhesion and rolling resistance (BROF between spheres, model C on the walls). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "golden/periodic_case.h"
 #include "golden/settle_case.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
@@ -194,6 +195,22 @@ static void test_settle_shuffled(void **state) {
   adem_case_free(b);
 }
 
+static void test_periodic_shuffled(void **state) {
+  (void)state;
+  const uint64_t chunks[3] = {500, 700, PERIODIC_STEPS - 1200};
+  adem_case *a = load(periodic_case), *b = load(periodic_case);
+  run(a, chunks, 0);
+  run(b, chunks, 99);
+  size_t n = assert_same_results(a->world, b->world);
+  size_t crossed = 0;
+  for (size_t i = 0; i < a->world->p.n; ++i)
+    crossed += a->world->p.image[i].n[0] != 0 || a->world->p.image[i].n[1] != 0;
+  printf("# periodic: %zu touching contacts, %zu spheres crossed a periodic face\n", n, crossed);
+  assert_true(n > 100 && crossed > 50);
+  adem_case_free(a);
+  adem_case_free(b);
+}
+
 static void test_mesh_jkr_shuffled(void **state) {
   (void)state;
   const uint64_t chunks[3] = {1200, 1400, 1600};
@@ -212,6 +229,7 @@ static void test_mesh_jkr_shuffled(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_settle_shuffled),
+      cmocka_unit_test(test_periodic_shuffled),
       cmocka_unit_test(test_mesh_jkr_shuffled),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
