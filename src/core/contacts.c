@@ -409,15 +409,19 @@ static void mesh_pairs(const adem_force_scope *w) {
     }
   }
   /* Force on each face, and its moment about the face's group's reference point: the force acts
-   * at the contact point, and the wall takes the opposite of the rolling couple. In slot order
-   * (fixed for any thread count). */
+   * at the contact point, and the wall takes the opposite of the rolling couple. Summed over the
+   * particles by id, each one's contacts by key: an order neither the thread count nor the
+   * storage order changes. */
   adem_walls_clear_face_loads(w->walls);
-  for (size_t k = 0; k < l->n; ++k) {
-    if (!l->touching[k]) continue;
-    size_t t = pm->owner[k];
-    adem_vec3 fw = v3_neg(l->res[k].force_a);
-    adem_vec3 arm = v3_sub(pm->found[k].point, w->walls->mesh_ref[m->group[t]]);
-    adem_walls_add_face_load(w->walls, t, fw, v3_sub(v3_cross(arm, fw), l->res[k].rolling_a));
+  const uint32_t *by_id = w->nb->id_order;
+  for (size_t r = 0; r < n; ++r) {
+    size_t i = by_id[r];
+    for (size_t k = pm->start[i]; k < pm->start[i + 1] && l->touching[k]; ++k) {
+      size_t t = pm->owner[k];
+      adem_vec3 fw = v3_neg(l->res[k].force_a);
+      adem_vec3 arm = v3_sub(pm->found[k].point, w->walls->mesh_ref[m->group[t]]);
+      adem_walls_add_face_load(w->walls, t, fw, v3_sub(v3_cross(arm, fw), l->res[k].rolling_a));
+    }
   }
 }
 
@@ -460,7 +464,10 @@ static inline void account_energy(adem_particles *p, size_t i, const particle_en
 }
 
 /* Per-particle sums in the order of the gather lists: body forces first, then particle
- * contacts by increasing pair index, then wall contacts, then mesh contacts by key. */
+ * contacts by increasing id of the partner, then plane contacts by plane index, then mesh
+ * contacts by key. None of these orders depends on where the particles are stored, and each
+ * pair's result was computed with the lower id as i: the sums are the same bits whatever the
+ * storage order (docs/architecture.md, "Order independence"). */
 static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool balance) {
   adem_particles *p = w->p;
   const adem_neighbors *nb = w->nb;

@@ -1,5 +1,5 @@
 /* The force pass: every candidate pair's force and torques into the pair lists, then the sums per
- * particle in a fixed order (the same for any thread count), BROF included. */
+ * particle in a fixed order (the same for any thread count or storage order), BROF included. */
 #ifndef ADEM_CONTACTS_H
 #define ADEM_CONTACTS_H
 

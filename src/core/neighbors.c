@@ -437,37 +437,83 @@ static adem_status build_list(build_ctx *w, adem_pair_list *l, pairs_of_fn *pair
   return ADEM_OK;
 }
 
-adem_status adem_neighbors_gather(adem_neighbors *nb, size_t n, const adem_pair_list *pp,
-                                  const adem_pair_list *pw) {
-  const struct {
-    const adem_pair_list *pp, *pw;
-  } ctx = {pp, pw}, *w = &ctx;
+/* The partner of a gather entry of pp, by id. */
+static inline uint64_t partner_id(const adem_pair_list *pp, const uint64_t *id, uint32_t code) {
+  size_t k = code >> 1;
+  return id[(code & 1u) ? pp->a[k] : pp->b[k]];
+}
+
+/* Sorts one particle's entries by its partners' ids (insertion sort: a particle has few, and
+ * the ids are distinct, so the order is total). */
+static void sort_pp_entries(uint32_t *e, size_t n, const adem_pair_list *pp, const uint64_t *id) {
+  for (size_t i = 1; i < n; ++i) {
+    uint32_t x = e[i];
+    uint64_t key = partner_id(pp, id, x);
+    size_t j = i;
+    while (j > 0 && partner_id(pp, id, e[j - 1]) > key) {
+      e[j] = e[j - 1];
+      --j;
+    }
+    e[j] = x;
+  }
+}
+
+/* Sorts one particle's plane entries by plane index (one pair per plane). */
+static void sort_pw_entries(uint32_t *e, size_t n, const adem_pair_list *pw) {
+  for (size_t i = 1; i < n; ++i) {
+    uint32_t x = e[i];
+    size_t j = i;
+    while (j > 0 && pw->b[e[j - 1]] > pw->b[x]) {
+      e[j] = e[j - 1];
+      --j;
+    }
+    e[j] = x;
+  }
+}
+
+adem_status adem_neighbors_gather(adem_neighbors *nb, const adem_particles *p,
+                                  const adem_pair_list *pp, const adem_pair_list *pw, int nthreads) {
+  size_t n = p->n;
+  nb->gathered = 0;
   if (grow_size_t(&nb->pp_start, &nb->pp_start_cap, n + 1)) return ADEM_ERR_NOMEM;
   if (grow_size_t(&nb->pw_start, &nb->pw_start_cap, n + 1)) return ADEM_ERR_NOMEM;
-  if (grow_u32(&nb->pp_entries, &nb->pp_entries_cap, 2 * w->pp->n)) return ADEM_ERR_NOMEM;
-  if (grow_u32(&nb->pw_entries, &nb->pw_entries_cap, w->pw->n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pp_entries, &nb->pp_entries_cap, 2 * pp->n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->pw_entries, &nb->pw_entries_cap, pw->n)) return ADEM_ERR_NOMEM;
+  if (grow_u32(&nb->id_order, &nb->id_order_cap, n + 1)) return ADEM_ERR_NOMEM;
 
   size_t *s = nb->pp_start;
   memset(s, 0, (n + 1) * sizeof *s);
-  for (size_t k = 0; k < w->pp->n; ++k) {
-    s[w->pp->a[k] + 1]++;
-    s[w->pp->b[k] + 1]++;
+  for (size_t k = 0; k < pp->n; ++k) {
+    s[pp->a[k] + 1]++;
+    s[pp->b[k] + 1]++;
   }
   for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
-  for (size_t k = 0; k < w->pp->n; ++k) {
-    nb->pp_entries[s[w->pp->a[k]]++] = (uint32_t)(k << 1);
-    nb->pp_entries[s[w->pp->b[k]]++] = (uint32_t)(k << 1 | 1u);
+  for (size_t k = 0; k < pp->n; ++k) {
+    nb->pp_entries[s[pp->a[k]]++] = (uint32_t)(k << 1);
+    nb->pp_entries[s[pp->b[k]]++] = (uint32_t)(k << 1 | 1u);
   }
   for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
   s[0] = 0;
 
   s = nb->pw_start;
   memset(s, 0, (n + 1) * sizeof *s);
-  for (size_t k = 0; k < w->pw->n; ++k) s[w->pw->a[k] + 1]++;
+  for (size_t k = 0; k < pw->n; ++k) s[pw->a[k] + 1]++;
   for (size_t i = 0; i < n; ++i) s[i + 1] += s[i];
-  for (size_t k = 0; k < w->pw->n; ++k) nb->pw_entries[s[w->pw->a[k]]++] = (uint32_t)k;
+  for (size_t k = 0; k < pw->n; ++k) nb->pw_entries[s[pw->a[k]]++] = (uint32_t)k;
   for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
   s[0] = 0;
+
+  /* The pair lists follow the storage order; a particle's sum must not (contacts.c). */
+  const uint64_t *id = p->id;
+  const size_t *ps = nb->pp_start, *ws = nb->pw_start;
+  uint32_t *pe = nb->pp_entries, *we = nb->pw_entries;
+  ADEM_PARALLEL_FOR
+  for (size_t i = 0; i < n; ++i) {
+    sort_pp_entries(pe + ps[i], ps[i + 1] - ps[i], pp, id);
+    sort_pw_entries(we + ws[i], ws[i + 1] - ws[i], pw);
+  }
+  if (adem_particles_id_order(p, nb->id_order)) return ADEM_ERR_NOMEM;
+  nb->gathered = n;
   return ADEM_OK;
 }
 
@@ -517,7 +563,7 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   restore_history(w, w->pw, true, saved_pw, nsaved_pw);
   restore_mesh_history(w, saved_pm, nsaved_pm);
   nb->time_at_build = w->walls->time;
-  st = adem_neighbors_gather(nb, n, w->pp, w->pw);
+  st = adem_neighbors_gather(nb, p, w->pp, w->pw, w->nthreads);
   if (st) goto done;
   adem_particles_mark_build(p);
   nb->rebuilds++;
@@ -557,6 +603,7 @@ void adem_neighbors_estimate_bytes(double n, double npairs, bool mesh, double *g
   *build = npairs * (double)sizeof(saved_history)          /* history kept across the build */
            + 3.0 * (n + 1.0) * (double)sizeof(size_t)      /* cell_of, perm, offsets */
            + 2.0 * (n + 1.0) * (double)sizeof(size_t)      /* pp_start, pw_start */
+           + (n + 1.0) * (double)sizeof(uint32_t)          /* id_order */
            + 2.0 * npairs * (double)sizeof(uint32_t);      /* gather entries */
 }
 
@@ -568,6 +615,9 @@ void adem_neighbors_free(adem_neighbors *nb) {
   free(nb->pw_entries);
   free(nb->tri_cell_start);
   free(nb->tri_cell);
+  free(nb->id_order);
+  nb->id_order = NULL;
+  nb->id_order_cap = nb->gathered = 0;
   nb->tri_cell_start = NULL;
   nb->tri_cell = NULL;
   nb->tri_cell_start_cap = nb->tri_cell_cap = 0;

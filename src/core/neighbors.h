@@ -31,10 +31,14 @@ typedef struct adem_neighbors {
   size_t *tri_cell_start; /* ncells + 1 */
   uint32_t *tri_cell;
   size_t tri_cell_start_cap, tri_cell_cap;
-  /* per-particle gather lists: entries (pair index << 1 | side) for pp; pair index for pw */
+  /* per-particle gather lists: entries (pair index << 1 | side) for pp, by the partner's id;
+   * pair index for pw, by plane index: an order the storage order does not change */
   size_t *pp_start, *pw_start;
   uint32_t *pp_entries, *pw_entries;
   size_t pp_start_cap, pw_start_cap, pp_entries_cap, pw_entries_cap;
+  /* the particles by id at the last gather (adem_particles_id_order), gathered of them */
+  uint32_t *id_order;
+  size_t id_order_cap, gathered;
   uint64_t rebuilds;
   double time_at_build;  /* moving walls use up the skin from then on */
 } adem_neighbors;
@@ -56,9 +60,10 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
  * (wall_shift), since the last build. */
 bool adem_neighbors_need_rebuild(const adem_neighbors *nb, const adem_particles *p,
                                  double wall_shift, int nthreads);
-/* Rebuilds the per-particle gather lists from the pair lists (after a build or a checkpoint load). */
-adem_status adem_neighbors_gather(adem_neighbors *nb, size_t nparticles, const adem_pair_list *pp,
-                                  const adem_pair_list *pw);
+/* Rebuilds the per-particle gather lists from the pair lists and the order by id (after a
+ * build, a checkpoint load or a change of the storage order). */
+adem_status adem_neighbors_gather(adem_neighbors *nb, const adem_particles *p,
+                                  const adem_pair_list *pp, const adem_pair_list *pw, int nthreads);
 void adem_neighbors_free(adem_neighbors *nb);
 /* Bytes of the grid (cells at most 8 n + 1024, as sort_by_cell allows; twice with mesh walls)
  * in *grid, and in *build what a build holds besides the lists for n particles and npairs

@@ -41,6 +41,10 @@ void adem_pairs_free(adem_pair_list *l) {
   memset(l, 0, sizeof *l);
 }
 
+adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm) {
+  return adem_soa_permute(l, pair_layout, l->n, perm);
+}
+
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l) {
   adem_put_u64(wr, l->n);
   adem_soa_save(wr, l, pair_layout, l->n);
@@ -77,6 +81,11 @@ void adem_mesh_pairs_free(adem_mesh_pairs *pm) {
   free(pm->start);
   adem_soa_free(pm, slot_layout);
   memset(pm, 0, sizeof *pm);
+}
+
+adem_status adem_mesh_pairs_permute(adem_mesh_pairs *pm, const size_t *perm) {
+  adem_status st = adem_pairs_permute(&pm->l, perm);
+  return st ? st : adem_soa_permute(pm, slot_layout, pm->l.n, perm);
 }
 
 void adem_mesh_pairs_save(adem_writer *wr, const adem_mesh_pairs *pm, size_t nparticles) {

@@ -107,6 +107,8 @@ static inline void adem_pairs_clear_apart(adem_pair_list *l) {
 /* Grows to at least cap pairs (with headroom: lists are rebuilt often with similar sizes). */
 adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap);
 void adem_pairs_free(adem_pair_list *l);
+/* Reorders the pairs: new pair k is old pair perm[k] (the particle indices are not remapped). */
+adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm);
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l);
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err);
 /* Bytes per pair over every array. */
@@ -138,6 +140,9 @@ typedef struct adem_mesh_pairs {
 /* Grows the per-slot arrays to the capacity of the pair list. */
 adem_status adem_mesh_pairs_reserve(adem_mesh_pairs *pm);
 void adem_mesh_pairs_free(adem_mesh_pairs *pm);
+/* Reorders the slots (pair list and slot arrays): new slot k is old slot perm[k]; the ranges in
+ * start are the caller's to set. */
+adem_status adem_mesh_pairs_permute(adem_mesh_pairs *pm, const size_t *perm);
 /* Bytes per slot of the extra per-slot arrays. */
 size_t adem_mesh_pairs_slot_bytes(void);
 /* Forgets slot k (state, results, key and owner). */

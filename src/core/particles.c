@@ -36,6 +36,37 @@ adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
   return adem_soa_permute(p, adem_particles_layout(), p->n, perm);
 }
 
+typedef struct id_index {
+  uint64_t id;
+  uint32_t i;
+} id_index;
+
+static int compare_id(const void *x, const void *y) {
+  const id_index *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->i < b->i ? -1 : a->i > b->i;
+}
+
+adem_status adem_particles_id_order(const adem_particles *p, uint32_t *order) {
+  size_t n = p->n;
+  if (n >= UINT32_MAX) return ADEM_ERR_NOMEM;
+  for (size_t k = 0; k < n; ++k) order[k] = UINT32_MAX;
+  size_t i = 0;
+  for (; i < n; ++i) { /* ids 0 .. n-1: each goes to its own place */
+    uint64_t id = p->id[i];
+    if (id >= n || order[id] != UINT32_MAX) break;
+    order[id] = (uint32_t)i;
+  }
+  if (i == n) return ADEM_OK;
+  id_index *s = malloc(n * sizeof *s);
+  if (!s) return ADEM_ERR_NOMEM;
+  for (size_t k = 0; k < n; ++k) s[k] = (id_index){p->id[k], (uint32_t)k};
+  qsort(s, n, sizeof *s, compare_id);
+  for (size_t k = 0; k < n; ++k) order[k] = s[k].i;
+  free(s);
+  return ADEM_OK;
+}
+
 size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem_vec3 vel,
                              adem_vec3 omega, double radius, double density, int material,
                              int group) {

@@ -60,6 +60,10 @@ adem_status adem_particles_reserve(adem_particles *p, size_t cap);
 void adem_particles_free(adem_particles *p);
 /* Reorders every per-particle array: new index k holds old particle perm[k]. */
 adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
+/* The particles in increasing order of id: order[k] is the index of the k-th smallest id. Sums
+ * over particles run in this order, which the storage order does not change. O(n) when the ids
+ * are 0 .. n-1 (as adem_world_add_particle numbers them), a sort otherwise. */
+adem_status adem_particles_id_order(const adem_particles *p, uint32_t *order);
 /* Appends a particle with every field zero but these; returns its index (or SIZE_MAX when out of
  * memory). mass and inertia of a solid sphere of the given density. */
 size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem_vec3 vel,

@@ -27,6 +27,7 @@ void adem_soa_free(void *obj, adem_soa_layout L) {
 }
 
 adem_status adem_soa_permute(void *obj, adem_soa_layout L, size_t n, const size_t *perm) {
+  if (n == 0) return ADEM_OK; /* arrays never grown are NULL */
   size_t largest = 1;
   for (size_t k = 0; k < L.count; ++k)
     if (L.fields[k].elem > largest) largest = L.fields[k].elem;

@@ -8,6 +8,7 @@
 #include "jkr.h"
 #include "log.h"
 #include "parallel.h"
+#include "rng.h"
 #include "world.h"
 
 adem_world *adem_world_create(void) {
@@ -199,7 +200,67 @@ adem_status adem_world_build_neighbors(adem_world *w, adem_error *err) {
 }
 
 adem_status adem_world_gather(adem_world *w) {
-  return adem_neighbors_gather(&w->nb, w->p.n, &w->pp, &w->pw);
+  return adem_neighbors_gather(&w->nb, &w->p, &w->pp, &w->pw, adem_world_threads(w));
+}
+
+/* A random permutation of 0 .. n-1 (Fisher-Yates; the modulo's bias does not matter here). */
+static void random_permutation(size_t *perm, size_t n, adem_rng *r) {
+  for (size_t k = 0; k < n; ++k) perm[k] = k;
+  for (size_t k = n; k > 1; --k) {
+    size_t j = (size_t)(adem_rng_next(r) % k), t = perm[k - 1];
+    perm[k - 1] = perm[j];
+    perm[j] = t;
+  }
+}
+
+adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error *err) {
+  if (w->admit_pending)
+    return adem_error_set(err, ADEM_ERR_INPUT, "particles wait to be admitted: step first");
+  adem_particles *p = &w->p;
+  adem_mesh_pairs *pm = &w->pm;
+  size_t n = p->n, m = w->pp.n;
+  if (w->pw.n > m) m = w->pw.n;
+  if (pm->l.n > m) m = pm->l.n;
+  size_t *perm = malloc((n + 1) * sizeof *perm), *inv = malloc((n + 1) * sizeof *inv);
+  size_t *pairs = malloc((m + 1) * sizeof *pairs), *start = malloc((n + 1) * sizeof *start);
+  adem_status st = perm && inv && pairs && start ? ADEM_OK : ADEM_ERR_NOMEM;
+  adem_rng r = adem_rng_seed(seed);
+  if (!st) {
+    random_permutation(perm, n, &r);
+    for (size_t k = 0; k < n; ++k) inv[perm[k]] = k;
+    st = adem_particles_permute(p, perm);
+  }
+  adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  for (int s = 0; s < 2 && !st; ++s) {
+    adem_pair_list *l = lists[s];
+    random_permutation(pairs, l->n, &r);
+    st = adem_pairs_permute(l, pairs);
+    for (size_t k = 0; k < l->n && !st; ++k) {
+      l->a[k] = (uint32_t)inv[l->a[k]];
+      if (s == 0) l->b[k] = (uint32_t)inv[l->b[k]]; /* a keeps the lower id */
+    }
+  }
+  /* mesh slots: each particle's range moves with it, its slots in their order */
+  if (!st && pm->start && pm->l.n > 0) {
+    size_t q = 0;
+    start[0] = 0;
+    for (size_t k = 0; k < n; ++k) {
+      for (size_t e = pm->start[perm[k]]; e < pm->start[perm[k] + 1]; ++e) pairs[q++] = e;
+      start[k + 1] = q;
+    }
+    st = adem_mesh_pairs_permute(pm, pairs);
+    if (!st) {
+      memcpy(pm->start, start, (n + 1) * sizeof *start);
+      for (size_t k = 0; k < pm->l.n; ++k) pm->l.a[k] = (uint32_t)inv[pm->l.a[k]];
+    }
+  }
+  free(perm);
+  free(inv);
+  free(pairs);
+  free(start);
+  if (!st) st = adem_world_gather(w);
+  if (st) return adem_error_set(err, st, "out of memory shuffling the particles");
+  return ADEM_OK;
 }
 
 /* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
@@ -462,6 +523,15 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   free(rmin);
   est.dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh); /* about 50 steps a collision */
   return est;
+}
+
+uint32_t *adem_world_id_order(const adem_world *w) {
+  uint32_t *order = malloc((w->p.n + 1) * sizeof *order);
+  if (order && adem_particles_id_order(&w->p, order)) {
+    free(order);
+    order = NULL;
+  }
+  return order;
 }
 
 double adem_sum(const double *x, size_t n) {
@@ -767,9 +837,14 @@ static void servo_check(adem_world *w) {
   for (int k = 0; k < wl->nplanes; ++k) {
     adem_motion *m = &wl->planes[k].motion;
     if (!m->servo.on || m->servo_warned) continue;
-    double K = 0.0;
-    for (size_t j = 0; j < w->pw.n; ++j)
-      if (w->pw.b[j] == (uint32_t)k) K += contact_stiffness(&w->pw, j, &w->p);
+    double K = 0.0; /* over the particles by id, as every sum (order independence) */
+    for (size_t r = 0; r < w->nb.gathered; ++r) {
+      size_t i = w->nb.id_order[r];
+      for (size_t e = w->nb.pw_start[i]; e < w->nb.pw_start[i + 1]; ++e) {
+        size_t j = w->nb.pw_entries[e];
+        if (w->pw.b[j] == (uint32_t)k) K += contact_stiffness(&w->pw, j, &w->p);
+      }
+    }
     servo_warn(m, wl->planes[k].def.name, K, w->dt);
   }
   for (int k = 0; k < wl->nmesh_walls; ++k) {
@@ -777,11 +852,14 @@ static void servo_check(adem_world *w) {
     adem_motion *lead = (adem_motion *)adem_walls_mesh_wall_servo(wl, k);
     if (!lead || lead->servo_warned) continue;
     double K = 0.0;
-    for (size_t j = 0; j < w->pm.l.n; ++j) {
-      int g = (int)wl->mesh.group[w->pm.owner[j]];
-      if (g >= mw->first && g < mw->first + mw->count && wl->mesh_motion[g].servo.on &&
-          !wl->mesh_motion[g].servo.unmeasured)
-        K += contact_stiffness(&w->pm.l, j, &w->p);
+    for (size_t r = 0; r < w->nb.gathered && w->pm.start; ++r) {
+      size_t i = w->nb.id_order[r];
+      for (size_t j = w->pm.start[i]; j < w->pm.start[i + 1] && w->pm.l.touching[j]; ++j) {
+        int g = (int)wl->mesh.group[w->pm.owner[j]];
+        if (g >= mw->first && g < mw->first + mw->count && wl->mesh_motion[g].servo.on &&
+            !wl->mesh_motion[g].servo.unmeasured)
+          K += contact_stiffness(&w->pm.l, j, &w->p);
+      }
     }
     servo_warn(lead, mw->name, K, w->dt);
   }
@@ -834,38 +912,65 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   return ADEM_OK;
 }
 
-/* The stored energies of a pair list, summed in pair order (buf: room for l->n doubles). */
-static double sum_elastic(const adem_pair_list *l, double *buf) {
-  for (size_t k = 0; k < l->n; ++k) buf[k] = l->res[k].elastic;
-  return adem_sum(buf, l->n);
+/* The stored energies of the contacts (buf: room for every pair of a list), in an order the
+ * storage does not change: particles by id (as at the last gather, which the lists follow), and
+ * each one's pairs as its gather list has them, a particle pair under its lower id; mesh slots
+ * by key. */
+static void sum_elastic(const adem_world *w, double *buf, double out[3]) {
+  const adem_neighbors *nb = &w->nb;
+  const adem_mesh_pairs *pm = &w->pm;
+  size_t m[3] = {0, 0, 0};
+  double *b[3] = {buf, buf + w->pp.n, buf + w->pp.n + w->pw.n};
+  for (size_t r = 0; r < nb->gathered; ++r) {
+    size_t i = nb->id_order[r];
+    for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e)
+      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.res[nb->pp_entries[e] >> 1].elastic;
+    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e)
+      b[1][m[1]++] = w->pw.res[nb->pw_entries[e]].elastic;
+    for (size_t k = pm->start ? pm->start[i] : 0; pm->start && k < pm->start[i + 1]; ++k)
+      b[2][m[2]++] = pm->l.res[k].elastic;
+  }
+  for (int s = 0; s < 3; ++s) out[s] = adem_sum(b[s], m[s]);
 }
 
+/* Sum of x[order[k]] for k = 0 .. n-1 (buf: room for n), fixed blocks as adem_sum. */
+static double sum_ordered(const double *x, const uint32_t *order, size_t n, double *buf) {
+  for (size_t k = 0; k < n; ++k) buf[k] = x[order[k]];
+  return adem_sum(buf, n);
+}
+
+/* Every sum over particles or contacts runs in order of id (docs/architecture.md, "Order
+ * independence"): the same bits whatever the storage order or the thread count. */
 adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   adem_diagnostics d;
   memset(&d, 0, sizeof d);
   d.time = w->time;
   const adem_particles *p = &w->p;
   size_t n = p->n;
-  size_t m = n > w->pp.n ? n : w->pp.n;
-  if (w->pw.n > m) m = w->pw.n;
-  if (w->pm.l.n > m) m = w->pm.l.n;
-  double *buf = calloc(m + 1, sizeof *buf);
-  if (!buf) return d;
-  for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
-  d.kinetic = adem_sum(buf, n);
-  for (size_t i = 0; i < n; ++i) buf[i] = 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
-  d.rotational = adem_sum(buf, n);
+  size_t npairs = w->pp.n + w->pw.n + w->pm.l.n;
+  /* x: a value per particle (by index); buf: the values in order of id */
+  double *x = malloc((n + 1) * sizeof *x), *buf = malloc((n + npairs + 1) * sizeof *buf);
+  uint32_t *order = adem_world_id_order(w);
+  if (!x || !buf || !order) {
+    free(x);
+    free(buf);
+    free(order);
+    return d;
+  }
+  for (size_t i = 0; i < n; ++i) x[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
+  d.kinetic = sum_ordered(x, order, n, buf);
+  for (size_t i = 0; i < n; ++i) x[i] = 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
+  d.rotational = sum_ordered(x, order, n, buf);
   /* Potential of the constant body forces: -(m g + F_ext) . x */
   for (size_t i = 0; i < n; ++i) {
     adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
                          w->groups[p->group[i]].external_force);
-    buf[i] = -v3_dot(f, adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]));
+    x[i] = -v3_dot(f, adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]));
   }
-  d.potential = adem_sum(buf, n);
-  double elastic_pp = sum_elastic(&w->pp, buf);
-  double elastic_pw = sum_elastic(&w->pw, buf);
-  double elastic_pm = sum_elastic(&w->pm.l, buf);
-  d.elastic = elastic_pp + elastic_pw + elastic_pm;
+  d.potential = sum_ordered(x, order, n, buf);
+  double elastic[3];
+  sum_elastic(w, buf, elastic);
+  d.elastic = elastic[0] + elastic[1] + elastic[2];
   for (size_t k = 0; k < w->pp.n; ++k) {
     d.contacts_pp += w->pp.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.res[k].overlap_ratio);
@@ -880,23 +985,25 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   }
   /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
    * laws' own losses, and the work of moving walls */
-  d.dissipated = adem_sum(p->dissipated, n);
-  d.wall_work = adem_sum(p->wall_work, n);
+  d.dissipated = sum_ordered(p->dissipated, order, n, buf);
+  d.wall_work = sum_ordered(p->wall_work, order, n, buf);
   double *c[3] = {&d.angular_momentum.x, &d.angular_momentum.y, &d.angular_momentum.z};
   double *bi[3] = {&d.brof_impulse.x, &d.brof_impulse.y, &d.brof_impulse.z};
   for (int a = 0; a < 3; ++a) {
     for (size_t i = 0; i < n; ++i) {
-      adem_vec3 x = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
-      adem_vec3 l = v3_add(v3_scale(v3_cross(x, p->vel[i]), 1.0 / p->inv_mass[i]),
+      adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
+      adem_vec3 l = v3_add(v3_scale(v3_cross(xi, p->vel[i]), 1.0 / p->inv_mass[i]),
                            v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
-      buf[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
+      x[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
     }
-    *c[a] = adem_sum(buf, n);
+    *c[a] = sum_ordered(x, order, n, buf);
     for (size_t i = 0; i < n; ++i)
-      buf[i] = a == 0 ? p->brof_impulse[i].x : a == 1 ? p->brof_impulse[i].y : p->brof_impulse[i].z;
-    *bi[a] = adem_sum(buf, n);
+      x[i] = a == 0 ? p->brof_impulse[i].x : a == 1 ? p->brof_impulse[i].y : p->brof_impulse[i].z;
+    *bi[a] = sum_ordered(x, order, n, buf);
   }
+  free(x);
   free(buf);
+  free(order);
   d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
   if (!w->energy_balance) d.dissipated = d.wall_work = d.balance_error = NAN;
   d.initial = w->prepared ? w->energy_initial : total_energy(&d);
@@ -1263,17 +1370,25 @@ adem_status adem_world_pair_info(adem_world *w, int a, int b, adem_pair_info *ou
 void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
   for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
   const adem_pair_list *l = &w->pw;
-  for (size_t k = 0; k < l->n; ++k) {
-    uint32_t wall = l->b[k];
-    if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->res[k].force_a);
+  const adem_neighbors *nb = &w->nb;
+  /* over the particles by id: the servos move by these sums (order independence) */
+  for (size_t r = 0; r < nb->gathered; ++r) {
+    size_t i = nb->id_order[r];
+    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
+      size_t k = nb->pw_entries[e];
+      uint32_t wall = l->b[k];
+      if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->res[k].force_a);
+    }
   }
 }
 
 uint64_t adem_world_neighbor_builds(const adem_world *w) { return w->nb.rebuilds; }
 
 size_t adem_world_bytes_per_particle(void) {
-  /* the particle table and the per-particle entries of the neighbour and mesh-slot ranges */
-  return adem_soa_item_bytes(adem_particles_layout()) + 2 * sizeof(size_t) + sizeof(size_t);
+  /* the particle table, the per-particle entries of the neighbour and mesh-slot ranges and the
+   * order by id */
+  return adem_soa_item_bytes(adem_particles_layout()) + 2 * sizeof(size_t) + sizeof(size_t) +
+         sizeof(uint32_t);
 }
 
 size_t adem_world_bytes_per_pair(void) {

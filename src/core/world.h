@@ -127,6 +127,11 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 /* The gather lists after a checkpoint load. */
 adem_status adem_world_gather(adem_world *w);
+/* Stores the particles in a random order (seeded), with the pair lists in a random order too
+ * and every pair, slot and history moved along: the state is the same, only where it is
+ * stored changes (tests/golden/test_storage_order.c; an MPI rank stores its particles in its
+ * own order). Not while particles wait to be admitted. */
+adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error *err);
 
 /* Checkpoints: the world's dynamic state, each module saving and loading its own part. The
  * static set-up (materials, walls, meshes) comes from the case and must match. A damaged or
@@ -147,6 +152,11 @@ adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
  * walls), before its dynamic state: loading it into a fresh world remakes that world. */
 void adem_world_save_setup(adem_writer *wr, const adem_world *w);
 adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *err);
+
+/* The particles in order of id (adem_particles_id_order) in a new array (free it), NULL when
+ * out of memory: sums over particles run in this order (docs/architecture.md, "Order
+ * independence"). */
+uint32_t *adem_world_id_order(const adem_world *w);
 
 /* Deterministic sum: fixed blocks, independent of the thread count. */
 double adem_sum(const double *x, size_t n);

@@ -468,17 +468,21 @@ void adem_regions_free(adem_regions *rs) {
 
 void adem_regions_count(const adem_regions *rs, const adem_world *w, double *count,
                         double *mass) {
+  /* the masses summed by id, as every sum over particles (order independence) */
+  uint32_t *order = rs && rs->n > 0 ? adem_world_id_order(w) : NULL;
   for (int k = 0; rs && k < rs->n; ++k) {
     const adem_region *r = &rs->r[k].region;
     double n = 0.0, m = 0.0;
-    for (size_t i = 0; i < w->p.n; ++i) {
+    for (size_t q = 0; order && q < w->p.n; ++q) {
+      size_t i = order[q];
       if (!adem_insert_region_contains(r, w->p.pos[i])) continue;
       n += 1.0;
       m += 1.0 / w->p.inv_mass[i];
     }
-    count[k] = n;
-    mass[k] = m;
+    count[k] = order ? n : NAN; /* out of memory */
+    mass[k] = order ? m : NAN;
   }
+  free(order);
 }
 
 void adem_insert_region_free(adem_region *r) {

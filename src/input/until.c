@@ -32,12 +32,18 @@ uint64_t adem_until_next_check(const adem_until *u, double dt, uint64_t step) {
   return (step / p + 1) * p;
 }
 
-/* (translational + rotational) kinetic energy per particle, summed in the particles' order */
+/* (translational + rotational) kinetic energy per particle, summed in order of id: when the run
+ * ends must not depend on the storage order (docs/architecture.md, "Order independence") */
 static double kinetic_per_particle(const adem_world *w) {
   const adem_particles *p = &w->p;
+  uint32_t *order = adem_world_id_order(w);
+  if (!order) return NAN; /* out of memory: not at rest */
   double e = 0.0;
-  for (size_t i = 0; i < p->n; ++i)
+  for (size_t k = 0; k < p->n; ++k) {
+    size_t i = order[k];
     e += 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i] + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
+  }
+  free(order);
   return p->n ? e / (double)p->n : INFINITY;
 }
 

@@ -483,7 +483,10 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
   double gn = v3_norm(w->gravity);
   adem_vec3 down = gn > 0.0 ? v3_scale(w->gravity, 1.0 / gn) : v3(0.0, 0.0, -1.0);
   double weight = 0.0;
-  for (size_t i = 0; i < w->p.n; ++i) weight += gn / w->p.inv_mass[i];
+  uint32_t *order = adem_world_id_order(w); /* summed by id, as every sum over particles */
+  if (!order) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  for (size_t k = 0; k < w->p.n; ++k) weight += gn / w->p.inv_mass[order[k]];
+  free(order);
   size_t qn = 2 * (strlen(csv_path) + strlen(title) + ADEM_NAME_MAX) + 8;
   char *qcsv = malloc(qn), *qname = malloc(qn);
   strbuf b = {0};

@@ -433,7 +433,9 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
     rmax[k] = 0.0;
   }
   double rlo = INFINITY, rhi = 0.0, mass = 0.0;
-  for (size_t i = 0; i < p->n; ++i) {
+  uint32_t *order = adem_world_id_order(w); /* the mass summed by id, as every sum */
+  for (size_t k = 0; k < p->n; ++k) {
+    size_t i = order ? order[k] : k;
     int m = p->material[i];
     rmin[m] = fmin(rmin[m], p->radius[i]);
     rmax[m] = fmax(rmax[m], p->radius[i]);
@@ -441,6 +443,7 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
     rhi = fmax(rhi, p->radius[i]);
     mass += 1.0 / p->inv_mass[i];
   }
+  free(order);
   for (int k = 0; c->pours && k < c->pours->n; ++k) { /* poured spheres meet them too */
     const adem_pour *q = &c->pours->p[k];
     rmin[q->def.material] = fmin(rmin[q->def.material], adem_insert_dist_smallest(&q->def.dist));
