@@ -232,7 +232,10 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   if (st) return st;
 
   /* Claims: rises with eta_r; 40 +- 3 deg at 0.25; E changes it by less than 2 deg. */
-  bool rises = mean[0] < mean[1] && mean[1] < mean[2];
+  /* Quick: one pile of 400 spheres per point; piles differ by 2-3 deg from seed to seed (2.2-2.5
+   * measured at full scale), about what a step of 0.05 in eta_r changes, so only the rise over
+   * the whole range (0.2 to 0.3, ~6 deg at full scale) is resolved. */
+  bool rises = ctx->quick ? mean[0] < mean[2] : mean[0] < mean[1] && mean[1] < mean[2];
   bool forty = fabs(mean[1] - 40.0) <= 3.0;
   bool e_free = ctx->quick || (fabs(mean[3] - mean[1]) < 2.0 && fabs(mean[4] - mean[1]) < 2.0);
   rep->pass = ctx->quick ? rises : rises && forty && e_free;
@@ -262,7 +265,8 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
            "rest 1.4-2.4 s after the pour). Angle: adem analyze repose (surface-particle fit and "
            "slice radii over 25-75%% of the height; spheres above 0.65 m left out). %s",
            ctx->quick ? "Quick: 400 spheres at E/100 with the step it proposes, one seed, eta_r "
-                        "0.2/0.25/0.3; only the rise is checked."
+                        "0.2/0.25/0.3; only the rise from 0.2 to 0.3 is checked (one pile per "
+                        "point cannot resolve a step of 0.05)."
                       : "Seeds 2017-2019 per point; runs resume from their checkpoints and are "
                         "not run again once measured (OUT/irazabal-fig11/).");
 
