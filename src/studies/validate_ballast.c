@@ -43,7 +43,7 @@ static const double weight = 3455.0;   /* push.yaml: the sleeper's servo target 
 /* The servo gain for a modulus (and sphere size): the loop's stiffness grows about as E^(2/3);
  * 1e-6 m/(N s) is stable and settles in ~0.05 s for the quick bed at 1.77 GPa. */
 static double servo_gain(double young, bool quick) {
-  return 1e-6 * pow(1.77e9 / young, 2.0 / 3.0) * (quick ? 1.0 : 0.6);
+  return 1e-6 * pow(1.77e9 / young, 2.0 / 3.0) * (quick ? 1.0 : 6.0);
 }
 
 /* ---------------------------------------------------------------- files */
