@@ -138,15 +138,17 @@ static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint
 static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
 /* The slab holding coordinate x: the number of cuts at or below it. */
-static int slab_of(const adem_split *s, double x) {
-  int lo = 0, hi = s->size - 1;
+static int slab_in(const double *cut, int size, double x) {
+  int lo = 0, hi = size - 1;
   while (lo < hi) {
     int mid = (lo + hi) / 2;
-    if (s->cut[mid] <= x) lo = mid + 1;
+    if (cut[mid] <= x) lo = mid + 1;
     else hi = mid;
   }
   return lo;
 }
+
+static int slab_of(const adem_split *s, double x) { return slab_in(s->cut, s->size, x); }
 
 /* Owner of local particle i: by its centre at the last build, so that owners change at builds
  * only, the same on every process. */
@@ -163,10 +165,28 @@ static double halo(const adem_split *s, const adem_world *w) {
 }
 
 /* Within the halo of slab q (a copy of the particle is needed there). */
-static bool near_slab(const adem_split *s, int q, double x, double h) {
-  double lo = q > 0 ? s->cut[q - 1] - h : -INFINITY;
-  double hi = q < s->size - 1 ? s->cut[q] + h : INFINITY;
+static bool near_in(const double *cut, int size, int q, double x, double h) {
+  double lo = q > 0 ? cut[q - 1] - h : -INFINITY;
+  double hi = q < size - 1 ? cut[q] + h : INFINITY;
   return x > lo && x < hi;
+}
+
+static bool near_slab(const adem_split *s, int q, double x, double h) {
+  return near_in(s->cut, s->size, q, x, h);
+}
+
+static int compare_double(const void *x, const void *y) {
+  double a = *(const double *)x, b = *(const double *)y;
+  return a < b ? -1 : a > b;
+}
+
+/* Cuts at the quantiles of n coordinates (sorted here): slabs of equal counts. */
+static void quantile_cuts(double *x, size_t n, int size, double *cut) {
+  qsort(x, n, sizeof *x, compare_double);
+  for (int r = 1; r < size; ++r) {
+    size_t k = (size_t)r * n / (size_t)size;
+    cut[r - 1] = n == 0 ? 0.0 : k == 0 ? x[0] : k >= n ? x[n - 1] : 0.5 * (x[k - 1] + x[k]);
+  }
 }
 
 /* ---------------------------------------------------------------- exchanges */
@@ -401,6 +421,34 @@ static adem_status keep_own_pairs(adem_split *s, adem_world *w) {
   return st;
 }
 
+/* The cuts for the next build (into cut): the quantiles of every process's own centres now,
+ * gathered, so that the slabs follow the particles (a bed settling into the bottom slab would
+ * leave the others idle). Every process gets the same. Collective. */
+static adem_status recut(adem_split *s, const adem_world *w, double *cut) {
+  const adem_particles *p = &w->p;
+  double *mine = malloc((p->n + 1) * sizeof *mine);
+  int *count = s->bytes_a, *displ = s->bytes_b;
+  int n = 0;
+  for (size_t i = 0; mine && i < p->n; ++i)
+    if (owner(s, p, i) == s->rank) mine[n++] = along(p->pos[i], s->axis);
+  MPI_Allgather(&n, 1, MPI_INT, count, 1, MPI_INT, s->comm);
+  size_t total = 0;
+  for (int q = 0; q < s->size; ++q) {
+    displ[q] = (int)total;
+    total += (size_t)count[q];
+  }
+  double *all = malloc((total + 1) * sizeof *all);
+  int ok = mine && all && total <= INT_MAX, every = 0;
+  MPI_Allreduce(&ok, &every, 1, MPI_INT, MPI_LAND, s->comm);
+  if (every) {
+    MPI_Allgatherv(mine, n, MPI_DOUBLE, all, count, displ, MPI_DOUBLE, s->comm);
+    quantile_cuts(all, total, s->size, cut);
+  }
+  free(mine);
+  free(all);
+  return every ? ADEM_OK : ADEM_ERR_NOMEM;
+}
+
 /* The neighbour build of a split system, at the same steps as the serial run's (the decision
  * is the largest displacement of all): each process sends its own particles to their new
  * owners and copies to the slabs within reach, and the history of each touching pair of one
@@ -415,12 +463,15 @@ static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
   bytes pin = {0}, hin = {0};
   id_index *map = NULL;
   history_rec *hr = NULL;
-  adem_status st = pout && hout ? ADEM_OK : ADEM_ERR_NOMEM;
+  double *next = malloc((size_t)size * sizeof *next); /* the cuts from this build on */
+  adem_status st = pout && hout && next ? ADEM_OK : ADEM_ERR_NOMEM;
+  st = adem_split_agree(s, st, err);
+  if (!st) st = recut(s, w, next);
   for (size_t k = 0; k < w->pp.n && !st; ++k) {
     if (!w->pp.touching[k]) continue;
     size_t a = w->pp.a[k], b = w->pp.b[k];
-    int da = owner(s, p, a) == me ? slab_of(s, along(p->pos[a], s->axis)) : -1;
-    int db = owner(s, p, b) == me ? slab_of(s, along(p->pos[b], s->axis)) : -1;
+    int da = owner(s, p, a) == me ? slab_in(next, size, along(p->pos[a], s->axis)) : -1;
+    int db = owner(s, p, b) == me ? slab_in(next, size, along(p->pos[b], s->axis)) : -1;
     history_rec r;
     memset(&r, 0, sizeof r);
     r.ka = p->id[a];
@@ -435,19 +486,24 @@ static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
     history_rec r;
     memset(&r, 0, sizeof r);
     r = (history_rec){p->id[a], w->pw.b[k], 1, w->pw.hist[k]};
-    if (!bytes_put(&hout[slab_of(s, along(p->pos[a], s->axis))], &r, sizeof r)) st = ADEM_ERR_NOMEM;
+    if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
+      st = ADEM_ERR_NOMEM;
   }
   for (size_t i = 0; i < p->n && !st; ++i) {
     if (owner(s, p, i) != me) continue;
     double x = along(p->pos[i], s->axis);
-    int r = slab_of(s, x);
+    int r = slab_in(next, size, x);
     for (int q = 0; q < size && !st; ++q)
-      if ((q == r || near_slab(s, q, x, h)) && !put_particle(&pout[q], p, i)) st = ADEM_ERR_NOMEM;
+      if ((q == r || near_in(next, size, q, x, h)) && !put_particle(&pout[q], p, i))
+        st = ADEM_ERR_NOMEM;
   }
-  if (st) goto done;
+  if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
+  st = adem_split_agree(s, st, err); /* no process may leave the exchange alone */
+  if (st) goto out;
   st = exchange(s, pout, &pin, err);
   if (!st) st = exchange(s, hout, &hin, err);
   if (st) goto done;
+  memcpy(s->cut, next, (size_t)(size - 1) * sizeof *next); /* owners by the new cuts from here */
 
   /* the particles here now: own and ghosts, in the order they came */
   size_t rec = particle_bytes(), n = pin.n / rec;
@@ -512,6 +568,7 @@ out:
   free(hin.d);
   free(map);
   free(hr);
+  free(next);
   return st;
 }
 
@@ -554,11 +611,6 @@ static adem_status world_copy(const adem_world *w, adem_world **out, adem_error 
   return ADEM_OK;
 }
 
-static int compare_double(const void *x, const void *y) {
-  double a = *(const double *)x, b = *(const double *)y;
-  return a < b ? -1 : a > b;
-}
-
 /* Cuts along the longest axis of the domain box at the quantiles of the centres (at the last
  * build): equal particle counts. */
 static adem_status place_cuts(adem_split *s, const adem_world *w) {
@@ -573,11 +625,7 @@ static adem_status place_cuts(adem_split *s, const adem_world *w) {
     return ADEM_ERR_NOMEM;
   }
   for (size_t i = 0; i < n; ++i) x[i] = along(p->pos_at_build[i], s->axis);
-  qsort(x, n, sizeof *x, compare_double);
-  for (int r = 1; r < s->size; ++r) {
-    size_t k = (size_t)r * n / (size_t)s->size;
-    s->cut[r - 1] = k == 0 ? x[0] : k >= n ? x[n - 1] : 0.5 * (x[k - 1] + x[k]);
-  }
+  quantile_cuts(x, n, s->size, s->cut);
   free(x);
   return ADEM_OK;
 }
