@@ -2,12 +2,11 @@
  * particles and copies ("ghosts") of the others' within reach of its slab, and every result is
  * the serial run's bit for bit (docs/architecture.md, "Order independence").
  *
- * Slabs along the longest axis of the domain box, cut so that the processes own about as many
- * particles (a recursive coordinate bisection in one dimension): one neighbour on each side, so
- * a step's exchange is two messages per process, and no cut to balance in the other axes while
- * the systems are beds and piles, long in one direction. A particle's owner is the slab that
- * holds its centre at the last neighbour build (pos_at_build), so owners change only at
- * builds, on every process alike. Only this layer calls MPI. */
+ * Slabs along the longest axis of the domain box, cut at the quantiles of the centres so that
+ * the processes own as many particles (a recursive coordinate bisection in one dimension), and
+ * cut again at every neighbour build. A particle's owner is the slab that holds its centre at
+ * the last build (pos_at_build), so owners change only at builds, the same on every process.
+ * Only this layer calls MPI. */
 #ifndef ADEM_SPLIT_H
 #define ADEM_SPLIT_H
 
