@@ -74,12 +74,23 @@ static bool under_mpirun(void) {
   return getenv("OMPI_COMM_WORLD_SIZE") != NULL || getenv("PMIX_RANK") != NULL;
 }
 
-/* `adem run` on every process; rank 0 alone reports progress (and writes, adem_run). */
+/* The other ranks' warnings are rank 0's again (the case's, every process reads it). */
+static void quiet_log(adem_log_level level, const char *message, void *user) {
+  (void)level;
+  (void)message;
+  (void)user;
+}
+
+/* `adem run` on every process; rank 0 alone reports progress and warnings (and writes,
+ * adem_run). Errors still: the process that failed says why. */
 static int mpi_run(int argc, char **argv) {
   MPI_Init(&argc, &argv);
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank != 0) quiet = 1; /* errors still: the process that failed says why */
+  if (rank != 0) {
+    quiet = 1;
+    adem_log_set_hook(quiet_log, NULL);
+  }
   int rc = cmd_run(argc - 2, argv + 2);
   MPI_Finalize();
   return rc;
