@@ -2,7 +2,8 @@
  * run ends, whatever the number of processes: every particle field by id, every contact with
  * its history, the diagnostics and the plane forces. Run by ctest under mpirun with 2, 3 and 4
  * processes. The settle case (300 spheres falling into a box, 2000 steps) rebuilds its lists
- * often, so particles cross the cuts and take their histories along.
+ * often, so particles cross the cuts and take their histories along; a second run adds a lid
+ * moving down onto the bed.
  *
  * Control: with the ghosts' refresh left out (a ghost keeps stepping with the partial force
  * its own process gave it) the states differ, or the run fails on a runaway overlap: the
@@ -14,6 +15,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -25,18 +27,31 @@
 
 static int rank, nproc;
 
-static adem_case *load(void) {
+/* The settle case with a lid coming down at 0.8 m/s from z = 30 mm onto the bed (a moving
+ * plane uses up the skin: builds at other steps), 18 ms. */
+static char *lid_case(void) {
+  const char *lid = "  - {type: plane, name: lid, material: steel, point: [0, 0, 0.03], normal: "
+                    "[0, 0, -1], motion: {velocity: [0, 0, -0.8]}}\n";
+  const char *at = strstr(settle_case, "time:\n");
+  size_t n = strlen(settle_case) + strlen(lid) + 1;
+  char *t = malloc(n);
+  assert_non_null(t);
+  snprintf(t, n, "%.*s%s%s", (int)(at - settle_case), settle_case, lid, at);
+  return t;
+}
+
+static adem_case *load(const char *text) {
   adem_case *c = NULL;
   adem_error err;
-  if (adem_case_load_string(settle_case, "settle.yaml", NULL, 0, &c, &err))
+  if (adem_case_load_string(text, "settle.yaml", NULL, 0, &c, &err))
     fail_msg("case does not load: %s", err.message);
   adem_world_set_threads(c->world, 1);
   return c;
 }
 
 /* The serial run, in chunks of 100 steps as `adem run` under MPI steps. */
-static adem_case *run_serial(uint64_t steps) {
-  adem_case *c = load();
+static adem_case *run_serial(const char *text, uint64_t steps) {
+  adem_case *c = load(text);
   adem_error err;
   for (uint64_t s = 0; s < steps; s += 100)
     if (adem_world_step(c->world, steps - s < 100 ? steps - s : 100, &err))
@@ -53,8 +68,8 @@ static adem_status skip_refresh(void *ctx, adem_world *w, adem_error *err) {
 
 /* The split run, assembled on rank 0 into the case's world; broken: no ghost refresh (the run
  * may then fail: *failed gets why, NULL for a run that ended). */
-static adem_case *run_split(uint64_t steps, bool broken, const char **failed) {
-  adem_case *c = load();
+static adem_case *run_split(const char *text, uint64_t steps, bool broken, const char **failed) {
+  adem_case *c = load(text);
   adem_error err;
   if (adem_world_prepare(c->world, &err)) fail_msg("prepare: %s", err.message);
   adem_split *s = NULL;
@@ -92,9 +107,9 @@ static adem_case *run_split(uint64_t steps, bool broken, const char **failed) {
 
 static void test_split_equals_serial(void **state) {
   (void)state;
-  adem_case *b = run_split(SETTLE_STEPS, false, NULL);
+  adem_case *b = run_split(settle_case, SETTLE_STEPS, false, NULL);
   if (rank == 0) {
-    adem_case *a = run_serial(SETTLE_STEPS);
+    adem_case *a = run_serial(settle_case, SETTLE_STEPS);
     const char *why = split_compare(a->world, b->world);
     if (why) fail_msg("%d processes: %s differs from the serial run", nproc, why);
     printf("# %d processes: %zu particles, %llu neighbour builds, %zu touching contacts with "
@@ -108,12 +123,30 @@ static void test_split_equals_serial(void **state) {
   adem_case_free(b);
 }
 
+static void test_lid_equals_serial(void **state) {
+  (void)state;
+  char *t = lid_case();
+  const uint64_t steps = 2572; /* 18 ms */
+  adem_case *b = run_split(t, steps, false, NULL);
+  if (rank == 0) {
+    adem_case *a = run_serial(t, steps);
+    const char *why = split_compare(a->world, b->world);
+    if (why) fail_msg("%d processes, moving lid: %s differs from the serial run", nproc, why);
+    printf("# %d processes, moving lid: the lid at z = %.6g m, %llu builds: the same bits\n", nproc,
+           a->world->walls.planes[a->world->walls.nplanes - 1].def.point.z,
+           (unsigned long long)a->world->nb.rebuilds);
+    adem_case_free(a);
+  }
+  adem_case_free(b);
+  free(t);
+}
+
 static void test_broken_refresh_differs(void **state) {
   (void)state;
   const char *failed = NULL;
-  adem_case *b = run_split(SETTLE_STEPS, true, &failed);
+  adem_case *b = run_split(settle_case, SETTLE_STEPS, true, &failed);
   if (rank == 0) {
-    adem_case *a = run_serial(SETTLE_STEPS);
+    adem_case *a = run_serial(settle_case, SETTLE_STEPS);
     const char *why = failed ? failed : split_compare(a->world, b->world);
     printf("# without the ghost refresh: %s\n", why ? why : "no difference");
     assert_non_null(why);
@@ -128,6 +161,7 @@ int main(int argc, char **argv) {
   MPI_Comm_size(MPI_COMM_WORLD, &nproc);
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_split_equals_serial),
+      cmocka_unit_test(test_lid_equals_serial),
       cmocka_unit_test(test_broken_refresh_differs),
   };
   int failed = cmocka_run_group_tests(tests, NULL, NULL);
