@@ -540,7 +540,7 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
     goto done;
   }
 
-  double rmax = 0.0;
+  double rmax = nb->rmax_floor;
   for (size_t i = 0; i < n; ++i) rmax = fmax(rmax, p->radius[i]);
   nb->skin = nb->skin_fraction * 2.0 * rmax;
 

@@ -18,6 +18,8 @@ typedef struct adem_neighbors {
   double skin;           /* absolute skin distance, m */
   double skin_fraction;  /* skin as a fraction of the largest diameter */
   bool brute_force;      /* O(N^2) search, for tests */
+  double rmax_floor;     /* largest radius of particles held elsewhere (other MPI ranks'), m:
+                          * the skin follows the whole system's largest; 0 in a serial run */
   /* cell grid; along a periodic axis it spans the box, its last cell taking the remainder of
    * the length, and the cells wrap */
   adem_periodic periodic; /* of the last build */

@@ -893,13 +893,20 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     /* the drift's largest excess over a radius is all the step pays for the tunnelling check */
     if (adem_particles_drift(&w->p, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
       note_tunnelling(w, dt);
+    const adem_world_split *sp = w->split;
+    if (sp) {
+      adem_status st = sp->refresh(sp->ctx, w, err);
+      if (st) return st;
+    }
     if (adem_walls_has_servo(&w->walls)) {
       adem_status st = servo_step(w, dt);
       if (st) return adem_error_set(err, st, "out of memory");
     }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
-    if (adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads)) {
-      adem_status st = adem_world_build_neighbors(w, err);
+    bool rebuild = adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads);
+    if (sp) rebuild = sp->any(sp->ctx, rebuild); /* the largest displacement of all processes */
+    if (rebuild) {
+      adem_status st = sp ? sp->build(sp->ctx, w, err) : adem_world_build_neighbors(w, err);
       if (st) return st;
     }
     compute_forces(w, s + 1 == nsteps);
@@ -907,6 +914,9 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     w->step++;
     w->time = (double)w->step * dt;
     adem_status st = check_state(w, err);
+    if (sp && sp->any(sp->ctx, st != ADEM_OK) && !st)
+      st = adem_error_set(err, ADEM_ERR_RUNTIME, "another process stopped at t = %.9g s (step %llu)",
+                          w->time, (unsigned long long)w->step);
     if (st) return st;
   }
   return ADEM_OK;

@@ -19,6 +19,20 @@
 #include "stream.h"
 #include "walls.h"
 
+/* A world that holds one part of a system split over processes (src/mpi): its own particles and
+ * copies of the others' near its part. adem_world_step calls these at fixed points of every
+ * step, on every process alike; the library without MPI never sets them. */
+typedef struct adem_world_split {
+  void *ctx;
+  /* after the drift: the copies take their owners' state (position, velocity, spin, and the
+   * last pass's force, torque and hold that the predicted velocities read) */
+  adem_status (*refresh)(void *ctx, adem_world *w, adem_error *err);
+  /* true on every process when it is true on one (a rebuild, a failed step) */
+  bool (*any)(void *ctx, bool yes);
+  /* the neighbour build: particles go to their new owners and copies first */
+  adem_status (*build)(void *ctx, adem_world *w, adem_error *err);
+} adem_world_split;
+
 /* Every field that changes while stepping is saved by adem_world_save (tests/golden/test_restart.c
  * fails otherwise). */
 struct adem_world {
@@ -64,6 +78,8 @@ struct adem_world {
   /* energy bookkeeping */
   double energy_initial; /* E_total at prepare */
   bool prepared;
+  /* a part of a split system (not saved: the process layer sets it) or NULL */
+  const adem_world_split *split;
   /* particles added through the API to a prepared world, taken in at the next step */
   bool admit_pending;
   size_t admit_from;

@@ -20,6 +20,9 @@
 #include "schedule.h"
 #include "stages.h"
 #include "world.h"
+#ifdef ADEM_HAVE_MPI
+#include "split.h"
+#endif
 
 /* Most steps between two looks at the stop flag. */
 enum { RUN_MAX_CHUNK = 100 };
@@ -201,22 +204,139 @@ static adem_status csv_row(adem_output *out, const adem_case *c, region_columns 
   return adem_output_csv_append(out, c->world, err);
 }
 
+/* The run's processes (src/mpi): one, or a system split over several, each stepping its own
+ * part; rank 0 assembles the whole into the case's world for every output and alone writes. */
+typedef struct run_split {
+#ifdef ADEM_HAVE_MPI
+  adem_split *s;
+#endif
+  adem_world *part; /* the world that steps: the case's own, or this process's part */
+  bool many;        /* more than one process */
+  bool writer;      /* this process writes the output */
+} run_split;
+
+/* How many processes run (MPI_Init by the program: the adem command's `run`). */
+static int split_size(run_split *rs, adem_case *c) {
+  rs->part = c->world;
+  rs->writer = true;
+  rs->many = false;
+  int size = 1;
+#ifdef ADEM_HAVE_MPI
+  rs->s = NULL;
+  int on = 0, rank = 0;
+  MPI_Initialized(&on);
+  if (on) {
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  }
+  rs->writer = rank == 0;
+  rs->many = size > 1;
+#endif
+  return size;
+}
+
+/* Splits the prepared world when more than one process runs. */
+static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error *err) {
+#ifdef ADEM_HAVE_MPI
+  if (size < 2) return ADEM_OK;
+  const char *why = c->pours ? "its pours" : c->stages ? "its stages" : c->until ? "time.until"
+                    : c->regions ? "output.regions" : NULL;
+  if (why)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "this case cannot run on more than one MPI process yet because of %s; "
+                          "run it with one process", why);
+  return adem_split_create(c->world, MPI_COMM_WORLD, &rs->s, &rs->part, err);
+#else
+  (void)c;
+  (void)rs;
+  (void)size;
+  (void)err;
+  return ADEM_OK;
+#endif
+}
+
+/* The whole state in the case's world on the writer (collective when split). */
+static adem_status split_assemble(adem_case *c, run_split *rs, adem_error *err) {
+#ifdef ADEM_HAVE_MPI
+  if (rs->s) return adem_split_assemble(rs->s, rs->part, c->world, err);
+#endif
+  (void)c;
+  (void)rs;
+  (void)err;
+  return ADEM_OK;
+}
+
+/* A status the same on every process: an error on one is an error on all. */
+static adem_status split_agree(run_split *rs, adem_status st, adem_error *err) {
+#ifdef ADEM_HAVE_MPI
+  if (rs->many) {
+    int v = (int)st, r = 0;
+    MPI_Allreduce(&v, &r, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    if (r && !st) return adem_error_set(err, (adem_status)r, "another MPI process failed");
+  }
+#endif
+  (void)rs;
+  (void)err;
+  return st;
+}
+
+static bool split_any(run_split *rs, bool yes) {
+#ifdef ADEM_HAVE_MPI
+  if (rs->many) {
+    int v = yes ? 1 : 0, r = 0;
+    MPI_Allreduce(&v, &r, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD);
+    return r != 0;
+  }
+#endif
+  (void)rs;
+  return yes;
+}
+
+static void split_end(adem_case *c, run_split *rs) {
+#ifdef ADEM_HAVE_MPI
+  if (rs->s) {
+    adem_world_free(rs->part);
+    adem_split_free(rs->s);
+    rs->s = NULL;
+  }
+#endif
+  rs->part = c->world;
+}
+
+static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_split *rs,
+                            adem_error *err);
+
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
+  run_split rs;
+  adem_status st = run_case(c, opt_in, &rs, err);
+  split_end(c, &rs);
+  return st;
+}
+
+static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_split *rs,
+                            adem_error *err) {
   adem_run_options opt = opt_in ? *opt_in : adem_default_run_options();
   adem_world *w = c->world;
   if (opt.nthreads > 0) adem_world_set_threads(w, opt.nthreads);
   /* A prepared world past step 0 comes from a checkpoint (or an earlier run): continue it. */
   bool resume = w->prepared && w->step > 0;
   const char *dir = c->output.dir[0] ? c->output.dir : ".";
+  int nproc = split_size(rs, c);
 
   /* Fail on an unwritable folder before any expensive set-up. */
-  adem_status st = adem_fileio_mkdir_p(dir, err);
-  if (!st) st = adem_fileio_check_writable(dir, err);
+  adem_status st = ADEM_OK;
+  if (rs->writer) st = adem_fileio_mkdir_p(dir, err);
+  if (!st && rs->writer) st = adem_fileio_check_writable(dir, err);
+  st = split_agree(rs, st, err);
   if (st) return st;
   if (!w->prepared) {
     st = adem_world_prepare(w, err);
     if (st) return st;
   }
+  /* each process prepares the whole (the same), then keeps its part */
+  st = split_start(c, rs, nproc, err);
+  if (st) return st;
+  adem_world *ws = rs->part;
 
   const double dt = w->dt;
   const uint64_t total = adem_schedule_total_steps(c->end_time, dt);
@@ -229,11 +349,11 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   char why[ADEM_MSG_MAX];
   if (resume && adem_stages_ended(c, why, sizeof why)) {
     adem_log(ADEM_LOG_INFO, "%s", why);
-    return write_plots(c, dir, err);
+    return rs->writer ? write_plots(c, dir, err) : ADEM_OK;
   }
   if (resume && step0 >= total) {
     adem_log(ADEM_LOG_INFO, "the run has already reached its end time (t = %.9g s)", w->time);
-    return write_plots(c, dir, err);
+    return rs->writer ? write_plots(c, dir, err) : ADEM_OK;
   }
   /* The frames at t = 0 and at every interval up to this step were written before the
    * checkpoint; a frame and a CSV row written only because an earlier run ended here are
@@ -242,63 +362,68 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
   bool drop_row = resume && c->csv_last_extra;
 
   adem_output out;
+  memset(&out, 0, sizeof out);
   adem_output_track track = {c->output.ntrack, c->output.track};
   region_columns rc;
   if (!region_columns_make(&rc, c->regions))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
-  st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
-                        resume, frames_done, (double)k_frame * dt, w->time, drop_row, &track,
-                        &extra, err);
+  if (rs->writer)
+    st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
+                          resume, frames_done, (double)k_frame * dt, w->time, drop_row, &track,
+                          &extra, err);
+  st = split_agree(rs, st, err);
   if (st) {
     region_columns_free(&rc);
     return st;
   }
   char *ckpt_path = adem_file_join(dir, "checkpoint");
   if (!ckpt_path) {
-    adem_output_close(&out);
+    if (rs->writer) adem_output_close(&out);
     region_columns_free(&rc);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   bool have_ckpt = resume;
   double t_ckpt = w->time;
 
-  if (!resume) {
+  if (!resume && rs->writer) {
     st = adem_output_frame(&out, w, err);
     c->frames_written = out.next_frame;
     if (!st) st = csv_row(&out, c, &rc, err);
     if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
   }
+  st = split_agree(rs, st, err);
   const double t0 = wall_now();
   double last_report = t0;
   adem_eta eta;
   adem_eta_init(&eta);
-  report(&opt, c, total, t0, &eta, false);
+  if (rs->writer) report(&opt, c, total, t0, &eta, false);
   uint64_t chunk_cap = RUN_MAX_CHUNK;
 
   bool ended = false; /* a run-until condition was met */
-  while (!st && w->step < total && !ended) {
-    uint64_t target = next_event(w->step, total, periods, 3);
-    uint64_t staged = adem_stages_next_step(c, w->step); /* stage starts, pour batches */
+  while (!st && ws->step < total && !ended) {
+    uint64_t target = next_event(ws->step, total, periods, 3);
+    uint64_t staged = adem_stages_next_step(c, ws->step); /* stage starts, pour batches */
     if (staged < target) target = staged;
-    uint64_t check = adem_stages_until_next(c, w->step); /* run-until conditions */
+    uint64_t check = adem_stages_until_next(c, ws->step); /* run-until conditions */
     if (check < target) target = check;
-    uint64_t n = target - w->step;
+    uint64_t n = target - ws->step;
     if (n > chunk_cap) n = chunk_cap;
     double tc = wall_now();
-    st = adem_world_step(w, n, err);
+    st = adem_world_step(ws, n, err);
     double spent = wall_now() - tc;
     if (st) {
       if (st == ADEM_ERR_RUNTIME) note_kept(err, dir, t_ckpt, have_ckpt);
       break;
     }
-    /* Keep a chunk near RUN_CHUNK_SECONDS of wall time. */
-    if (spent > 0.0) {
+    /* Keep a chunk near RUN_CHUNK_SECONDS of wall time; split, the same chunks on every
+     * process (the stop flag is agreed on at their ends). */
+    if (spent > 0.0 && !rs->many) {
       double fit = RUN_CHUNK_SECONDS * (double)n / spent;
       chunk_cap = fit >= RUN_MAX_CHUNK ? RUN_MAX_CHUNK : (fit < 1.0 ? 1 : (uint64_t)fit);
     }
 
-    uint64_t s = w->step;
+    uint64_t s = ws->step;
     /* Conditions first: a run that ends here writes this step's outputs as its last; a stage
      * that ends lets the next begin here (after the outputs, as any stage start). */
     adem_until_outcome until = adem_stages_until(c, why, sizeof why);
@@ -306,11 +431,15 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
       adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): %s", w->time, (unsigned long long)s, why);
     ended = until == ADEM_UNTIL_RUN_ENDS;
     bool last = s >= total || ended;
-    if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
-    if (due(s, k_frame)) c->frames_written = out.next_frame;
-    if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
-    c->csv_last_extra = last && !due(s, k_csv);
     bool ckpt_due = last || due(s, k_ckpt);
+    if (ws != w && (ckpt_due || due(s, k_frame) || due(s, k_csv))) st = split_assemble(c, rs, err);
+    if (!st && rs->writer) {
+      if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
+      if (due(s, k_frame)) c->frames_written = out.next_frame;
+      if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
+    }
+    st = split_agree(rs, st, err);
+    c->csv_last_extra = last && !due(s, k_csv);
     /* Stage starts and pour batches follow the outputs of their step and precede its
      * checkpoint, the last step's too: a resumed run, even one given a later end, finds them
      * done. */
@@ -321,34 +450,39 @@ adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *e
       k_ckpt = periods[2] = adem_schedule_period(c->output.checkpoint_interval, dt);
     }
     if (!st && ckpt_due) {
-      st = adem_checkpoint_write(c, ckpt_path, err);
+      if (rs->writer) st = adem_checkpoint_write(c, ckpt_path, err);
+      st = split_agree(rs, st, err);
       if (!st) {
         have_ckpt = true;
-        t_ckpt = w->time;
+        t_ckpt = ws->time;
       }
     }
     if (st) break;
 
     double now = wall_now();
-    if (now - last_report >= RUN_PROGRESS_SECONDS || last) {
+    if (rs->writer && (now - last_report >= RUN_PROGRESS_SECONDS || last)) {
       report(&opt, c, total, t0, &eta, last);
       last_report = now;
     }
-    if (!last && opt.stop_flag && *opt.stop_flag) {
-      if (!(have_ckpt && t_ckpt == w->time)) st = adem_checkpoint_write(c, ckpt_path, err);
+    if (!last && split_any(rs, opt.stop_flag && *opt.stop_flag)) {
+      if (!(have_ckpt && t_ckpt == ws->time)) {
+        if (ws != w) st = split_assemble(c, rs, err);
+        if (!st && rs->writer) st = adem_checkpoint_write(c, ckpt_path, err);
+        st = split_agree(rs, st, err);
+      }
       if (!st)
         st = adem_error_set(err, ADEM_INTERRUPTED,
                             "stopped at t = %.9g s (step %llu of %llu); checkpoint written to %s",
-                            w->time, (unsigned long long)w->step, (unsigned long long)total,
+                            ws->time, (unsigned long long)ws->step, (unsigned long long)total,
                             ckpt_path);
       break;
     }
   }
-  adem_output_close(&out);
+  if (rs->writer) adem_output_close(&out);
   region_columns_free(&rc);
   /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
    * failed (they show how it went wrong). A plot that fails then is a warning only. */
-  if (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME) {
+  if (rs->writer && (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME)) {
     adem_error perr = {ADEM_OK, ""};
     adem_status pst = write_plots(c, dir, &perr);
     if (pst && !st) {

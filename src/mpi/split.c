@@ -1,0 +1,862 @@
+/* A system split over MPI processes in slabs (split.h). Why the results are the serial run's:
+ * every pair with one of a process's own particles is on that process, between the same
+ * inputs bit for bit (ghosts are copies of their owners' state), with the same history; a
+ * particle sums its contacts by partner id; so its force is the serial one. */
+#include "split.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "adem/vec3.h"
+
+struct adem_split {
+  MPI_Comm comm;
+  int rank, size;
+  int axis;    /* slabs along x, y or z */
+  double *cut; /* size - 1 cuts, ascending: slab r is [cut[r-1], cut[r]) */
+  double rmax; /* the whole system's largest radius */
+  adem_world_split hooks;
+  /* ghost refresh, each by id within each rank: the own particles whose copies rank q holds
+   * (send_idx[sdispl[q] ..]), and the copies here of rank r's (recv_idx[rdispl[r] ..]) */
+  int *scount, *sdispl, *rcount, *rdispl;
+  uint32_t *send_idx, *recv_idx;
+  unsigned char *sbuf, *rbuf;
+  size_t sbuf_cap, rbuf_cap;
+  int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
+};
+
+/* ---------------------------------------------------------------- byte buffers */
+
+typedef struct bytes {
+  unsigned char *d;
+  size_t n, cap;
+} bytes;
+
+static bool bytes_put(bytes *b, const void *x, size_t n) {
+  if (b->n + n > b->cap) {
+    size_t c = 2 * (b->n + n) + 256;
+    unsigned char *q = realloc(b->d, c);
+    if (!q) return false;
+    b->d = q;
+    b->cap = c;
+  }
+  memcpy(b->d + b->n, x, n);
+  b->n += n;
+  return true;
+}
+
+static void bytes_free_all(bytes *b, int n) {
+  for (int k = 0; b && k < n; ++k) free(b[k].d);
+  free(b);
+}
+
+static int mem_sink(void *ctx, const void *data, size_t n) { return bytes_put(ctx, data, n); }
+
+/* ---------------------------------------------------------------- records */
+
+/* A particle: every field of ADEM_PARTICLE_FIELDS. */
+static size_t particle_bytes(void) { return adem_soa_item_bytes(adem_particles_layout()); }
+
+static bool put_particle(bytes *b, const adem_particles *p, size_t i) {
+  adem_soa_layout L = adem_particles_layout();
+  bool ok = true;
+  for (size_t k = 0; k < L.count; ++k) {
+    size_t e = L.fields[k].elem;
+    const char *a = *(char *const *)((const char *)p + L.fields[k].offset);
+    ok = ok && bytes_put(b, a + i * e, e);
+  }
+  return ok;
+}
+
+static void get_particle(adem_particles *p, size_t i, const unsigned char *src) {
+  adem_soa_layout L = adem_particles_layout();
+  for (size_t k = 0; k < L.count; ++k) {
+    size_t e = L.fields[k].elem;
+    char *a = *(char **)((char *)p + L.fields[k].offset);
+    memcpy(a + i * e, src, e);
+    src += e;
+  }
+}
+
+/* What a ghost takes from its owner every step. */
+typedef struct ghost_state {
+  adem_vec3 pos, vel, omega, force, torque;
+  uint8_t held;
+} ghost_state;
+
+/* A touching pair's history at a rebuild: ids (a lower), or id and plane (wall = 1). */
+typedef struct history_rec {
+  uint64_t ka, kb, wall;
+  adem_contact_history h;
+} history_rec;
+
+static int compare_history(const void *x, const void *y) {
+  const history_rec *a = x, *b = y;
+  if (a->wall != b->wall) return a->wall < b->wall ? -1 : 1;
+  if (a->ka != b->ka) return a->ka < b->ka ? -1 : 1;
+  if (a->kb != b->kb) return a->kb < b->kb ? -1 : 1;
+  return 0;
+}
+
+/* A pair for the assembly: its keys as ids (or id and plane), then every field of
+ * ADEM_PAIR_FIELDS but the keys. */
+static size_t pair_bytes(void) {
+  size_t n = 2 * sizeof(uint64_t);
+#define ADEM_X(type, name, role, doc) if (role != ADEM_PAIR_KEY) n += sizeof(type);
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+  return n;
+}
+
+static bool put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb) {
+  bool ok = bytes_put(b, &ka, sizeof ka) && bytes_put(b, &kb, sizeof kb);
+#define ADEM_X(type, name, role, doc) \
+  if (role != ADEM_PAIR_KEY) ok = ok && bytes_put(b, &l->name[k], sizeof(type));
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+  return ok;
+}
+
+static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
+                     uint64_t *kb) {
+  memcpy(ka, src, sizeof *ka);
+  memcpy(kb, src + sizeof *ka, sizeof *kb);
+  src += 2 * sizeof(uint64_t);
+#define ADEM_X(type, name, role, doc)                  \
+  if (role != ADEM_PAIR_KEY) {                         \
+    memcpy(&l->name[k], src, sizeof(type));            \
+    src += sizeof(type);                               \
+  }
+  ADEM_PAIR_FIELDS(ADEM_X)
+#undef ADEM_X
+}
+
+/* ---------------------------------------------------------------- slabs */
+
+static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+
+/* The slab holding coordinate x: the number of cuts at or below it. */
+static int slab_in(const double *cut, int size, double x) {
+  int lo = 0, hi = size - 1;
+  while (lo < hi) {
+    int mid = (lo + hi) / 2;
+    if (cut[mid] <= x) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo;
+}
+
+static int slab_of(const adem_split *s, double x) { return slab_in(s->cut, s->size, x); }
+
+/* Owner of local particle i: by its centre at the last build, so that owners change at builds
+ * only, the same on every process. */
+static inline int owner(const adem_split *s, const adem_particles *p, size_t i) {
+  return slab_of(s, along(p->pos_at_build[i], s->axis));
+}
+
+/* Reach of a pair: the cut-off of the largest two spheres and the skin the build takes (as
+ * adem_neighbors_build: skin_fraction of the largest diameter), widened a little: a copy too
+ * many costs some work, one too few a wrong force. */
+static double halo(const adem_split *s, const adem_world *w) {
+  double skin = w->nb.skin_fraction * 2.0 * s->rmax;
+  return 1.01 * (2.0 * s->rmax + skin);
+}
+
+/* Within the halo of slab q (a copy of the particle is needed there). */
+static bool near_in(const double *cut, int size, int q, double x, double h) {
+  double lo = q > 0 ? cut[q - 1] - h : -INFINITY;
+  double hi = q < size - 1 ? cut[q] + h : INFINITY;
+  return x > lo && x < hi;
+}
+
+static bool near_slab(const adem_split *s, int q, double x, double h) {
+  return near_in(s->cut, s->size, q, x, h);
+}
+
+static int compare_double(const void *x, const void *y) {
+  double a = *(const double *)x, b = *(const double *)y;
+  return a < b ? -1 : a > b;
+}
+
+/* Cuts at the quantiles of n coordinates (sorted here): slabs of equal counts. */
+static void quantile_cuts(double *x, size_t n, int size, double *cut) {
+  qsort(x, n, sizeof *x, compare_double);
+  for (int r = 1; r < size; ++r) {
+    size_t k = (size_t)r * n / (size_t)size;
+    cut[r - 1] = n == 0 ? 0.0 : k == 0 ? x[0] : k >= n ? x[n - 1] : 0.5 * (x[k - 1] + x[k]);
+  }
+}
+
+/* ---------------------------------------------------------------- exchanges */
+
+static adem_status too_big(adem_error *err) {
+  return adem_error_set(err, ADEM_ERR_NOMEM, "an MPI message would exceed 2 GiB");
+}
+
+/* Sends out[q] to every rank q and receives what each sends here, in rank order, into *in
+ * (free it). Collective. */
+static adem_status exchange(adem_split *s, const bytes *out, bytes *in, adem_error *err) {
+  int n = s->size;
+  int *sc = s->bytes_a, *sd = s->bytes_b, *rc = s->bytes_c, *rd = s->bytes_d;
+  size_t total = 0;
+  for (int q = 0; q < n; ++q) {
+    if (out[q].n > INT_MAX || total > (size_t)INT_MAX) return too_big(err);
+    sc[q] = (int)out[q].n;
+    total += out[q].n;
+  }
+  if (total > INT_MAX) return too_big(err);
+  bytes all = {0};
+  for (int q = 0; q < n; ++q) {
+    sd[q] = (int)all.n;
+    if (out[q].n && !bytes_put(&all, out[q].d, out[q].n)) {
+      free(all.d);
+      return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    }
+  }
+  MPI_Alltoall(sc, 1, MPI_INT, rc, 1, MPI_INT, s->comm);
+  size_t rtotal = 0;
+  for (int q = 0; q < n; ++q) {
+    rd[q] = (int)rtotal;
+    rtotal += (size_t)rc[q];
+  }
+  in->d = malloc(rtotal + 1);
+  in->n = in->cap = rtotal;
+  if (!in->d || rtotal > INT_MAX) {
+    free(all.d);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  MPI_Alltoallv(all.d ? all.d : in->d, sc, sd, MPI_BYTE, in->d, rc, rd, MPI_BYTE, s->comm);
+  free(all.d);
+  return ADEM_OK;
+}
+
+/* ---------------------------------------------------------------- ghost lists */
+
+typedef struct rank_item {
+  int rank;
+  uint64_t id;
+  uint32_t i;
+} rank_item;
+
+static int compare_rank_item(const void *x, const void *y) {
+  const rank_item *a = x, *b = y;
+  if (a->rank != b->rank) return a->rank < b->rank ? -1 : 1;
+  return a->id < b->id ? -1 : a->id > b->id;
+}
+
+/* Fills counts, offsets and indices from items sorted by rank and id. */
+static void lay_out(const adem_split *s, const rank_item *it, size_t n, int *count, int *displ,
+                    uint32_t *idx) {
+  for (int q = 0; q < s->size; ++q) count[q] = 0;
+  for (size_t k = 0; k < n; ++k) {
+    count[it[k].rank]++;
+    idx[k] = it[k].i;
+  }
+  int at = 0;
+  for (int q = 0; q < s->size; ++q) {
+    displ[q] = at;
+    at += count[q];
+  }
+}
+
+/* After a build: which own particles each rank holds copies of, and which copies here are
+ * whose, both by id; every rank checks that its senders agree. Collective. */
+static adem_status make_lists(adem_split *s, const adem_world *w, adem_error *err) {
+  const adem_particles *p = &w->p;
+  double h = halo(s, w);
+  size_t ns = 0, nr = 0;
+  rank_item *snd = NULL, *rcv = NULL;
+  size_t cap = p->n + 1;
+  snd = malloc(cap * sizeof *snd);
+  rcv = malloc(cap * sizeof *rcv);
+  adem_status st = snd && rcv ? ADEM_OK : ADEM_ERR_NOMEM;
+  for (size_t i = 0; i < p->n && !st; ++i) {
+    int o = owner(s, p, i);
+    if (o != s->rank) {
+      rcv[nr++] = (rank_item){o, p->id[i], (uint32_t)i};
+      continue;
+    }
+    double x = along(p->pos_at_build[i], s->axis);
+    for (int q = 0; q < s->size && !st; ++q) {
+      if (q == s->rank || !near_slab(s, q, x, h)) continue;
+      if (ns == cap) {
+        cap *= 2;
+        rank_item *m = realloc(snd, cap * sizeof *m);
+        if (!m) st = ADEM_ERR_NOMEM;
+        else snd = m;
+      }
+      if (!st) snd[ns++] = (rank_item){q, p->id[i], (uint32_t)i};
+    }
+  }
+  if (!st) {
+    qsort(snd, ns, sizeof *snd, compare_rank_item);
+    qsort(rcv, nr, sizeof *rcv, compare_rank_item);
+    free(s->send_idx);
+    free(s->recv_idx);
+    s->send_idx = malloc((ns + 1) * sizeof *s->send_idx);
+    s->recv_idx = malloc((nr + 1) * sizeof *s->recv_idx);
+    if (!s->send_idx || !s->recv_idx) st = ADEM_ERR_NOMEM;
+  }
+  if (!st) {
+    lay_out(s, snd, ns, s->scount, s->sdispl, s->send_idx);
+    lay_out(s, rcv, nr, s->rcount, s->rdispl, s->recv_idx);
+  }
+  free(snd);
+  free(rcv);
+  if (st) return adem_error_set(err, st, "out of memory listing the ghosts");
+  /* what each rank will send here must be what is expected */
+  MPI_Alltoall(s->scount, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
+  int bad = 0;
+  for (int q = 0; q < s->size; ++q) bad |= s->bytes_a[q] != s->rcount[q];
+  int any = 0;
+  MPI_Allreduce(&bad, &any, 1, MPI_INT, MPI_LOR, s->comm);
+  if (any)
+    return adem_error_set(err, ADEM_ERR_RUNTIME,
+                          "the processes disagree on which particles are copied where (a bug)");
+  return ADEM_OK;
+}
+
+/* ---------------------------------------------------------------- hooks */
+
+static bool any_hook(void *ctx, bool yes) {
+  adem_split *s = ctx;
+  int v = yes ? 1 : 0, r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_INT, MPI_LOR, s->comm);
+  return r != 0;
+}
+
+static adem_status refresh_hook(void *ctx, adem_world *w, adem_error *err) {
+  adem_split *s = ctx;
+  adem_particles *p = &w->p;
+  size_t rec = sizeof(ghost_state);
+  size_t ns = (size_t)(s->sdispl[s->size - 1] + s->scount[s->size - 1]);
+  size_t nr = (size_t)(s->rdispl[s->size - 1] + s->rcount[s->size - 1]);
+  if (ns * rec > INT_MAX || nr * rec > INT_MAX) return too_big(err);
+  if (ns * rec + 1 > s->sbuf_cap) {
+    free(s->sbuf);
+    s->sbuf_cap = ns * rec + 1;
+    s->sbuf = malloc(s->sbuf_cap);
+  }
+  if (nr * rec + 1 > s->rbuf_cap) {
+    free(s->rbuf);
+    s->rbuf_cap = nr * rec + 1;
+    s->rbuf = malloc(s->rbuf_cap);
+  }
+  if (!s->sbuf || !s->rbuf) {
+    s->sbuf_cap = s->rbuf_cap = 0;
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  for (size_t k = 0; k < ns; ++k) {
+    size_t i = s->send_idx[k];
+    ghost_state g;
+    memset(&g, 0, sizeof g);
+    g = (ghost_state){p->pos[i], p->vel[i], p->omega[i], p->force[i], p->torque[i], p->held[i]};
+    memcpy(s->sbuf + k * rec, &g, rec);
+  }
+  for (int q = 0; q < s->size; ++q) {
+    s->bytes_a[q] = s->scount[q] * (int)rec;
+    s->bytes_b[q] = s->sdispl[q] * (int)rec;
+    s->bytes_c[q] = s->rcount[q] * (int)rec;
+    s->bytes_d[q] = s->rdispl[q] * (int)rec;
+  }
+  MPI_Alltoallv(s->sbuf, s->bytes_a, s->bytes_b, MPI_BYTE, s->rbuf, s->bytes_c, s->bytes_d,
+                MPI_BYTE, s->comm);
+  for (size_t k = 0; k < nr; ++k) {
+    size_t i = s->recv_idx[k];
+    ghost_state g;
+    memcpy(&g, s->rbuf + k * rec, rec);
+    p->pos[i] = g.pos;
+    p->vel[i] = g.vel;
+    p->omega[i] = g.omega;
+    p->force[i] = g.force;
+    p->torque[i] = g.torque;
+    p->held[i] = g.held;
+  }
+  return ADEM_OK;
+}
+
+/* Index of id in ids sorted ascending (by[] the indices in that order), or SIZE_MAX. */
+typedef struct id_index {
+  uint64_t id;
+  uint32_t i;
+} id_index;
+
+static int compare_id_index(const void *x, const void *y) {
+  const id_index *a = x, *b = y;
+  return a->id < b->id ? -1 : a->id > b->id;
+}
+
+static size_t find_id(const id_index *m, size_t n, uint64_t id) {
+  size_t lo = 0, hi = n;
+  while (lo < hi) {
+    size_t mid = lo + (hi - lo) / 2;
+    if (m[mid].id < id) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < n && m[lo].id == id ? m[lo].i : SIZE_MAX;
+}
+
+/* Keeps the pairs with one of this process's particles (a for a wall pair): a pair of two
+ * ghosts is another process's to compute. Then the gather lists. */
+static adem_status keep_own_pairs(adem_split *s, adem_world *w) {
+  const adem_particles *p = &w->p;
+  adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  size_t m = w->pp.n > w->pw.n ? w->pp.n : w->pw.n;
+  size_t *keep = malloc((m + 1) * sizeof *keep);
+  if (!keep) return ADEM_ERR_NOMEM;
+  adem_status st = ADEM_OK;
+  for (int l = 0; l < 2 && !st; ++l) {
+    adem_pair_list *L = lists[l];
+    size_t n = 0;
+    for (size_t k = 0; k < L->n; ++k)
+      if (owner(s, p, L->a[k]) == s->rank || (l == 0 && owner(s, p, L->b[k]) == s->rank))
+        keep[n++] = k;
+    L->n = n;
+    st = adem_pairs_permute(L, keep);
+  }
+  free(keep);
+  if (!st) st = adem_world_gather(w);
+  return st;
+}
+
+/* The cuts for the next build (into cut): the quantiles of every process's own centres now,
+ * gathered, so that the slabs follow the particles (a bed settling into the bottom slab would
+ * leave the others idle). Every process gets the same. Collective. */
+static adem_status recut(adem_split *s, const adem_world *w, double *cut) {
+  const adem_particles *p = &w->p;
+  double *mine = malloc((p->n + 1) * sizeof *mine);
+  int *count = s->bytes_a, *displ = s->bytes_b;
+  int n = 0;
+  for (size_t i = 0; mine && i < p->n; ++i)
+    if (owner(s, p, i) == s->rank) mine[n++] = along(p->pos[i], s->axis);
+  MPI_Allgather(&n, 1, MPI_INT, count, 1, MPI_INT, s->comm);
+  size_t total = 0;
+  for (int q = 0; q < s->size; ++q) {
+    displ[q] = (int)total;
+    total += (size_t)count[q];
+  }
+  double *all = malloc((total + 1) * sizeof *all);
+  int ok = mine && all && total <= INT_MAX, every = 0;
+  MPI_Allreduce(&ok, &every, 1, MPI_INT, MPI_LAND, s->comm);
+  if (every) {
+    MPI_Allgatherv(mine, n, MPI_DOUBLE, all, count, displ, MPI_DOUBLE, s->comm);
+    quantile_cuts(all, total, s->size, cut);
+  }
+  free(mine);
+  free(all);
+  return every ? ADEM_OK : ADEM_ERR_NOMEM;
+}
+
+/* The neighbour build of a split system, at the same steps as the serial run's (the decision
+ * is the largest displacement of all): each process sends its own particles to their new
+ * owners and copies to the slabs within reach, and the history of each touching pair of one
+ * of its own to the new owners of its particles of the pair (the old owner of a particle holds
+ * every pair of it: so the new owner of a particle gets every history it needs). */
+static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
+  adem_split *s = ctx;
+  adem_particles *p = &w->p;
+  int me = s->rank, size = s->size;
+  double h = halo(s, w);
+  bytes *pout = calloc((size_t)size, sizeof *pout), *hout = calloc((size_t)size, sizeof *hout);
+  bytes pin = {0}, hin = {0};
+  id_index *map = NULL;
+  history_rec *hr = NULL;
+  double *next = malloc((size_t)size * sizeof *next); /* the cuts from this build on */
+  adem_status st = pout && hout && next ? ADEM_OK : ADEM_ERR_NOMEM;
+  st = adem_split_agree(s, st, err);
+  if (!st) st = recut(s, w, next);
+  for (size_t k = 0; k < w->pp.n && !st; ++k) {
+    if (!w->pp.touching[k]) continue;
+    size_t a = w->pp.a[k], b = w->pp.b[k];
+    int da = owner(s, p, a) == me ? slab_in(next, size, along(p->pos[a], s->axis)) : -1;
+    int db = owner(s, p, b) == me ? slab_in(next, size, along(p->pos[b], s->axis)) : -1;
+    history_rec r;
+    memset(&r, 0, sizeof r);
+    r.ka = p->id[a];
+    r.kb = p->id[b];
+    r.h = w->pp.hist[k];
+    if (da >= 0 && !bytes_put(&hout[da], &r, sizeof r)) st = ADEM_ERR_NOMEM;
+    if (db >= 0 && db != da && !bytes_put(&hout[db], &r, sizeof r)) st = ADEM_ERR_NOMEM;
+  }
+  for (size_t k = 0; k < w->pw.n && !st; ++k) {
+    size_t a = w->pw.a[k];
+    if (!w->pw.touching[k] || owner(s, p, a) != me) continue;
+    history_rec r;
+    memset(&r, 0, sizeof r);
+    r = (history_rec){p->id[a], w->pw.b[k], 1, w->pw.hist[k]};
+    if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
+      st = ADEM_ERR_NOMEM;
+  }
+  for (size_t i = 0; i < p->n && !st; ++i) {
+    if (owner(s, p, i) != me) continue;
+    double x = along(p->pos[i], s->axis);
+    int r = slab_in(next, size, x);
+    for (int q = 0; q < size && !st; ++q)
+      if ((q == r || near_in(next, size, q, x, h)) && !put_particle(&pout[q], p, i))
+        st = ADEM_ERR_NOMEM;
+  }
+  if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
+  st = adem_split_agree(s, st, err); /* no process may leave the exchange alone */
+  if (st) goto out;
+  st = exchange(s, pout, &pin, err);
+  if (!st) st = exchange(s, hout, &hin, err);
+  if (st) goto done;
+  memcpy(s->cut, next, (size_t)(size - 1) * sizeof *next); /* owners by the new cuts from here */
+
+  /* the particles here now: own and ghosts, in the order they came */
+  size_t rec = particle_bytes(), n = pin.n / rec;
+  if (adem_particles_reserve(p, n) || !(map = malloc((n + 1) * sizeof *map))) {
+    st = ADEM_ERR_NOMEM;
+    goto done;
+  }
+  p->n = n;
+  for (size_t i = 0; i < n; ++i) {
+    get_particle(p, i, pin.d + i * rec);
+    map[i] = (id_index){p->id[i], (uint32_t)i};
+  }
+  qsort(map, n, sizeof *map, compare_id_index);
+
+  /* the histories as touching pairs, for the build to carry over */
+  size_t nh = hin.n / sizeof(history_rec), m[2] = {0, 0};
+  hr = malloc((nh + 1) * sizeof *hr);
+  if (!hr) {
+    st = ADEM_ERR_NOMEM;
+    goto done;
+  }
+  if (nh) memcpy(hr, hin.d, nh * sizeof *hr);
+  qsort(hr, nh, sizeof *hr, compare_history);
+  adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  for (int pass = 0; pass < 2 && !st; ++pass) {
+    m[0] = m[1] = 0;
+    for (size_t k = 0; k < nh; ++k) {
+      if (k > 0 && compare_history(&hr[k - 1], &hr[k]) == 0) continue; /* held on both sides */
+      size_t a = find_id(map, n, hr[k].ka);
+      size_t b = hr[k].wall ? (size_t)hr[k].kb : find_id(map, n, hr[k].kb);
+      if (a == SIZE_MAX || b == SIZE_MAX) continue; /* a partner beyond reach: no candidate */
+      int l = hr[k].wall ? 1 : 0;
+      adem_pair_list *L = lists[l];
+      if (pass == 1) {
+        L->a[m[l]] = (uint32_t)a;
+        L->b[m[l]] = (uint32_t)b;
+        adem_pairs_clear(L, m[l]);
+        L->hist[m[l]] = hr[k].h;
+        L->touching[m[l]] = true;
+      }
+      m[l]++;
+    }
+    if (pass == 0 && (adem_pairs_reserve(&w->pp, m[0]) || adem_pairs_reserve(&w->pw, m[1])))
+      st = ADEM_ERR_NOMEM;
+  }
+  if (st) goto done;
+  w->pp.n = m[0];
+  w->pw.n = m[1];
+  w->pm.l.n = 0; /* no meshes (adem_split_refusal) */
+  w->nb.rmax_floor = s->rmax;
+  st = adem_world_build_neighbors(w, err);
+  if (st) goto out;
+  st = keep_own_pairs(s, w);
+  if (!st) st = make_lists(s, w, err);
+  goto out;
+done:
+  if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
+out:
+  bytes_free_all(pout, size);
+  bytes_free_all(hout, size);
+  free(pin.d);
+  free(hin.d);
+  free(map);
+  free(hr);
+  free(next);
+  return st;
+}
+
+/* ---------------------------------------------------------------- set-up */
+
+const char *adem_split_refusal(const adem_world *w) {
+  if (w->walls.mesh.ntris > 0 || w->walls.nmesh_walls > 0) return "its mesh walls";
+  if (w->periodic.axes) return "its periodic axes";
+  if (adem_walls_has_servo(&w->walls)) return "its servo-controlled walls";
+  if (w->insert_rmin || w->admit_pending) return "its pours";
+  if (w->p.n == 0) return "having no particles";
+  return NULL;
+}
+
+/* A copy of a prepared world, through its checkpoint bytes. */
+static adem_status world_copy(const adem_world *w, adem_world **out, adem_error *err) {
+  bytes b = {0};
+  adem_writer wr = adem_writer_make(mem_sink, &b);
+  adem_world_save_setup(&wr, w);
+  adem_world_save(&wr, w);
+  adem_world *c = adem_world_create();
+  adem_status st = !wr.failed && c ? ADEM_OK : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_reader rd = {b.d, b.d + b.n, 0};
+  bool prepared = false;
+  if (!st) st = adem_world_load_setup(&rd, c, err);
+  if (!st) st = adem_world_load_prepared(&rd, &prepared, err);
+  if (!st && prepared) st = adem_world_prepare(c, err);
+  if (!st) st = adem_world_load(&rd, c, err);
+  if (!st) {
+    c->nthreads = w->nthreads;
+    adem_world_place_walls(c, w->time);
+    if (adem_world_gather(c)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  free(b.d);
+  if (st) {
+    adem_world_free(c);
+    return st;
+  }
+  *out = c;
+  return ADEM_OK;
+}
+
+/* Cuts along the longest axis of the domain box at the quantiles of the centres (at the last
+ * build): equal particle counts. */
+static adem_status place_cuts(adem_split *s, const adem_world *w) {
+  const adem_particles *p = &w->p;
+  adem_vec3 e = v3_sub(w->domain_hi, w->domain_lo);
+  s->axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;
+  size_t n = p->n;
+  double *x = malloc((n + 1) * sizeof *x);
+  s->cut = malloc((size_t)s->size * sizeof *s->cut);
+  if (!x || !s->cut) {
+    free(x);
+    return ADEM_ERR_NOMEM;
+  }
+  for (size_t i = 0; i < n; ++i) x[i] = along(p->pos_at_build[i], s->axis);
+  quantile_cuts(x, n, s->size, s->cut);
+  free(x);
+  return ADEM_OK;
+}
+
+/* Keeps of a whole world this process's particles and its ghosts, and the pairs with one of
+ * its own: the state the serial run has, cut to this slab. */
+static adem_status trim(adem_split *s, adem_world *w) {
+  adem_particles *p = &w->p;
+  double h = halo(s, w);
+  size_t n = p->n;
+  size_t *keep = malloc((n + 1) * sizeof *keep), *to = malloc((n + 1) * sizeof *to);
+  if (!keep || !to) {
+    free(keep);
+    free(to);
+    return ADEM_ERR_NOMEM;
+  }
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    to[i] = SIZE_MAX;
+    if (owner(s, p, i) == s->rank || near_slab(s, s->rank, along(p->pos_at_build[i], s->axis), h)) {
+      to[i] = m;
+      keep[m++] = i;
+    }
+  }
+  p->n = m;
+  adem_status st = adem_particles_permute(p, keep);
+  adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  for (int l = 0; l < 2 && !st; ++l) {
+    adem_pair_list *L = lists[l];
+    size_t *kp = malloc((L->n + 1) * sizeof *kp), np = 0;
+    if (!kp) {
+      st = ADEM_ERR_NOMEM;
+      break;
+    }
+    for (size_t k = 0; k < L->n; ++k) {
+      size_t a = to[L->a[k]], b = l == 0 ? to[L->b[k]] : 0;
+      if (a == SIZE_MAX || b == SIZE_MAX) continue;
+      if (owner(s, p, a) == s->rank || (l == 0 && owner(s, p, b) == s->rank)) kp[np++] = k;
+    }
+    L->n = np;
+    st = adem_pairs_permute(L, kp);
+    for (size_t k = 0; k < np && !st; ++k) {
+      L->a[k] = (uint32_t)to[L->a[k]];
+      if (l == 0) L->b[k] = (uint32_t)to[L->b[k]];
+    }
+    free(kp);
+  }
+  w->pm.l.n = 0; /* no meshes; start[] still holds n + 1 zeros */
+  free(keep);
+  free(to);
+  if (!st) st = adem_world_gather(w);
+  return st;
+}
+
+adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split **out,
+                              adem_world **local, adem_error *err) {
+  *out = NULL;
+  *local = NULL;
+  const char *why = adem_split_refusal(whole);
+  if (why)
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "this case cannot run on more than one MPI process yet because of %s; "
+                          "run it with one process", why);
+  adem_split *s = calloc(1, sizeof *s);
+  if (!s) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  s->comm = comm;
+  MPI_Comm_rank(comm, &s->rank);
+  MPI_Comm_size(comm, &s->size);
+  size_t q = (size_t)s->size;
+  int **arrays[8] = {&s->scount, &s->sdispl, &s->rcount, &s->rdispl,
+                     &s->bytes_a, &s->bytes_b, &s->bytes_c, &s->bytes_d};
+  adem_status st = ADEM_OK;
+  for (int k = 0; k < 8; ++k)
+    if (!(*arrays[k] = calloc(q, sizeof(int)))) st = ADEM_ERR_NOMEM;
+  for (size_t i = 0; i < whole->p.n; ++i) s->rmax = fmax(s->rmax, whole->p.radius[i]);
+  if (!st) st = place_cuts(s, whole);
+  if (st) {
+    adem_split_free(s);
+    return adem_error_set(err, st, "out of memory");
+  }
+  adem_world *w = NULL;
+  st = world_copy(whole, &w, err);
+  if (!st && trim(s, w)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) {
+    w->nb.rmax_floor = s->rmax;
+    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook};
+    w->split = &s->hooks;
+    st = make_lists(s, w, err);
+  }
+  if (st) {
+    adem_world_free(w);
+    adem_split_free(s);
+    return st;
+  }
+  *out = s;
+  *local = w;
+  return ADEM_OK;
+}
+
+/* Gathers the bytes of every rank to rank 0 (into *in there). Collective. */
+static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
+  if (mine->n > INT_MAX) return too_big(err);
+  int n = (int)mine->n;
+  MPI_Gather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, 0, s->comm);
+  size_t total = 0;
+  if (s->rank == 0)
+    for (int q = 0; q < s->size; ++q) {
+      s->bytes_b[q] = (int)total;
+      total += (size_t)s->bytes_a[q];
+    }
+  int ok = total <= INT_MAX && (in->d = malloc(total + 1)) != NULL;
+  in->n = in->cap = total;
+  MPI_Bcast(&ok, 1, MPI_INT, 0, s->comm);
+  if (!ok) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles");
+  MPI_Gatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE, 0,
+              s->comm);
+  return ADEM_OK;
+}
+
+adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
+                                adem_error *err) {
+  const adem_particles *p = &local->p;
+  bytes mine[3] = {{0}, {0}, {0}}, in[3] = {{0}, {0}, {0}};
+  adem_status st = ADEM_OK;
+  for (size_t i = 0; i < p->n && !st; ++i)
+    if (owner(s, p, i) == s->rank && !put_particle(&mine[0], p, i)) st = ADEM_ERR_NOMEM;
+  for (size_t k = 0; k < local->pp.n && !st; ++k)
+    if (owner(s, p, local->pp.a[k]) == s->rank &&
+        !put_pair(&mine[1], &local->pp, k, p->id[local->pp.a[k]], p->id[local->pp.b[k]]))
+      st = ADEM_ERR_NOMEM;
+  for (size_t k = 0; k < local->pw.n && !st; ++k)
+    if (owner(s, p, local->pw.a[k]) == s->rank &&
+        !put_pair(&mine[2], &local->pw, k, p->id[local->pw.a[k]], local->pw.b[k]))
+      st = ADEM_ERR_NOMEM;
+  if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
+  st = adem_split_agree(s, st, err);
+  for (int k = 0; k < 3 && !st; ++k) st = gather(s, &mine[k], &in[k], err);
+  if (!st && s->rank == 0) {
+    adem_particles *q = &whole->p;
+    size_t rec = particle_bytes(), n = in[0].n / rec;
+    uint32_t *order = malloc((n + 1) * sizeof *order);
+    size_t *perm = malloc((n + 1) * sizeof *perm);
+    if (!order || !perm || adem_particles_reserve(q, n)) st = ADEM_ERR_NOMEM;
+    if (!st) {
+      q->n = n;
+      for (size_t i = 0; i < n; ++i) get_particle(q, i, in[0].d + i * rec);
+      st = adem_particles_id_order(q, order); /* stored by id, as a serial world starts */
+    }
+    for (size_t i = 0; i < n && !st; ++i) perm[i] = order[i];
+    if (!st) st = adem_particles_permute(q, perm);
+    free(order);
+    free(perm);
+    id_index *map = st ? NULL : malloc((n + 1) * sizeof *map);
+    if (!st && !map) st = ADEM_ERR_NOMEM;
+    for (size_t i = 0; i < n && !st; ++i) map[i] = (id_index){q->id[i], (uint32_t)i};
+    adem_pair_list *lists[2] = {&whole->pp, &whole->pw};
+    size_t prec = pair_bytes();
+    for (int l = 0; l < 2 && !st; ++l) {
+      adem_pair_list *L = lists[l];
+      size_t m = in[l + 1].n / prec;
+      if (adem_pairs_reserve(L, m)) {
+        st = ADEM_ERR_NOMEM;
+        break;
+      }
+      L->n = m;
+      for (size_t k = 0; k < m; ++k) {
+        uint64_t ka, kb;
+        get_pair(L, k, in[l + 1].d + k * prec, &ka, &kb);
+        L->a[k] = (uint32_t)find_id(map, n, ka);
+        L->b[k] = l == 0 ? (uint32_t)find_id(map, n, kb) : (uint32_t)kb;
+      }
+    }
+    free(map);
+    adem_mesh_pairs *pm = &whole->pm;
+    if (!st && pm->start_cap < n + 1) {
+      size_t *z = realloc(pm->start, (n + 1) * sizeof *z);
+      if (!z) st = ADEM_ERR_NOMEM;
+      else {
+        pm->start = z;
+        pm->start_cap = n + 1;
+      }
+    }
+    if (!st) {
+      pm->l.n = 0;
+      memset(pm->start, 0, (n + 1) * sizeof *pm->start);
+      whole->time = local->time;
+      whole->step = local->step;
+      whole->nb.skin = local->nb.skin;
+      whole->nb.rebuilds = local->nb.rebuilds;
+      whole->nb.time_at_build = local->nb.time_at_build;
+      adem_world_place_walls(whole, local->time);
+      st = adem_world_gather(whole);
+    }
+    if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
+  }
+  for (int k = 0; k < 3; ++k) {
+    free(mine[k].d);
+    free(in[k].d);
+  }
+  return adem_split_agree(s, st, err);
+}
+
+adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err) {
+  int v = (int)st, r = 0;
+  MPI_Allreduce(&v, &r, 1, MPI_INT, MPI_MAX, s->comm);
+  if (r && !st) return adem_error_set(err, (adem_status)r, "another MPI process failed");
+  return st;
+}
+
+int adem_split_rank(const adem_split *s) { return s->rank; }
+
+size_t adem_split_owned(const adem_split *s, const adem_world *local) {
+  size_t n = 0;
+  for (size_t i = 0; i < local->p.n; ++i) n += owner(s, &local->p, i) == s->rank;
+  return n;
+}
+
+void adem_split_free(adem_split *s) {
+  if (!s) return;
+  free(s->cut);
+  free(s->scount);
+  free(s->sdispl);
+  free(s->rcount);
+  free(s->rdispl);
+  free(s->bytes_a);
+  free(s->bytes_b);
+  free(s->bytes_c);
+  free(s->bytes_d);
+  free(s->send_idx);
+  free(s->recv_idx);
+  free(s->sbuf);
+  free(s->rbuf);
+  free(s);
+}

@@ -1,0 +1,42 @@
+/* A system split over MPI processes in slabs (docs/parallel.md): each process steps its own
+ * particles and copies ("ghosts") of the others' within reach of its slab, and every result is
+ * the serial run's bit for bit (docs/architecture.md, "Order independence").
+ *
+ * Slabs along the longest axis of the domain box, cut at the quantiles of the centres so that
+ * the processes own as many particles (a recursive coordinate bisection in one dimension), and
+ * cut again at every neighbour build. A particle's owner is the slab that holds its centre at
+ * the last build (pos_at_build), so owners change only at builds, the same on every process.
+ * Only this layer calls MPI. */
+#ifndef ADEM_SPLIT_H
+#define ADEM_SPLIT_H
+
+#include <mpi.h>
+
+#include "adem/adem.h"
+#include "world.h"
+
+typedef struct adem_split adem_split;
+
+/* Why a world cannot be split yet (meshes, pours, periodic axes, servos), as "its ..." in msg,
+ * or NULL when it can. */
+const char *adem_split_refusal(const adem_world *w);
+
+/* Splits a prepared world, whole and the same on every process of comm: *local becomes this
+ * process's part (a new world: its slab's particles and the ghosts, the pairs with one of its
+ * own), which adem_world_step then steps with the others. The cuts are taken here and kept. */
+adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split **out,
+                              adem_world **local, adem_error *err);
+/* The whole system on rank 0 (into `whole`, a world prepared from the same case, as given to
+ * create): every particle, every pair with its history and results, and the counters, so that
+ * the serial outputs and checkpoints can be written from it. Collective. */
+adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
+                                adem_error *err);
+/* A status on every process: the largest (an error somewhere is an error everywhere; the
+ * processes without one get "another process failed"). Collective. */
+adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err);
+int adem_split_rank(const adem_split *s);
+/* Particles this process owns now. */
+size_t adem_split_owned(const adem_split *s, const adem_world *local);
+void adem_split_free(adem_split *s);
+
+#endif
