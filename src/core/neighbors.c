@@ -509,8 +509,9 @@ adem_status adem_neighbors_gather(adem_neighbors *nb, const adem_particles *p,
   uint32_t *pe = nb->pp_entries, *we = nb->pw_entries;
   ADEM_PARALLEL_FOR
   for (size_t i = 0; i < n; ++i) {
-    sort_pp_entries(pe + ps[i], ps[i + 1] - ps[i], pp, id);
-    sort_pw_entries(we + ws[i], ws[i + 1] - ws[i], pw);
+    /* an empty list may be a NULL array: no pointer arithmetic on it */
+    if (ps[i + 1] > ps[i]) sort_pp_entries(pe + ps[i], ps[i + 1] - ps[i], pp, id);
+    if (ws[i + 1] > ws[i]) sort_pw_entries(we + ws[i], ws[i + 1] - ws[i], pw);
   }
   if (adem_particles_id_order(p, nb->id_order)) return ADEM_ERR_NOMEM;
   nb->gathered = n;
