@@ -159,6 +159,16 @@ static inline __attribute__((always_inline)) contact_result contact_force(const 
   return r;
 }
 
+/* Flags an overlap above the run's limit: the check after the step then looks for it, instead of
+ * scanning every pair's result every step (a serial pass over the whole list). */
+static inline void note_overlap(const adem_force_scope *w, double ratio) {
+  if (!(ratio > w->overlap_limit)) return;
+#ifdef ADEM_HAVE_OPENMP
+#pragma omp atomic write
+#endif
+  *w->overlap_exceeded = 1;
+}
+
 /* Stores a contact's results. The tangential force acts at r_a n from a's centre and at -r_b n
  * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b; the rolling couple is
  * equal and opposite. A wall (r_b = 0) takes no torque. */
@@ -269,6 +279,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r, w->balance);
+    note_overlap(w, l->res[k].overlap_ratio);
   }
 }
 
@@ -314,6 +325,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r, w->balance);
+    note_overlap(w, l->res[k].overlap_ratio);
     if (w->balance) store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
   }
 }
@@ -400,6 +412,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->res[k].rolling_capacity = r.capacity;
       l->res[k].elastic = r.elastic;
       l->res[k].overlap_ratio = g.delta / ri;
+      note_overlap(w, l->res[k].overlap_ratio);
       if (!w->balance) continue;
       l->res[k].damping_a = r.damping;
       l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);

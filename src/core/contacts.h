@@ -28,6 +28,8 @@ typedef struct adem_force_scope {
   bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
   bool balance;      /* accumulate the dissipation and wall work (the energy balance) */
   const adem_periodic *periodic; /* particle separations are minimum images (periodic.h) */
+  double overlap_limit;          /* a contact whose overlap ratio exceeds it sets ... */
+  int *overlap_exceeded;         /* ... this flag (the step's check then finds which) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

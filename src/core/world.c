@@ -270,7 +270,9 @@ static void compute_forces(adem_world *w, bool energy) {
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
-                        w->energy_balance, &w->periodic};
+                        w->energy_balance, &w->periodic, w->max_overlap_ratio,
+                        &w->overlap_exceeded};
+  w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }
 
@@ -754,6 +756,7 @@ static adem_status check_state(const adem_world *w, adem_error *err) {
                           (unsigned long long)p->id[bad], w->time, (unsigned long long)w->step,
                           x.x, x.y, x.z);
   }
+  if (!w->overlap_exceeded) return ADEM_OK; /* the force pass saw none above the limit */
   const adem_pair_list *lists[2] = {&w->pp, &w->pw};
   for (int s = 0; s < 2; ++s) {
     const adem_pair_list *l = lists[s];

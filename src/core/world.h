@@ -59,6 +59,7 @@ struct adem_world {
 
   /* safety limits */
   double max_overlap_ratio; /* stop when a contact overlaps more than this fraction */
+  int overlap_exceeded;     /* the last force pass saw an overlap above it (contacts.c) */
   double initial_overlap;   /* overlap allowed at prepare, fraction of the smaller radius */
   bool has_domain;
   adem_vec3 domain_lo, domain_hi;
