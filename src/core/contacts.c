@@ -181,15 +181,15 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->res[k].torque_b = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
   l->res[k].rolling_a = r->rolling;
   l->res[k].rolling_capacity = r->capacity;
-  l->res[k].elastic = r->elastic;
   l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  if (g->energy) l->en[k].elastic = r->elastic; /* only the diagnostics read it */
   if (!balance) return; /* the rest is only the energy balance's, and only it reads them */
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
-  l->res[k].damping_a = r->damping;
-  l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
-  l->res[k].damping_torque_b =
+  l->en[k].damping_a = r->damping;
+  l->en[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  l->en[k].damping_torque_b =
       g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
-  l->res[k].dissipated = r->dissipated;
+  l->en[k].dissipated = r->dissipated;
 }
 
 /* A wall contact's power: the wall's material at the contact point moves at V and turns at
@@ -198,8 +198,8 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
  * motion did not take (the particle-side sums subtract it back). */
 static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
                                     adem_vec3 v_wall, adem_vec3 omega_wall) {
-  l->res[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
-  l->res[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+  l->en[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->en[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
 
 
@@ -207,11 +207,11 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
 /* A contact that opened since the last pass: its history's spring energy is gone (dissipated),
  * and an adhesive law's jump gets its break correction (a force on a; no torque). */
 static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction *it,
-                             const contact_geometry *g, bool onset, double dt) {
+                             const contact_geometry *g, bool onset, double dt, bool balance) {
   double lost = l->hist[k].elastic;
   double f = onset ? break_correction(it, g, dt) : 0.0;
   adem_pairs_clear(l, k);
-  l->res[k].dissipated = lost;
+  if (balance) l->en[k].dissipated = lost;
   l->res[k].force_a = v3_scale(g->n, -f);
 }
 
@@ -223,10 +223,11 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
 
 /* A candidate apart now and at the last pass. Every field of a pair that is not touching is
  * zero (the build clears new pairs, open_pair clears an opening one) except what open_pair left
- * for the pass in which it opened: its lost spring energy and break correction. Zeroing those
- * two is the same as clearing the pair, and touches two arrays instead of all of them. */
-static inline void forget_opened(adem_pair_list *l, size_t k) {
-  l->res[k].dissipated = 0.0;
+ * for the pass in which it opened: its break correction, and with the balance on its lost spring
+ * energy (adem_world_set_energy_balance clears those when the balance comes on). Zeroing those
+ * is the same as clearing the pair, and touches one record instead of all of them. */
+static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
+  if (balance) l->en[k].dissipated = 0.0;
   l->res[k].force_a = v3_zero();
 }
 
@@ -242,7 +243,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
     double dist2 = v3_norm2(d);
     bool was = l->touching[k];
     if (dist2 >= rsum * rsum && !was) { /* apart now and at the last pass */
-      forget_opened(l, k);
+      forget_opened(l, k, w->balance);
       return;
     }
     double dist = sqrt(dist2);
@@ -274,7 +275,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
       g.inertia_r = Ici * Icj / (Ici + Icj);
     }
     if (g.delta <= 0.0) { /* it opened since the last pass */
-      open_pair(l, k, it, &g, w->second_order, dt);
+      open_pair(l, k, it, &g, w->second_order, dt, w->balance);
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
@@ -294,7 +295,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
     bool was = l->touching[k];
     if (dist >= ri && !was) {
-      forget_opened(l, k);
+      forget_opened(l, k, w->balance);
       return;
     }
     contact_geometry g;
@@ -320,7 +321,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
-      open_pair(l, k, it, &g, w->second_order, dt);
+      open_pair(l, k, it, &g, w->second_order, dt, w->balance);
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
@@ -410,14 +411,14 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->res[k].torque_b = v3_zero();
       l->res[k].rolling_a = r.rolling;
       l->res[k].rolling_capacity = r.capacity;
-      l->res[k].elastic = r.elastic;
       l->res[k].overlap_ratio = g.delta / ri;
+      if (g.energy) l->en[k].elastic = r.elastic;
       note_overlap(w, l->res[k].overlap_ratio);
       if (!w->balance) continue;
-      l->res[k].damping_a = r.damping;
-      l->res[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
-      l->res[k].damping_torque_b = v3_zero();
-      l->res[k].dissipated = r.dissipated;
+      l->en[k].damping_a = r.damping;
+      l->en[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
+      l->en[k].damping_torque_b = v3_zero();
+      l->en[k].dissipated = r.dissipated;
       store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->mesh_motion[grp]));
     }
   }
@@ -497,7 +498,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
-      if (balance) en.dissipated += 0.5 * pp->res[k].dissipated; /* also of one just opened */
+      if (balance) en.dissipated += 0.5 * pp->en[k].dissipated; /* also of one just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
         adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
@@ -508,16 +509,16 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         t = v3_add(t, pp->res[k].torque_b);
         roll = v3_sub(roll, pp->res[k].rolling_a);
         if (balance) {
-          en.G = v3_sub(en.G, pp->res[k].damping_a);
-          en.H = v3_add(en.H, pp->res[k].damping_torque_b);
+          en.G = v3_sub(en.G, pp->en[k].damping_a);
+          en.H = v3_add(en.H, pp->en[k].damping_torque_b);
         }
       } else {
         f = v3_add(f, pp->res[k].force_a);
         t = v3_add(t, pp->res[k].torque_a);
         roll = v3_add(roll, pp->res[k].rolling_a);
         if (balance) {
-          en.G = v3_add(en.G, pp->res[k].damping_a);
-          en.H = v3_add(en.H, pp->res[k].damping_torque_a);
+          en.G = v3_add(en.G, pp->en[k].damping_a);
+          en.H = v3_add(en.H, pp->en[k].damping_torque_a);
         }
       }
       capacity += pp->res[k].rolling_capacity;
@@ -525,7 +526,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
-      if (balance) en.dissipated += pw->res[k].dissipated;
+      if (balance) en.dissipated += pw->en[k].dissipated;
       if (!pw->touching[k]) {
         adem_vec3 fb = pw->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
@@ -540,10 +541,10 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->res[k].rolling_capacity, motion_spin(mo));
       }
       if (balance) {
-        en.G = v3_add(en.G, pw->res[k].damping_a);
-        en.H = v3_add(en.H, pw->res[k].damping_torque_a);
-        en.P_w += pw->res[k].wall_power;
-        en.P_d += pw->res[k].wall_damping_power;
+        en.G = v3_add(en.G, pw->en[k].damping_a);
+        en.H = v3_add(en.H, pw->en[k].damping_torque_a);
+        en.P_w += pw->en[k].wall_power;
+        en.P_d += pw->en[k].wall_damping_power;
       }
     }
     /* mesh contacts: the first slots of the particle's range, by key */
@@ -558,11 +559,11 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->res[k].rolling_capacity, motion_spin(mo));
       }
       if (balance) {
-        en.G = v3_add(en.G, pm->res[k].damping_a);
-        en.H = v3_add(en.H, pm->res[k].damping_torque_a);
-        en.dissipated += pm->res[k].dissipated;
-        en.P_w += pm->res[k].wall_power;
-        en.P_d += pm->res[k].wall_damping_power;
+        en.G = v3_add(en.G, pm->en[k].damping_a);
+        en.H = v3_add(en.H, pm->en[k].damping_torque_a);
+        en.dissipated += pm->en[k].dissipated;
+        en.P_w += pm->en[k].wall_power;
+        en.P_d += pm->en[k].wall_damping_power;
       }
     }
     uint8_t held = 0;

@@ -30,25 +30,32 @@ typedef struct adem_contact_history {
 
 /* What a force pass writes for a pair and the per-particle sums read back: one record, so that
  * the sums gather one or two cache lines per pair rather than one per quantity. Zero when the
- * pair does not touch (but see forget_opened in contacts.c). The first line holds what the
- * sums read of every candidate, touching or not. */
+ * pair does not touch (but see forget_opened in contacts.c). Only what every pass needs is here;
+ * the energy bookkeeping is in adem_pair_energy, which the passes that want it write. */
 typedef struct adem_pair_result {
   adem_vec3 force_a;        /* force on a (on b it is the opposite), N */
-  double dissipated;        /* energy the laws took in the step by slip or a spring's limit, J */
   double rolling_capacity;  /* BROF: e_c |F_n| this contact offers (I9) */
+  double overlap_ratio;     /* overlap / smaller radius */
   adem_vec3 torque_a;       /* every contact torque on a, rolling included, N m */
   adem_vec3 torque_b;       /* every contact torque on b, N m (0 for a wall) */
   adem_vec3 rolling_a;      /* rolling couple on a (on b: the opposite), N m */
+} adem_pair_result;
+
+/* The energy bookkeeping of a pair at the last force pass: the stored energy (written by the
+ * passes after which the diagnostics can be read) and the energy balance's terms (written
+ * while the balance is on). Apart from adem_pair_result so that the passes that want neither
+ * do not carry it through the cache. */
+typedef struct adem_pair_energy {
+  double dissipated;        /* energy the laws took in the step by slip or a spring's limit, J */
+  double elastic;           /* elastic energy stored in the contact, J */
   adem_vec3 damping_a;      /* dissipative force on a, the dashpots (b: the opposite), N */
   adem_vec3 damping_torque_a; /* dissipative torque on a: the dashpots' moments and dissipative
                                * couples, N m */
   adem_vec3 damping_torque_b; /* the same on b, N m (0 for a wall) */
-  double elastic;           /* elastic energy stored in the contact, J */
-  double overlap_ratio;     /* overlap / smaller radius */
   double wall_power;        /* walls: power the wall gives through the contact, F.V + R.Omega
                              * (V, Omega the wall's), W */
   double wall_damping_power; /* walls: the dissipative forces' and couples' share of wall_power */
-} adem_pair_result;
+} adem_pair_energy;
 
 /* Roles of the per-pair arrays. */
 enum {
@@ -63,7 +70,8 @@ enum {
   X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
   X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
-  X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")
+  X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")          \
+  X(adem_pair_energy, en, ADEM_PAIR_RESULT, "the energy bookkeeping of the last force pass")
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
  * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
@@ -96,10 +104,10 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
 static inline void adem_pairs_clear_apart(adem_pair_list *l) {
   for (size_t k = 0; k < l->n; ++k) {
     if (l->touching[k]) continue;
-    double lost = l->res[k].dissipated;
+    double lost = l->en[k].dissipated;
     adem_vec3 f = l->res[k].force_a;
     adem_pairs_clear(l, k);
-    l->res[k].dissipated = lost;
+    l->en[k].dissipated = lost;
     l->res[k].force_a = f;
   }
 }

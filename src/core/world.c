@@ -458,7 +458,17 @@ void adem_world_set_dt(adem_world *w, double dt) { w->dt = dt; }
 void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme) {
   w->second_order = scheme == ADEM_CONTACTS_SECOND_ORDER;
 }
-void adem_world_set_energy_balance(adem_world *w, bool on) { w->energy_balance = on; }
+/* Switched on, the balance finds no lost spring energy left on open pairs from before (the force
+ * pass leaves it there only while the balance is on: contacts.c, forget_opened). */
+void adem_world_set_energy_balance(adem_world *w, bool on) {
+  if (on && !w->energy_balance) {
+    adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
+    for (int s = 0; s < 3; ++s)
+      for (size_t k = 0; k < lists[s]->n; ++k)
+        if (!lists[s]->touching[k]) lists[s]->en[k].dissipated = 0.0;
+  }
+  w->energy_balance = on;
+}
 bool adem_world_energy_balance(const adem_world *w) { return w->energy_balance; }
 double adem_world_dt(const adem_world *w) { return w->dt; }
 double adem_world_time(const adem_world *w) { return w->time; }
@@ -937,11 +947,11 @@ static void sum_elastic(const adem_world *w, double *buf, double out[3]) {
   for (size_t r = 0; r < nb->gathered; ++r) {
     size_t i = nb->id_order[r];
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e)
-      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.res[nb->pp_entries[e] >> 1].elastic;
+      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.en[nb->pp_entries[e] >> 1].elastic;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e)
-      b[1][m[1]++] = w->pw.res[nb->pw_entries[e]].elastic;
+      b[1][m[1]++] = w->pw.en[nb->pw_entries[e]].elastic;
     for (size_t k = pm->start ? pm->start[i] : 0; pm->start && k < pm->start[i + 1]; ++k)
-      b[2][m[2]++] = pm->l.res[k].elastic;
+      b[2][m[2]++] = pm->l.en[k].elastic;
   }
   for (int s = 0; s < 3; ++s) out[s] = adem_sum(b[s], m[s]);
 }
@@ -1317,7 +1327,7 @@ static void contact_from(adem_contact_info *c, adem_contact_kind kind, uint64_t 
   c->b = b;
   c->force = l->res[k].force_a;
   c->overlap_ratio = l->res[k].overlap_ratio;
-  c->elastic = l->res[k].elastic;
+  c->elastic = l->en[k].elastic;
   c->tangential_history = l->hist[k].tangential;
   c->rolling_history = l->hist[k].rolling;
 }
