@@ -26,6 +26,8 @@ typedef struct adem_neighbors {
   adem_vec3 origin;
   double cell_size;
   int dims[3];
+  size_t stride[3]; /* cell index = sum of coordinate x stride: the axis with the fewest cells
+                     * varies fastest (neighbours.c, cell_index) */
   size_t ncells;
   size_t *cell_start;    /* ncells + 1; particles are sorted by cell */
   size_t cell_cap;
