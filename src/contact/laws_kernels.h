@@ -68,7 +68,7 @@ static inline adem_normal_result adem_normal_hertz_law(const adem_pair_params *p
                                                        double a_hertz) {
   adem_normal_result r;
   r.f_elastic = adem_hertz_force(pp->E, a_hertz, g->delta);  /* H9 without adhesion */
-  r.e_elastic = adem_hertz_energy(pp->E, a_hertz, g->delta);
+  r.e_elastic = g->energy ? adem_hertz_energy(pp->E, a_hertz, g->delta) : 0.0;
   r.f_critical = 0.0;
   r.a = a_hertz;
   return r;
@@ -171,6 +171,14 @@ static inline double adem_rolling_eta(const adem_rolling_input *in) {
   return in->g->rj == 0.0 ? a[k] : 0.5 * (a[k] + b[k]);
 }
 
+/* Model C's dashpot C_r = delta_r 2 sqrt(I_r k_r); without one (delta_r = 0) the square root is
+ * skipped: the same 0. */
+static inline double adem_rolling_damping(const adem_pair_params *pp, const adem_contact_geometry *g,
+                                          double k_r) {
+  double d = pp->param[ADEM_PARAM_ROLLING_DAMPING];
+  return d == 0.0 ? 0.0 : d * 2.0 * sqrt(g->inertia_r * k_r);
+}
+
 static inline void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
                                          adem_rolling_output *out) {
   (void)in;
@@ -192,7 +200,7 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
-  double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
+  double c_r = adem_rolling_damping(in->pp, g, k_r);
   out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
                                      eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
@@ -205,7 +213,7 @@ static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in,
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
-  double c_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * 2.0 * sqrt(g->inertia_r * k_r);
+  double c_r = adem_rolling_damping(in->pp, g, k_r);
   out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
                                             eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
