@@ -226,7 +226,10 @@ static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3
   const adem_contact_geometry *g = in->g;
   int k = ADEM_PARAM_ROLLING_FRICTION;
   double e_c = in->pp->param_a[k] * g->ri;
-  if (g->rj != 0.0) e_c = fmin(e_c, in->pp->param_b[k] * g->rj);
+  if (g->rj != 0.0) { /* fmin without a library call: both are finite and >= 0 */
+    double e_b = in->pp->param_b[k] * g->rj;
+    if (e_b < e_c) e_c = e_b;
+  }
   out->capacity = e_c * in->f_load;
 }
 

@@ -67,7 +67,8 @@ static inline adem_normal_result normal_law(const adem_interaction *it, const co
  * adds F(delta_n) (psi - 1/2), psi = delta_n/(delta_n - delta_{n+1}) the fraction still in
  * contact. Then the impulse is right to second order, and so is the collision. */
 static inline double onset_correction(double f_elastic, double delta, double vn, double dt) {
-  double phi = vn > 0.0 ? fmin(1.0, delta / (vn * dt)) : 0.5;
+  double phi = vn > 0.0 ? delta / (vn * dt) : 0.5;
+  if (!(phi < 1.0)) phi = 1.0; /* fmin(1, phi), without a library call */
   return f_elastic * (phi - 0.5);
 }
 
@@ -181,7 +182,9 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   l->res[k].torque_b = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
   l->res[k].rolling_a = r->rolling;
   l->res[k].rolling_capacity = r->capacity;
-  l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 ? fmin(g->ri, g->rj) : g->ri);
+  /* the smaller radius (a wall's rj is 0); not fmin, which is a library call without
+   * -ffast-math: radii are positive and finite, so the two agree */
+  l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 && g->rj < g->ri ? g->rj : g->ri);
   if (g->energy) l->en[k].elastic = r->elastic; /* only the diagnostics read it */
   if (!balance) return; /* the rest is only the energy balance's, and only it reads them */
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
