@@ -163,7 +163,7 @@ typedef struct adem_rolling_output {
 /* Rolling radius R_r (wall: r_i) and the eta_r of models A and C: the mean of a particle pair's,
  * the particle's on a wall (notes section 4). */
 static inline double adem_rolling_radius(const adem_contact_geometry *g) {
-  return g->rj == 0.0 ? g->ri : g->ri * g->rj / (g->ri + g->rj);
+  return g->R; /* r_i r_j/(r_i + r_j), a wall's r_i: the effective radius, computed once */
 }
 static inline double adem_rolling_eta(const adem_rolling_input *in) {
   const double *a = in->pp->param_a, *b = in->pp->param_b;
