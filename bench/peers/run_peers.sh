@@ -22,6 +22,7 @@
 #   PEERS_BEDS ["hertz jkr"]  which beds
 #   PEERS_CODES ["adem lammps liggghts"]
 #   PEERS_ADEM_BENCH [build/bench/bench_bed]  adem's bench_bed (cmake --build build first)
+#   PEERS_ADEM_BALANCE [0]    1: adem with its energy balance on (the peers keep none)
 #   PEERS_CHECK [0]           1: verification runs (walls record forces; never use for timing)
 #   PEERS_COUNT_REP [1]       the repetition whose runs count contacts (the count allocates a
 #                             neighbour list, so the other repetitions give the memory figures)
@@ -48,6 +49,9 @@ OUT=${PEERS_OUT:-$here/runs/$(date +%Y%m%d-%H%M%S)}
 LMP=${PEERS_LMP:-lmp}
 LIGGGHTS=${PEERS_LIGGGHTS:-liggghts}
 ADEM_BENCH=${PEERS_ADEM_BENCH:-$here/../../build/bench/bench_bed}
+# adem's energy balance (per-contact dissipation and wall work): off by default here, as the
+# peers keep none; PEERS_ADEM_BALANCE=1 times adem with it (its default in a case)
+ADEM_BALANCE=${PEERS_ADEM_BALANCE:-0}
 
 # --- 1. the codes: Debian's lammps (lmp, 29Sep2021 in bookworm) and liggghts (3.8.0) ---------
 need=""
@@ -125,7 +129,8 @@ run_adem() {
     --rolling-friction "$PEERS_ROLLING" --skin "$PEERS_SKIN" --dt "$PEERS_DT" \
     --young "$PEERS_YOUNG" --poisson "$PEERS_POISSON" --restitution "$PEERS_COR" \
     --friction "$PEERS_FRICTION" --gravity "$PEERS_GRAVITY" \
-    --relax "$RELAX" --steps "$STEPS" --threads "$np" > "$prefix.log" 2> "$prefix.out"
+    --relax "$RELAX" --steps "$STEPS" --threads "$np" --energy-balance "$ADEM_BALANCE" \
+    > "$prefix.log" 2> "$prefix.out"
 }
 # ---- end of the adem hook ---------------------------------------------------------------------
 
