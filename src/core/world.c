@@ -866,14 +866,17 @@ static void servo_check(adem_world *w) {
 }
 
 /* The servos move by their laws from the last force pass's loads, before the walls are placed. */
-static adem_status servo_step(adem_world *w, double dt) {
-  if (w->step % 64 == 0) servo_check(w); /* a warning: now and then is enough */
+static adem_status servo_step(adem_world *w, double dt, adem_error *err) {
+  const adem_world_split *sp = w->split;
+  if (w->step % 64 == 0 && !sp) servo_check(w); /* a warning: now and then is enough */
   adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
-  if (!f) return ADEM_ERR_NOMEM;
-  adem_world_plane_forces(w, f);
-  adem_walls_servo_step(&w->walls, f, dt);
+  adem_status st = ADEM_OK;
+  if (sp) st = sp->plane_forces(sp->ctx, w, f, err); /* the whole system's (collective) */
+  else if (f) adem_world_plane_forces(w, f);
+  if (!f && !st) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) adem_walls_servo_step(&w->walls, f, dt);
   free(f);
-  return ADEM_OK;
+  return st;
 }
 
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
@@ -899,8 +902,8 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     if (adem_walls_has_servo(&w->walls)) {
-      adem_status st = servo_step(w, dt);
-      if (st) return adem_error_set(err, st, "out of memory");
+      adem_status st = servo_step(w, dt, err);
+      if (st) return st;
     }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     bool rebuild = adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads);

@@ -31,6 +31,9 @@ typedef struct adem_world_split {
   bool (*any)(void *ctx, bool yes);
   /* the neighbour build: particles go to their new owners and copies first */
   adem_status (*build)(void *ctx, adem_world *w, adem_error *err);
+  /* the whole system's plane forces, the serial sum (adem_world_plane_forces: over the
+   * particles by id), on every process: the servos move by them */
+  adem_status (*plane_forces)(void *ctx, const adem_world *w, adem_vec3 *out, adem_error *err);
 } adem_world_split;
 
 /* Every field that changes while stepping is saved by adem_world_save (tests/golden/test_restart.c

@@ -572,13 +572,95 @@ out:
   return st;
 }
 
+/* Gathers the bytes of every rank to every rank, in rank order (into *in). Collective. */
+static adem_status allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
+  int n = mine->n > INT_MAX ? -1 : (int)mine->n;
+  MPI_Allgather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
+  size_t total = 0;
+  int ok = 1;
+  for (int q = 0; q < s->size; ++q) {
+    if (s->bytes_a[q] < 0) ok = 0;
+    s->bytes_b[q] = (int)(total <= INT_MAX ? total : 0);
+    total += s->bytes_a[q] > 0 ? (size_t)s->bytes_a[q] : 0;
+  }
+  if (total > INT_MAX) ok = 0;
+  in->d = ok ? malloc(total + 1) : NULL;
+  in->n = in->cap = total;
+  int mine_ok = in->d != NULL, all_ok = 0;
+  MPI_Allreduce(&mine_ok, &all_ok, 1, MPI_INT, MPI_LAND, s->comm);
+  if (!all_ok) {
+    free(in->d);
+    in->d = NULL;
+    in->n = in->cap = 0;
+    return ok ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles")
+              : too_big(err);
+  }
+  MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
+                 s->comm);
+  return ADEM_OK;
+}
+
+/* A wall contact's share of a plane force: the particle's id and the contact's place in its
+ * gather list (the order the serial sum takes them in). */
+typedef struct wall_term {
+  uint64_t id;
+  uint32_t seq, wall;
+  adem_vec3 f;
+} wall_term;
+
+static int compare_wall_term(const void *x, const void *y) {
+  const wall_term *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* The plane forces of the whole system on every process, the serial sum's bits: every process
+ * sends every process its own particles' wall contact forces, and each sums all of them in the
+ * serial order (particles by id, each one's contacts as its gather list has them). An
+ * MPI_Allreduce would add in another order. Collective. */
+static adem_status plane_forces_hook(void *ctx, const adem_world *w, adem_vec3 *out,
+                                     adem_error *err) {
+  adem_split *s = ctx;
+  const adem_particles *p = &w->p;
+  const adem_neighbors *nb = &w->nb;
+  const adem_pair_list *l = &w->pw;
+  bytes mine = {0}, all = {0};
+  adem_status st = ADEM_OK;
+  for (size_t i = 0; i < nb->gathered && !st; ++i) {
+    if (owner(s, p, i) != s->rank) continue;
+    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1] && !st; ++e) {
+      size_t k = nb->pw_entries[e];
+      wall_term t;
+      memset(&t, 0, sizeof t);
+      t.id = p->id[i];
+      t.seq = (uint32_t)(e - nb->pw_start[i]);
+      t.wall = l->b[k];
+      t.f = l->res[k].force_a;
+      if (!bytes_put(&mine, &t, sizeof t)) st = ADEM_ERR_NOMEM;
+    }
+  }
+  if (st) adem_error_set(err, st, "out of memory summing the plane forces");
+  st = adem_split_agree(s, st, err);
+  if (!st) st = allgather(s, &mine, &all, err);
+  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
+  if (!st) {
+    size_t m = all.n / sizeof(wall_term);
+    wall_term *t = (wall_term *)(void *)all.d;
+    qsort(t, m, sizeof *t, compare_wall_term);
+    for (size_t k = 0; k < m; ++k)
+      if (t[k].wall < (uint32_t)w->walls.nplanes) out[t[k].wall] = v3_sub(out[t[k].wall], t[k].f);
+  }
+  free(mine.d);
+  free(all.d);
+  return st;
+}
+
 /* ---------------------------------------------------------------- set-up */
 
 const char *adem_split_refusal(const adem_world *w) {
   if (w->walls.mesh.ntris > 0 || w->walls.nmesh_walls > 0) return "its mesh walls";
   if (w->periodic.axes) return "its periodic axes";
-  if (adem_walls_has_servo(&w->walls)) return "its servo-controlled walls";
-  if (w->insert_rmin || w->admit_pending) return "its pours";
+  if (w->admit_pending) return "particles waiting to be admitted (a bug: admit them first)";
   if (w->p.n == 0) return "having no particles";
   return NULL;
 }
@@ -711,7 +793,7 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   if (!st && trim(s, w)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st) {
     w->nb.rmax_floor = s->rmax;
-    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook};
+    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook, plane_forces_hook};
     w->split = &s->hooks;
     st = make_lists(s, w, err);
   }
@@ -745,8 +827,21 @@ static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_erro
   return ADEM_OK;
 }
 
+/* The walls' state (servo positions and speeds, the meshes' reference points) from one world
+ * into another of the same set-up, as a checkpoint carries it. */
+static adem_status copy_wall_state(const adem_world *from, adem_world *to) {
+  bytes b = {0};
+  adem_writer wr = adem_writer_make(mem_sink, &b);
+  adem_walls_save_state(&wr, &from->walls);
+  adem_reader rd = {b.d, b.d + b.n, 0};
+  if (!wr.failed) adem_walls_load_state(&rd, &to->walls);
+  adem_status st = wr.failed || rd.failed ? ADEM_ERR_NOMEM : ADEM_OK;
+  free(b.d);
+  return st;
+}
+
 adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
-                                adem_error *err) {
+                                bool everywhere, adem_error *err) {
   const adem_particles *p = &local->p;
   bytes mine[3] = {{0}, {0}, {0}}, in[3] = {{0}, {0}, {0}};
   adem_status st = ADEM_OK;
@@ -762,8 +857,9 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
       st = ADEM_ERR_NOMEM;
   if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
   st = adem_split_agree(s, st, err);
-  for (int k = 0; k < 3 && !st; ++k) st = gather(s, &mine[k], &in[k], err);
-  if (!st && s->rank == 0) {
+  for (int k = 0; k < 3 && !st; ++k)
+    st = everywhere ? allgather(s, &mine[k], &in[k], err) : gather(s, &mine[k], &in[k], err);
+  if (!st && (everywhere || s->rank == 0)) {
     adem_particles *q = &whole->p;
     size_t rec = particle_bytes(), n = in[0].n / rec;
     uint32_t *order = malloc((n + 1) * sizeof *order);
@@ -816,8 +912,9 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
       whole->nb.skin = local->nb.skin;
       whole->nb.rebuilds = local->nb.rebuilds;
       whole->nb.time_at_build = local->nb.time_at_build;
+      st = copy_wall_state(local, whole); /* servos: every process moves them alike */
       adem_world_place_walls(whole, local->time);
-      st = adem_world_gather(whole);
+      if (!st) st = adem_world_gather(whole);
     }
     if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
   }

@@ -17,8 +17,8 @@
 
 typedef struct adem_split adem_split;
 
-/* Why a world cannot be split yet (meshes, pours, periodic axes, servos), as "its ..." in msg,
- * or NULL when it can. */
+/* Why a world cannot be split yet (meshes, periodic axes), as "its ..." in msg, or NULL when
+ * it can. */
 const char *adem_split_refusal(const adem_world *w);
 
 /* Splits a prepared world, whole and the same on every process of comm: *local becomes this
@@ -26,11 +26,13 @@ const char *adem_split_refusal(const adem_world *w);
  * own), which adem_world_step then steps with the others. The cuts are taken here and kept. */
 adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split **out,
                               adem_world **local, adem_error *err);
-/* The whole system on rank 0 (into `whole`, a world prepared from the same case, as given to
- * create): every particle, every pair with its history and results, and the counters, so that
- * the serial outputs and checkpoints can be written from it. Collective. */
+/* The whole system on rank 0, or on every process when `everywhere` (into `whole`, a world
+ * prepared from the same case, as given to create): every particle, every pair with its
+ * history and results, the walls' state and the counters, so that the serial outputs and
+ * checkpoints can be written from it, and the serial decisions taken on it (run-until
+ * conditions, stage starts, pours). Collective. */
 adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
-                                adem_error *err);
+                                bool everywhere, adem_error *err);
 /* A status on every process: the largest (an error somewhere is an error everywhere; the
  * processes without one get "another process failed"). Collective. */
 adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err);
