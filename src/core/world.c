@@ -913,6 +913,10 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     compute_forces(w, s + 1 == nsteps);
+    if (sp && w->walls.mesh.ntris > 0 && adem_walls_has_servo(&w->walls)) {
+      adem_status st = sp->mesh_loads(sp->ctx, w, err); /* the servos' next measure */
+      if (st) return st;
+    }
     adem_particles_kick(&w->p, 0.5 * dt, true, nthreads);
     w->step++;
     w->time = (double)w->step * dt;

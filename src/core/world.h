@@ -34,6 +34,9 @@ typedef struct adem_world_split {
   /* the whole system's plane forces, the serial sum (adem_world_plane_forces: over the
    * particles by id), on every process: the servos move by them */
   adem_status (*plane_forces)(void *ctx, const adem_world *w, adem_vec3 *out, adem_error *err);
+  /* after the force pass of a world with meshes and servos: the face loads (walls.face_force,
+   * face_torque) become the whole system's, the serial sum, on every process */
+  adem_status (*mesh_loads)(void *ctx, adem_world *w, adem_error *err);
 } adem_world_split;
 
 /* Every field that changes while stepping is saved by adem_world_save (tests/golden/test_restart.c
