@@ -27,12 +27,12 @@ struct adem_split {
   int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
 };
 
-/* A test's control (tests/mpi): ADEM_SPLIT_BREAK=WHAT leaves out one exchange, so that the
- * test can show it sees the difference. Never set in a real run. */
-static bool split_broken(const char *what) {
+bool adem_split_break(const char *what) {
   const char *b = getenv("ADEM_SPLIT_BREAK");
   return b && strcmp(b, what) == 0;
 }
+
+static bool split_broken(const char *what) { return adem_split_break(what); }
 
 /* ---------------------------------------------------------------- byte buffers */
 

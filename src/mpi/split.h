@@ -40,5 +40,10 @@ int adem_split_rank(const adem_split *s);
 /* Particles this process owns now. */
 size_t adem_split_owned(const adem_split *s, const adem_world *local);
 void adem_split_free(adem_split *s);
+/* A test's control (tests/mpi/test_split_features.c): true when the environment has
+ * ADEM_SPLIT_BREAK=what, which leaves one exchange out ("plane_forces", "face_loads",
+ * "mesh_history", "resplit"), so that the test shows it sees the difference. Never set in a
+ * real run. */
+bool adem_split_break(const char *what);
 
 #endif

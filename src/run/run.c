@@ -423,6 +423,9 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
 
   bool ended = false; /* a run-until condition was met */
   while (!st && ws->step < total && !ended) {
+#ifdef ADEM_HAVE_MPI
+    if (stale && adem_split_break("resplit")) stale = false; /* the test's control */
+#endif
     if (stale) {
       st = split_again(c, rs, err);
       st = split_agree(rs, st, err);

@@ -1,0 +1,317 @@
+/* Claim: what the split runs beyond plane walls gives the serial run's results bit for bit
+ * under `mpirun -np N adem run` for N = 1, 2, 3 and 4: servo walls (plane forces every step),
+ * stages (one cut short by its `until`), time.until, output.regions (tests/mpi/feature_cases.h,
+ * press), pours (pour), mesh walls (hopper: the flagship's meshes, a gate moved and switched
+ * off by a stage) and a mesh servo (face loads every step). Compared: the final checkpoint's
+ * particles by id (every field), contacts with their histories, diagnostics and plane forces
+ * (split_compare.h), the face loads, the walls' state (servos), the stages' and pours' state,
+ * and the CSV time series as text. A checkpoint written by 3 processes resumes on 2 to the
+ * serial run's end (press, pour, hopper).
+ *
+ * Controls (each must differ): ADEM_SPLIT_BREAK (src/mpi/split.h) leaves one exchange out:
+ * "plane_forces" (a servo measures its own process's contacts only), "face_loads" (likewise a
+ * mesh servo), "mesh_history" (mesh contacts lose their history when their particle changes
+ * process), "resplit" (the parts do not take in a pour batch or a stage's change).
+ *
+ * Run as `test_split_features GROUP`, GROUP one of press, pour, hopper, mesh_servo, restart,
+ * controls (one ctest test each). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "adem/adem.h"
+#include "cli_run.h"
+#include "feature_cases.h"
+#include "insert.h"
+#include "plate_stl.h"
+#include "split_compare.h"
+#include "stages.h"
+#include "world.h"
+
+/* Runs `adem ARGS` under `mpirun -np np` (np 0: plain `adem ARGS`), with ADEM_SPLIT_BREAK=brk
+ * when brk is not NULL; the exit status. */
+static int adem_np(int np, const char *brk, const char *fmt, ...) {
+  char args[4096];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(args, sizeof args, fmt, ap);
+  va_end(ap);
+  char *log = path_in_tmp("mpi_output.txt");
+  char cmd[8192];
+  if (np == 0)
+    snprintf(cmd, sizeof cmd, "'%s' %s > '%s' 2>&1 < /dev/null", ADEM_BINARY, args, log);
+  else
+    snprintf(cmd, sizeof cmd,
+             "%s%s '%s' -np %d --oversubscribe %s '%s' %s > '%s' 2>&1 < /dev/null",
+             brk ? "ADEM_SPLIT_BREAK=" : "", brk ? brk : "", ADEM_MPIEXEC, np,
+             brk ? "-x ADEM_SPLIT_BREAK" : "", ADEM_BINARY, args, log);
+  int status = system(cmd);
+  assert_true(status != -1 && WIFEXITED(status));
+  char how[128] = "";
+  if (np) snprintf(how, sizeof how, "%s%s%smpirun -np %d ", brk ? "ADEM_SPLIT_BREAK=" : "",
+                   brk ? brk : "", brk ? " " : "", np);
+  printf("# %sadem %s -> %d\n", how, args, WEXITSTATUS(status));
+  if (WEXITSTATUS(status) != 0) {
+    FILE *f = fopen(log, "r");
+    char buf[4096];
+    size_t n = f ? fread(buf, 1, sizeof buf - 1, f) : 0;
+    buf[n] = '\0';
+    if (f) fclose(f);
+    printf("# output:\n%s\n", buf);
+  }
+  free(log);
+  return WEXITSTATUS(status);
+}
+
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  char *b = malloc(1 << 22);
+  assert_non_null(b);
+  size_t n = fread(b, 1, (1 << 22) - 1, f);
+  b[n] = '\0';
+  fclose(f);
+  return b;
+}
+
+typedef struct membuf {
+  unsigned char *d;
+  size_t n, cap;
+} membuf;
+
+static int mem_put(void *ctx, const void *data, size_t n) {
+  membuf *b = ctx;
+  if (b->n + n > b->cap) {
+    size_t c = 2 * (b->n + n) + 256;
+    unsigned char *q = realloc(b->d, c);
+    if (!q) return 0;
+    b->d = q;
+    b->cap = c;
+  }
+  memcpy(b->d + b->n, data, n);
+  b->n += n;
+  return 1;
+}
+
+/* Whether two savers write the same bytes. */
+static int same_bytes(const membuf *a, const membuf *b) {
+  return a->n == b->n && (a->n == 0 || memcmp(a->d, b->d, a->n) == 0);
+}
+
+/* What differs between the runs written into tmpdir/A and tmpdir/B, or NULL. */
+static const char *differs(const char *da, const char *db) {
+  static char why[ADEM_MSG_MAX + 128];
+  char path[600];
+  adem_case *c[2] = {NULL, NULL};
+  const char *dirs[2] = {da, db};
+  for (int k = 0; k < 2; ++k) {
+    adem_error err;
+    snprintf(path, sizeof path, "%s/%s/checkpoint", tmpdir, dirs[k]);
+    if (adem_checkpoint_read(path, &c[k], &err)) {
+      snprintf(why, sizeof why, "%s: no checkpoint (%s)", dirs[k], err.message);
+      adem_case_free(c[0]);
+      return why;
+    }
+  }
+  const adem_world *a = c[0]->world, *b = c[1]->world;
+  const char *w = split_compare(a, b);
+  if (w) snprintf(why, sizeof why, "%s", w);
+  size_t nf = 3 * a->walls.mesh.ntris;
+  if (!w && (a->walls.mesh.ntris != b->walls.mesh.ntris ||
+             (nf && (memcmp(a->walls.face_force, b->walls.face_force, nf * sizeof(double)) ||
+                     memcmp(a->walls.face_torque, b->walls.face_torque, nf * sizeof(double))))))
+    snprintf(why, sizeof why, "%s", w = "face loads");
+  membuf m[2][3];
+  memset(m, 0, sizeof m);
+  for (int k = 0; k < 2; ++k) {
+    adem_writer wr = adem_writer_make(mem_put, &m[k][0]);
+    adem_walls_save_state(&wr, &c[k]->world->walls);
+    adem_writer ws = adem_writer_make(mem_put, &m[k][1]);
+    adem_stages_save(&ws, c[k]);
+    size_t len = 0;
+    unsigned char *pk = adem_pours_pack(c[k]->pours, &len);
+    if (pk) mem_put(&m[k][2], pk, len);
+    free(pk);
+  }
+  if (!w && !same_bytes(&m[0][0], &m[1][0])) snprintf(why, sizeof why, "%s", w = "wall state (servos)");
+  if (!w && !same_bytes(&m[0][1], &m[1][1])) snprintf(why, sizeof why, "%s", w = "stage state");
+  if (!w && !same_bytes(&m[0][2], &m[1][2])) snprintf(why, sizeof why, "%s", w = "pour state");
+  if (!w && adem_stages_current(c[0]) != adem_stages_current(c[1]))
+    snprintf(why, sizeof why, "%s", w = "stage");
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j) free(m[k][j].d);
+  adem_case_free(c[0]);
+  adem_case_free(c[1]);
+  if (w) return why;
+  char *t[2];
+  for (int k = 0; k < 2; ++k) {
+    snprintf(path, sizeof path, "%s/%s/timeseries.csv", tmpdir, dirs[k]);
+    t[k] = slurp(path);
+  }
+  if (!t[0] || !t[1] || strcmp(t[0], t[1]) != 0) w = "the CSV text";
+  free(t[0]);
+  free(t[1]);
+  return w;
+}
+
+/* The case (a file in tmpdir) run serially and on 1 .. 4 processes: the same. */
+static void runs_equal(const char *yaml, const char *name) {
+  char dir[64];
+  snprintf(dir, sizeof dir, "%s_serial", name);
+  assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, dir), 0);
+  char *csv = NULL;
+  {
+    char path[600];
+    snprintf(path, sizeof path, "%s/%s/timeseries.csv", tmpdir, dir);
+    csv = slurp(path);
+    assert_non_null(csv);
+  }
+  for (int np = 1; np <= 4; ++np) {
+    char d[64];
+    snprintf(d, sizeof d, "%s_np%d", name, np);
+    assert_int_equal(adem_np(np, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, d), 0);
+    const char *why = differs(dir, d);
+    if (why) fail_msg("%s, %d processes: %s differs from the serial run's", name, np, why);
+    printf("# %s, %d process%s: checkpoint, walls, stages, pours and the CSV (%zu bytes) are the "
+           "serial run's\n", name, np, np > 1 ? "es" : "", strlen(csv));
+  }
+  free(csv);
+}
+
+static char *case_file(const char *name, const char *text) { return write_case(name, text); }
+
+static char *hopper_file(void) {
+  char text[8192];
+  snprintf(text, sizeof text, hopper_case_fmt, ADEM_SOURCE_DIR, ADEM_SOURCE_DIR);
+  return case_file("hopper.yaml", text);
+}
+
+static char *mesh_servo_file(void) {
+  char dir[400], cmd[1400];
+  snprintf(dir, sizeof dir, "%s/servo_case/meshes", tmpdir);
+  snprintf(cmd, sizeof cmd, "mkdir -p '%s' && cp '%s/tests/data/cube_ascii.stl' '%s/cube.stl'", dir,
+           ADEM_SOURCE_DIR, dir);
+  assert_int_equal(system(cmd), 0);
+  snprintf(cmd, sizeof cmd, "%s/plate.stl", dir);
+  write_plate(cmd, 3, 0.0078125);
+  return case_file("servo_case/servo.yaml", mesh_servo_case);
+}
+
+static void test_press(void **state) {
+  (void)state;
+  char *y = case_file("press.yaml", press_case);
+  runs_equal(y, "press");
+  free(y);
+}
+
+static void test_pour(void **state) {
+  (void)state;
+  char *y = case_file("pour.yaml", pour_case);
+  runs_equal(y, "pour");
+  free(y);
+}
+
+static void test_hopper(void **state) {
+  (void)state;
+  char *y = hopper_file();
+  runs_equal(y, "hopper");
+  free(y);
+}
+
+static void test_mesh_servo(void **state) {
+  (void)state;
+  char *y = mesh_servo_file();
+  runs_equal(y, "mesh_servo");
+  free(y);
+}
+
+/* Part of the run on 3 processes, the rest resumed from its checkpoint on 2: the serial end. */
+static void resumed(const char *yaml, const char *name, const char *half, const char *end) {
+  char whole[64], part[64];
+  snprintf(whole, sizeof whole, "%s_whole", name);
+  snprintf(part, sizeof part, "%s_half", name);
+  assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, whole), 0);
+  assert_int_equal(adem_np(3, NULL, "run '%s' --out '%s/%s' --set time.end=%s --threads 1 --quiet",
+                           yaml, tmpdir, part, half), 0);
+  assert_int_equal(adem_np(2, NULL, "run --resume '%s/%s' --set time.end=%s --threads 1 --quiet",
+                           tmpdir, part, end), 0);
+  const char *why = differs(whole, part);
+  if (why) fail_msg("%s: resumed on 2 processes from 3's checkpoint at t = %s s: %s differs", name,
+                    half, why);
+  printf("# %s: 3 processes to t = %s s, resumed on 2 to %s s: the serial run's\n", name, half, end);
+}
+
+static void test_restart(void **state) {
+  (void)state;
+  char *y = case_file("press.yaml", press_case);
+  resumed(y, "press", "0.012", "0.024");
+  free(y);
+  y = case_file("pour.yaml", pour_case);
+  resumed(y, "pour", "0.0042", "0.014");
+  free(y);
+  y = hopper_file();
+  resumed(y, "hopper", "0.045", "0.09");
+  free(y);
+}
+
+/* Each exchange left out in turn: the run differs from the serial one (or fails). */
+static void broken(const char *yaml, const char *name, int np, const char *brk) {
+  char serial[64], d[64];
+  snprintf(serial, sizeof serial, "%s_cserial", name);
+  snprintf(d, sizeof d, "%s_%s", name, brk);
+  assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, serial), 0);
+  int st = adem_np(np, brk, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, d);
+  const char *why = st ? "the run failed" : differs(serial, d);
+  printf("# %s on %d processes without `%s`: %s\n", name, np, brk, why ? why : "no difference");
+  if (!why) fail_msg("%s: leaving out %s changes nothing: the test cannot see it", name, brk);
+}
+
+static void test_controls(void **state) {
+  (void)state;
+  char *y = case_file("press.yaml", press_case);
+  broken(y, "press", 2, "plane_forces");
+  free(y);
+  y = mesh_servo_file();
+  broken(y, "mesh_servo", 2, "face_loads");
+  free(y);
+  y = hopper_file();
+  broken(y, "hopper", 3, "mesh_history");
+  free(y);
+  y = case_file("pour.yaml", pour_case);
+  broken(y, "pour", 2, "resplit");
+  free(y);
+  y = case_file("press.yaml", press_case);
+  broken(y, "press", 3, "resplit");
+  free(y);
+}
+
+static int setup(void **state) {
+  (void)state;
+  return tmpdir_make("adem_split_features") ? -1 : 0;
+}
+
+int main(int argc, char **argv) {
+  const struct CMUnitTest all[] = {
+      cmocka_unit_test(test_press),   cmocka_unit_test(test_pour),
+      cmocka_unit_test(test_hopper),  cmocka_unit_test(test_mesh_servo),
+      cmocka_unit_test(test_restart), cmocka_unit_test(test_controls),
+  };
+  const char *names[] = {"press", "pour", "hopper", "mesh_servo", "restart", "controls"};
+  int n = (int)(sizeof all / sizeof all[0]);
+  if (argc > 1) {
+    for (int k = 0; k < n; ++k)
+      if (strcmp(argv[1], names[k]) == 0) {
+        struct CMUnitTest one[1] = {all[k]};
+        return _cmocka_run_group_tests(names[k], one, 1, setup, tmpdir_teardown);
+      }
+    fprintf(stderr, "no test group `%s`\n", argv[1]);
+    return 2;
+  }
+  return cmocka_run_group_tests(all, setup, tmpdir_teardown);
+}
