@@ -240,6 +240,9 @@ static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error
 #ifdef ADEM_HAVE_MPI
   if (size < 2) return ADEM_OK;
   adem_world *w = c->world;
+  /* nothing to split yet (every particle comes from a pour): every process steps the same
+   * empty world until the first batch, then splits */
+  if (w->p.n == 0 && !w->admit_pending) return ADEM_OK;
   if (w->admit_pending) { /* what the serial run's next step begins with */
     w->admit_pending = false;
     adem_status st = adem_world_admit_particles(w, w->admit_from, err);
@@ -272,11 +275,7 @@ static adem_status split_assemble(adem_case *c, run_split *rs, bool everywhere, 
  * and changed alike on each: the parts are cut from it again, as from a checkpoint. */
 static void split_end(adem_case *c, run_split *rs);
 static adem_status split_again(adem_case *c, run_split *rs, adem_error *err) {
-  int size = 1;
-#ifdef ADEM_HAVE_MPI
-  if (!rs->s) return ADEM_OK;
-  size = 2;
-#endif
+  int size = rs->many ? 2 : 1;
   split_end(c, rs);
   return split_start(c, rs, size, err);
 }
@@ -489,7 +488,8 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
       int stage_before = adem_stages_current(c);
       size_t n_before = w->p.n;
       st = adem_stages_events(c, err);
-      if (decide && (adem_stages_current(c) != stage_before || w->p.n != n_before)) stale = true;
+      /* (split, they come at `decide` steps only, on the whole assembled everywhere) */
+      if (rs->many && (adem_stages_current(c) != stage_before || w->p.n != n_before)) stale = true;
       k_frame = periods[0] = adem_schedule_period(c->output.frame_interval, dt);
       k_csv = periods[1] = adem_schedule_period(c->output.csv_interval, dt);
       k_ckpt = periods[2] = adem_schedule_period(c->output.checkpoint_interval, dt);

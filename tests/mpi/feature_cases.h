@@ -4,7 +4,8 @@
  *     (the floor's load steady), a second lowering the lid, a third where a servo presses it
  *     on the bed (plane forces every step), a time.until checked all along (never met) and a
  *     counting region;
- *   - pour: 150 spheres in the settle box and 160 more poured in 8 batches;
+ *   - pour: 150 spheres in the settle box and 160 more poured in 8 batches (the test also
+ *     runs it without the 150);
  *   - hopper: the flagship hopper's meshes (cases/meshes) with 300 spheres of 6 mm, the gate
  *     pulled aside at 30 ms and switched off by a stage at 60 ms;
  *   - mesh servo: golden/test_servo.c's case, a mesh plate pressed by a servo (face loads

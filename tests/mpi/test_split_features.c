@@ -1,7 +1,7 @@
 /* Claim: what the split runs beyond plane walls gives the serial run's results bit for bit
  * under `mpirun -np N adem run` for N = 1, 2, 3 and 4: servo walls (plane forces every step),
  * stages (one cut short by its `until`), time.until, output.regions (tests/mpi/feature_cases.h,
- * press), pours (pour), mesh walls (hopper: the flagship's meshes, a gate moved and switched
+ * press), pours (pour, also into an empty box), mesh walls (hopper: the flagship's meshes, a gate moved and switched
  * off by a stage) and a mesh servo (face loads every step). Compared: the final checkpoint's
  * particles by id (every field), contacts with their histories, diagnostics and plane forces
  * (split_compare.h), the face loads, the walls' state (servos), the stages' and pours' state,
@@ -214,6 +214,13 @@ static void test_pour(void **state) {
   (void)state;
   char *y = case_file("pour.yaml", pour_case);
   runs_equal(y, "pour");
+  free(y);
+  /* every particle poured: the processes split at the first batch */
+  const char *a = strstr(pour_case, "particles:\n"), *b = strstr(pour_case, "walls:\n");
+  char text[4096];
+  snprintf(text, sizeof text, "%.*s%s", (int)(a - pour_case), pour_case, b);
+  y = case_file("pour_only.yaml", text);
+  runs_equal(y, "pour_only");
   free(y);
 }
 
