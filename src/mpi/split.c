@@ -1140,6 +1140,29 @@ adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err) {
 
 int adem_split_rank(const adem_split *s) { return s->rank; }
 
+adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, uint32_t **idx,
+                                 size_t *n) {
+  const adem_particles *p = &local->p;
+  id_index *m = malloc((p->n + 1) * sizeof *m);
+  uint32_t *x = malloc((p->n + 1) * sizeof *x);
+  *idx = NULL;
+  *n = 0;
+  if (!m || !x) {
+    free(m);
+    free(x);
+    return ADEM_ERR_NOMEM;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < p->n; ++i)
+    if (owner(s, p, i) == s->rank) m[k++] = (id_index){p->id[i], (uint32_t)i};
+  qsort(m, k, sizeof *m, compare_id_index);
+  for (size_t j = 0; j < k; ++j) x[j] = m[j].i;
+  free(m);
+  *idx = x;
+  *n = k;
+  return ADEM_OK;
+}
+
 size_t adem_split_owned(const adem_split *s, const adem_world *local) {
   size_t n = 0;
   for (size_t i = 0; i < local->p.n; ++i) n += owner(s, &local->p, i) == s->rank;

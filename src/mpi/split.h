@@ -17,7 +17,7 @@
 
 typedef struct adem_split adem_split;
 
-/* Why a world cannot be split yet (meshes, periodic axes), as "its ..." in msg, or NULL when
+/* Why a world cannot be split yet (periodic axes, no particles), as "its ...", or NULL when
  * it can. */
 const char *adem_split_refusal(const adem_world *w);
 
@@ -37,12 +37,16 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
  * processes without one get "another process failed"). Collective. */
 adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err);
 int adem_split_rank(const adem_split *s);
+/* The indices in local of this process's own particles, by id (*idx: free it). */
+adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, uint32_t **idx,
+                                 size_t *n);
 /* Particles this process owns now. */
 size_t adem_split_owned(const adem_split *s, const adem_world *local);
 void adem_split_free(adem_split *s);
 /* A test's control (tests/mpi/test_split_features.c): true when the environment has
  * ADEM_SPLIT_BREAK=what, which leaves one exchange out ("plane_forces", "face_loads",
- * "mesh_history", "resplit"), so that the test shows it sees the difference. Never set in a
+ * "mesh_history", "resplit"; "pieces": a frame piece holds the process's
+ * ghosts too), so that the test shows it sees the difference. Never set in a
  * real run. */
 bool adem_split_break(const char *what);
 

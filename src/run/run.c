@@ -271,6 +271,42 @@ static adem_status split_assemble(adem_case *c, run_split *rs, bool everywhere, 
   return ADEM_OK;
 }
 
+static adem_status split_agree(run_split *rs, adem_status st, adem_error *err);
+
+/* A frame: one .vtu of the whole, written by the writer; split and with output.pieces, a piece
+ * of its own particles from every process and the .pvtu from the writer (collective then). */
+static adem_status write_frame(adem_output *out, adem_case *c, run_split *rs, size_t *frame_no,
+                               adem_error *err) {
+  adem_status st = ADEM_OK;
+  if (!adem_stages_output_on(c, 0)) return ADEM_OK;
+#ifdef ADEM_HAVE_MPI
+  if (rs->s && c->output.pieces) {
+    uint32_t *idx = NULL;
+    size_t n = 0;
+    if (adem_split_own_by_id(rs->s, rs->part, &idx, &n))
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    if (!st && adem_split_break("pieces")) { /* the test's control: the ghosts too */
+      n = 0;
+      uint32_t *all = realloc(idx, (rs->part->p.n + 1) * sizeof *all);
+      if (all) for (idx = all; n < rs->part->p.n; ++n) idx[n] = (uint32_t)n;
+    }
+    const char *dir = c->output.dir[0] ? c->output.dir : ".";
+    if (!st)
+      st = adem_output_frame_piece(dir, *frame_no, adem_split_rank(rs->s), rs->part, idx, n, err);
+    free(idx);
+    st = split_agree(rs, st, err); /* every piece is there before the .pvtu names it */
+    int size = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    if (!st && rs->writer) st = adem_output_frame_pvtu(out, c->world, size, err);
+    if (!st) (*frame_no)++;
+    return st;
+  }
+#endif
+  if (rs->writer) st = adem_output_frame(out, c->world, err);
+  if (!st) (*frame_no)++;
+  return st;
+}
+
 /* After a change to the whole (a stage begun, particles poured), assembled on every process
  * and changed alike on each: the parts are cut from it again, as from a checkpoint. */
 static void split_end(adem_case *c, run_split *rs);
@@ -401,10 +437,11 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   double t_ckpt = w->time;
 
   bool stale = false; /* the whole changed: split it again before the next step */
-  if (!resume && rs->writer) {
-    st = adem_output_frame(&out, w, err);
+  size_t frame_no = frames_done; /* the next frame's index, on every process */
+  if (!st && !resume) st = write_frame(&out, c, rs, &frame_no, err);
+  if (!st && !resume && rs->writer) {
     c->frames_written = out.next_frame;
-    if (!st) st = csv_row(&out, c, &rc, err);
+    st = csv_row(&out, c, &rc, err);
   }
   st = split_agree(rs, st, err);
   if (!resume && !st) { /* pour batches due at step 0, on every process's whole alike */
@@ -472,12 +509,14 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     ended = until == ADEM_UNTIL_RUN_ENDS;
     bool last = s >= total || ended;
     bool ckpt_due = last || due(s, k_ckpt);
-    if (ws != w && !decide && (ckpt_due || due(s, k_frame) || due(s, k_csv)))
+    /* frames in pieces need the whole only for the mesh frame */
+    bool frame_whole = due(s, k_frame) && !(c->output.pieces && w->walls.mesh.ntris == 0);
+    if (ws != w && !decide && (ckpt_due || frame_whole || due(s, k_csv)))
       st = split_assemble(c, rs, false, err);
+    if (!st && (last || due(s, k_frame))) st = write_frame(&out, c, rs, &frame_no, err);
     if (!st && rs->writer) {
-      if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
       if (due(s, k_frame)) c->frames_written = out.next_frame;
-      if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
+      if (last || due(s, k_csv)) st = csv_row(&out, c, &rc, err);
     }
     st = split_agree(rs, st, err);
     c->csv_last_extra = last && !due(s, k_csv);

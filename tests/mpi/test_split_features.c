@@ -13,8 +13,12 @@
  * mesh servo), "mesh_history" (mesh contacts lose their history when their particle changes
  * process), "resplit" (the parts do not take in a pour batch or a stage's change).
  *
+ * output.pieces (pieces): every frame of a split run as a .pvtu of one .vtu per process; the
+ * pieces together hold every particle once, with the serial frame's bits (press on 2, 3, 4
+ * processes, hopper on 3); control: pieces with the ghosts too ("pieces") are caught.
+ *
  * Run as `test_split_features GROUP`, GROUP one of press, pour, hopper, mesh_servo, restart,
- * controls (one ctest test each). */
+ * controls, pieces (one ctest test each). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -26,6 +30,7 @@
 #include <cmocka.h>
 
 #include "adem/adem.h"
+#include "adem/frames.h"
 #include "cli_run.h"
 #include "feature_cases.h"
 #include "insert.h"
@@ -69,7 +74,8 @@ static int adem_np(int np, const char *brk, const char *fmt, ...) {
   return WEXITSTATUS(status);
 }
 
-static char *slurp(const char *path) {
+/* The file's bytes (at most 4 MiB; *len their count if len) with a NUL after, or NULL. */
+static char *slurp_n(const char *path, size_t *len) {
   FILE *f = fopen(path, "rb");
   if (!f) return NULL;
   char *b = malloc(1 << 22);
@@ -77,8 +83,11 @@ static char *slurp(const char *path) {
   size_t n = fread(b, 1, (1 << 22) - 1, f);
   b[n] = '\0';
   fclose(f);
+  if (len) *len = n;
   return b;
 }
+
+static char *slurp(const char *path) { return slurp_n(path, NULL); }
 
 typedef struct membuf {
   unsigned char *d;
@@ -298,6 +307,132 @@ static void test_controls(void **state) {
   free(y);
 }
 
+/* Frame k of tmpdir/dir: the .vtu, or the .pvtu's np pieces together (checked: the .pvtu names
+ * them); the particles by id in *ids order. */
+static adem_vtu_frame read_frame(const char *dir, int k, int np) {
+  char path[700];
+  adem_vtu_frame all;
+  memset(&all, 0, sizeof all);
+  adem_error err;
+  if (np == 0) {
+    snprintf(path, sizeof path, "%s/%s/frames/particles_%06d.vtu", tmpdir, dir, k);
+    if (adem_vtu_read_file(path, &all, &err)) fail_msg("%s", err.message);
+    return all;
+  }
+  snprintf(path, sizeof path, "%s/%s/frames/particles_%06d.pvtu", tmpdir, dir, k);
+  char *pv = slurp(path);
+  if (!pv) fail_msg("no %s", path);
+  size_t cap = 0;
+  for (int q = 0; q < np; ++q) {
+    char src[128];
+    snprintf(src, sizeof src, "<Piece Source=\"particles_%06d_p%d.vtu\"/>", k, q);
+    if (!strstr(pv, src)) fail_msg("%s does not name piece %d", path, q);
+    snprintf(path, sizeof path, "%s/%s/frames/particles_%06d_p%d.vtu", tmpdir, dir, k, q);
+    adem_vtu_frame f;
+    if (adem_vtu_read_file(path, &f, &err)) fail_msg("%s", err.message);
+    if (all.n + f.n > cap) {
+      cap = 2 * (all.n + f.n) + 16;
+      all.pos = realloc(all.pos, cap * sizeof *all.pos);
+      all.radius = realloc(all.radius, cap * sizeof *all.radius);
+      all.id = realloc(all.id, cap * sizeof *all.id);
+      assert_true(all.pos && all.radius && all.id);
+    }
+    memcpy(all.pos + all.n, f.pos, f.n * sizeof *f.pos);
+    memcpy(all.radius + all.n, f.radius, f.n * sizeof *f.radius);
+    memcpy(all.id + all.n, f.id, f.n * sizeof *f.id);
+    all.n += f.n;
+    all.time = f.time;
+    all.step = f.step;
+    adem_vtu_frame_free(&f);
+  }
+  free(pv);
+  return all;
+}
+
+/* What differs between two frames, compared by id (each id once), or NULL. */
+static const char *frames_differ(const adem_vtu_frame *a, const adem_vtu_frame *b) {
+  if (a->n != b->n) return "the particle count";
+  if (memcmp(&a->time, &b->time, sizeof a->time) || a->step != b->step) return "the time";
+  size_t n = a->n;
+  long long *where = malloc((n + 1) * sizeof *where);
+  assert_non_null(where);
+  for (size_t i = 0; i < n; ++i) where[i] = -1;
+  const char *why = NULL;
+  for (size_t i = 0; i < n && !why; ++i) {
+    if (b->id[i] < 0 || (size_t)b->id[i] >= n || where[b->id[i]] >= 0) why = "the ids";
+    else where[b->id[i]] = (long long)i;
+  }
+  for (size_t i = 0; i < n && !why; ++i) {
+    if (a->id[i] < 0 || (size_t)a->id[i] >= n || where[a->id[i]] < 0) why = "the ids";
+    else {
+      size_t j = (size_t)where[a->id[i]];
+      if (memcmp(&a->pos[i], &b->pos[j], sizeof a->pos[i]) ||
+          memcmp(&a->radius[i], &b->radius[j], sizeof a->radius[i]))
+        why = "a position or radius";
+    }
+  }
+  free(where);
+  return why;
+}
+
+/* The frames of `adem run` and of `mpirun -np np` with output.pieces (brk: a control): the
+ * same particles (every id once), the same bits; the PVD lists the .pvtu files. */
+static const char *pieces_differ(const char *yaml, const char *name, int np, const char *brk,
+                                 int nframes) {
+  char serial[64], d[64], path[700];
+  snprintf(serial, sizeof serial, "%s_pserial", name);
+  snprintf(d, sizeof d, "%s_pieces%d%s", name, np, brk ? brk : "");
+  snprintf(path, sizeof path, "%s/%s/checkpoint", tmpdir, serial);
+  FILE *done = fopen(path, "rb"); /* the serial run once per case */
+  if (done) fclose(done);
+  else
+    assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, serial), 0);
+  assert_int_equal(adem_np(np, brk, "run '%s' --out '%s/%s' --set output.pieces=true --threads 1 --quiet",
+                           yaml, tmpdir, d), 0);
+  snprintf(path, sizeof path, "%s/%s/particles.pvd", tmpdir, d);
+  char *pvd = slurp(path);
+  assert_non_null(pvd);
+  char entry[64];
+  snprintf(entry, sizeof entry, "frames/particles_%06d.pvtu", nframes - 1);
+  assert_non_null(strstr(pvd, entry));
+  free(pvd);
+  const char *why = differs(serial, d);
+  for (int k = 0; k < nframes && !why; ++k) {
+    adem_vtu_frame a = read_frame(serial, k, 0), b = read_frame(d, k, np);
+    why = frames_differ(&a, &b);
+    adem_vtu_frame_free(&a);
+    adem_vtu_frame_free(&b);
+    char pa[700], pb[700];
+    snprintf(pa, sizeof pa, "%s/%s/frames/mesh_%06d.vtu", tmpdir, serial, k);
+    snprintf(pb, sizeof pb, "%s/%s/frames/mesh_%06d.vtu", tmpdir, d, k);
+    size_t na = 0, nb = 0;
+    char *ma = slurp_n(pa, &na), *mb = slurp_n(pb, &nb); /* the mesh frames: the same bytes */
+    if (!why && (!ma) != (!mb)) why = "the mesh frames";
+    if (!why && ma && (na != nb || memcmp(ma, mb, na) != 0)) why = "a mesh frame";
+    free(ma);
+    free(mb);
+  }
+  return why;
+}
+
+static void test_pieces(void **state) {
+  (void)state;
+  char *y = case_file("press.yaml", press_case);
+  for (int np = 2; np <= 4; ++np) {
+    const char *why = pieces_differ(y, "press", np, NULL, 6);
+    if (why) fail_msg("frames in pieces on %d processes: %s differs", np, why);
+    printf("# press, %d processes: the 6 frames' pieces together are the serial frames\n", np);
+  }
+  const char *why = pieces_differ(y, "press", 3, "pieces", 6);
+  printf("# control: pieces with the ghosts: %s\n", why ? why : "no difference");
+  if (!why) fail_msg("a piece with ghosts is not seen");
+  free(y);
+  y = hopper_file(); /* meshes: the mesh frames too */
+  why = pieces_differ(y, "hopper", 3, NULL, 4);
+  if (why) fail_msg("hopper in pieces on 3 processes: %s differs", why);
+  free(y);
+}
+
 static int setup(void **state) {
   (void)state;
   return tmpdir_make("adem_split_features") ? -1 : 0;
@@ -308,8 +443,9 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_press),   cmocka_unit_test(test_pour),
       cmocka_unit_test(test_hopper),  cmocka_unit_test(test_mesh_servo),
       cmocka_unit_test(test_restart), cmocka_unit_test(test_controls),
+      cmocka_unit_test(test_pieces),
   };
-  const char *names[] = {"press", "pour", "hopper", "mesh_servo", "restart", "controls"};
+  const char *names[] = {"press", "pour", "hopper", "mesh_servo", "restart", "controls", "pieces"};
   int n = (int)(sizeof all / sizeof all[0]);
   if (argc > 1) {
     for (int k = 0; k < n; ++k)
