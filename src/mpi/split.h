@@ -17,8 +17,8 @@
 
 typedef struct adem_split adem_split;
 
-/* Why a world cannot be split yet (periodic axes, no particles), as "its ...", or NULL when
- * it can. */
+/* Why a world cannot be split yet (three periodic axes: no axis to cut along; no particles),
+ * as "its ...", or NULL when it can. */
 const char *adem_split_refusal(const adem_world *w);
 
 /* Splits a prepared world, whole and the same on every process of comm: *local becomes this
@@ -45,9 +45,9 @@ size_t adem_split_owned(const adem_split *s, const adem_world *local);
 void adem_split_free(adem_split *s);
 /* A test's control (tests/mpi/test_split_features.c): true when the environment has
  * ADEM_SPLIT_BREAK=what, which leaves one exchange out ("plane_forces", "face_loads",
- * "mesh_history", "resplit"; "pieces": a frame piece holds the process's
- * ghosts too), so that the test shows it sees the difference. Never set in a
- * real run. */
+ * "mesh_history", "resplit"; "pieces": a frame piece holds the process's ghosts too;
+ * "periodic_axis": slabs along a periodic axis, with no images across its faces), so that the
+ * test shows it sees the difference. Never set in a real run. */
 bool adem_split_break(const char *what);
 
 #endif
