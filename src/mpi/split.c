@@ -788,6 +788,37 @@ static adem_status mesh_loads_hook(void *ctx, adem_world *w, adem_error *err) {
   return face_loads(s, w, &w->walls, true, err);
 }
 
+static int compare_id_term(const void *x, const void *y) {
+  const adem_id_term *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* Sums of terms over every process's own particles, in the serial order (id, then seq), on
+ * every process. Collective. */
+static adem_status sum_terms_hook(void *ctx, const adem_world *w, const adem_id_term *t,
+                                  size_t n, double *out, int nout, adem_error *err) {
+  adem_split *s = ctx;
+  bytes mine = {0}, all = {0};
+  adem_status st = ADEM_OK;
+  for (size_t k = 0; k < n && !st; ++k)
+    if (owner(s, &w->p, t[k].i) == s->rank && !bytes_put(&mine, &t[k], sizeof t[k]))
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  st = adem_split_agree(s, st, err);
+  if (!st) st = allgather(s, &mine, &all, err);
+  for (int k = 0; k < nout; ++k) out[k] = 0.0;
+  if (!st) {
+    size_t m = all.n / sizeof(adem_id_term);
+    adem_id_term *a = (adem_id_term *)(void *)all.d;
+    qsort(a, m, sizeof *a, compare_id_term);
+    for (size_t k = 0; k < m; ++k)
+      if (a[k].slot < (uint32_t)nout) out[a[k].slot] += a[k].v;
+  }
+  free(mine.d);
+  free(all.d);
+  return st;
+}
+
 /* ---------------------------------------------------------------- set-up */
 
 const char *adem_split_refusal(const adem_world *w) {
@@ -934,7 +965,7 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   if (!st) {
     w->nb.rmax_floor = s->rmax;
     s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook, plane_forces_hook,
-                                 mesh_loads_hook};
+                                 mesh_loads_hook, sum_terms_hook};
     w->split = &s->hooks;
     st = make_lists(s, w, err);
   }

@@ -2,7 +2,8 @@
  * under `mpirun -np N adem run` for N = 1, 2, 3 and 4: servo walls (plane forces every step),
  * stages (one cut short by its `until`), time.until, output.regions (tests/mpi/feature_cases.h,
  * press), pours (pour, also into an empty box), mesh walls (hopper: the flagship's meshes, a gate moved and switched
- * off by a stage) and a mesh servo (face loads every step). Compared: the final checkpoint's
+ * off by a stage) and a mesh servo (face loads every step; with a gain far too high, its
+ * stability warnings are the serial run's). Compared: the final checkpoint's
  * particles by id (every field), contacts with their histories, diagnostics and plane forces
  * (split_compare.h), the face loads, the walls' state (servos), the stages' and pours' state,
  * and the CSV time series as text. A checkpoint written by 3 processes resumes on 2 to the
@@ -46,8 +47,11 @@
 #include "stages.h"
 #include "world.h"
 
+/* What the last adem_np printed. */
+static char np_out[1 << 16];
+
 /* Runs `adem ARGS` under `mpirun -np np` (np 0: plain `adem ARGS`), with ADEM_SPLIT_BREAK=brk
- * when brk is not NULL; the exit status. */
+ * when brk is not NULL; the exit status, the output in np_out. */
 static int adem_np(int np, const char *brk, const char *fmt, ...) {
   char args[4096];
   va_list ap;
@@ -65,6 +69,10 @@ static int adem_np(int np, const char *brk, const char *fmt, ...) {
              brk ? "-x ADEM_SPLIT_BREAK" : "", ADEM_BINARY, args, log);
   int status = system(cmd);
   assert_true(status != -1 && WIFEXITED(status));
+  FILE *lf = fopen(log, "r");
+  size_t got = lf ? fread(np_out, 1, sizeof np_out - 1, lf) : 0;
+  np_out[got] = '\0';
+  if (lf) fclose(lf);
   char how[128] = "";
   if (np) snprintf(how, sizeof how, "%s%s%smpirun -np %d ", brk ? "ADEM_SPLIT_BREAK=" : "",
                    brk ? brk : "", brk ? " " : "", np);
@@ -247,10 +255,51 @@ static void test_hopper(void **state) {
   free(y);
 }
 
+/* The lines of text that hold `what`, in order (a static buffer). */
+static const char *lines_with(const char *text, const char *what) {
+  static char buf[8192];
+  size_t n = 0;
+  buf[0] = '\0';
+  for (const char *l = text; *l;) {
+    size_t len = strcspn(l, "\n");
+    const char *hit = strstr(l, what);
+    if (hit && hit < l + len && n + len + 2 < sizeof buf) {
+      memcpy(buf + n, l, len);
+      n += len;
+      buf[n++] = '\n';
+      buf[n] = '\0';
+    }
+    l += len + (l[len] == '\n');
+  }
+  return buf;
+}
+
 static void test_mesh_servo(void **state) {
   (void)state;
   char *y = mesh_servo_file();
   runs_equal(y, "mesh_servo");
+  /* a gain a thousand times too high: the stability warnings (stiffness summed over every
+   * process's contacts in the serial order) are the serial run's, word for word */
+  char text[8192] = "";
+  for (const char *at = mesh_servo_case, *g; *at; at = g + 9) {
+    g = strstr(at, "gain: 5.0");
+    if (!g) {
+      strncat(text, at, sizeof text - strlen(text) - 1);
+      break;
+    }
+    strncat(text, at, (size_t)(g - at));
+    strncat(text, "gain: 5000.0", sizeof text - strlen(text) - 1);
+  }
+  free(y);
+  y = case_file("servo_case/servo_warn.yaml", text);
+  const char *sets = "--set time.end=0.016";
+  assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/warn_serial' %s --threads 1", y, tmpdir, sets), 0);
+  char serial[8192];
+  snprintf(serial, sizeof serial, "%s", lines_with(np_out, "may be unstable"));
+  assert_non_null(strstr(serial, "may be unstable"));
+  assert_int_equal(adem_np(3, NULL, "run '%s' --out '%s/warn_np3' %s --threads 1", y, tmpdir, sets), 0);
+  assert_string_equal(serial, lines_with(np_out, "may be unstable"));
+  printf("# gain 5000, 3 processes: the servo warnings are the serial run's:\n%s", serial);
   free(y);
 }
 
