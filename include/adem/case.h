@@ -20,6 +20,7 @@ typedef struct adem_output_settings {
   double checkpoint_interval; /* checkpoint rewrites */
   int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
   int plot_loads;             /* 1: write a PNG of the wall loads against time at the end */
+  int pieces;                 /* 1: split over processes, a frame is a .pvtu of one piece each */
   /* output.track: particles whose rolling torque, angular velocity and distance from their
    * initial centre get CSV columns. */
   int ntrack;

@@ -844,49 +844,91 @@ static void servo_warn(adem_motion *m, const char *name, double K, double dt) {
            "from its contacts); lower the gain", name, m->servo.gain, K, dt, g);
 }
 
-/* Warns once per servo whose gain K dt exceeds 0.5, K the sum of its contacts' stiffnesses. */
+/* The mesh wall (index among the mesh walls) whose measuring servo group g is, or -1. */
+static int measuring_wall(const adem_walls *wl, int g) {
+  if (!wl->mesh_motion[g].servo.on || wl->mesh_motion[g].servo.unmeasured) return -1;
+  for (int k = 0; k < wl->nmesh_walls; ++k)
+    if (g >= wl->mesh_walls[k].first && g < wl->mesh_walls[k].first + wl->mesh_walls[k].count)
+      return k;
+  return -1;
+}
+
+/* Warns once per servo whose gain K dt exceeds 0.5, K the sum of its contacts' stiffnesses:
+ * slot k of the sums a plane's, nplanes + k mesh wall k's, each over the particles by id and
+ * their contacts in order, as every sum (order independence); a split world adds the terms of
+ * every process so (adem_world_split.sum_terms). */
 static void servo_check(adem_world *w) {
   adem_walls *wl = &w->walls;
-  for (int k = 0; k < wl->nplanes; ++k) {
-    adem_motion *m = &wl->planes[k].motion;
-    if (!m->servo.on || m->servo_warned) continue;
-    double K = 0.0; /* over the particles by id, as every sum (order independence) */
-    for (size_t r = 0; r < w->nb.gathered; ++r) {
-      size_t i = w->nb.id_order[r];
-      for (size_t e = w->nb.pw_start[i]; e < w->nb.pw_start[i + 1]; ++e) {
+  int np = wl->nplanes, ns = np + wl->nmesh_walls;
+  adem_motion **lead = calloc((size_t)ns + 1, sizeof *lead);
+  double *K = calloc((size_t)ns + 1, sizeof *K);
+  size_t n = 0, cap = 64;
+  adem_id_term *t = malloc(cap * sizeof *t);
+  bool ok = lead && K && t;
+  for (int k = 0; ok && k < ns; ++k) {
+    adem_motion *m = k < np ? &wl->planes[k].motion
+                            : (adem_motion *)adem_walls_mesh_wall_servo(wl, k - np);
+    lead[k] = m && m->servo.on && !m->servo_warned ? m : NULL;
+  }
+  for (size_t r = 0; ok && r < w->nb.gathered; ++r) {
+    size_t i = w->nb.id_order[r];
+    uint32_t seq = 0;
+    size_t e0 = w->nb.pw_start[i], e1 = w->nb.pw_start[i + 1];
+    size_t j0 = w->pm.start ? w->pm.start[i] : 0, j1 = w->pm.start ? w->pm.start[i + 1] : 0;
+    for (size_t e = e0; ok && e < e1 + (j1 - j0); ++e) {
+      int slot;
+      double v;
+      if (e < e1) { /* a plane contact */
         size_t j = w->nb.pw_entries[e];
-        if (w->pw.b[j] == (uint32_t)k) K += contact_stiffness(&w->pw, j, &w->p);
+        slot = w->pw.b[j] < (uint32_t)np ? (int)w->pw.b[j] : -1;
+        v = slot >= 0 && lead[slot] ? contact_stiffness(&w->pw, j, &w->p) : 0.0;
+      } else { /* a mesh slot: the touching ones come first */
+        size_t j = j0 + (e - e1);
+        if (!w->pm.l.touching[j]) break;
+        int k = measuring_wall(wl, (int)wl->mesh.group[w->pm.owner[j]]);
+        slot = k < 0 ? -1 : np + k;
+        v = slot >= 0 && lead[slot] ? contact_stiffness(&w->pm.l, j, &w->p) : 0.0;
       }
-    }
-    servo_warn(m, wl->planes[k].def.name, K, w->dt);
-  }
-  for (int k = 0; k < wl->nmesh_walls; ++k) {
-    const adem_mesh_wall *mw = &wl->mesh_walls[k];
-    adem_motion *lead = (adem_motion *)adem_walls_mesh_wall_servo(wl, k);
-    if (!lead || lead->servo_warned) continue;
-    double K = 0.0;
-    for (size_t r = 0; r < w->nb.gathered && w->pm.start; ++r) {
-      size_t i = w->nb.id_order[r];
-      for (size_t j = w->pm.start[i]; j < w->pm.start[i + 1] && w->pm.l.touching[j]; ++j) {
-        int g = (int)wl->mesh.group[w->pm.owner[j]];
-        if (g >= mw->first && g < mw->first + mw->count && wl->mesh_motion[g].servo.on &&
-            !wl->mesh_motion[g].servo.unmeasured)
-          K += contact_stiffness(&w->pm.l, j, &w->p);
+      if (slot < 0 || !lead[slot]) continue;
+      if (n == cap) {
+        adem_id_term *q = realloc(t, 2 * cap * sizeof *q);
+        if (!q) {
+          ok = false;
+          break;
+        }
+        t = q;
+        cap *= 2;
       }
+      t[n++] = (adem_id_term){w->p.id[i], (uint32_t)i, seq++, (uint32_t)slot, 0, v};
     }
-    servo_warn(lead, mw->name, K, w->dt);
   }
+  const adem_world_split *sp = w->split;
+  if (sp) { /* every process, even one out of memory: the sums are collective */
+    adem_error ignored;
+    if (sp->sum_terms(sp->ctx, w, ok ? t : NULL, ok ? n : 0, K, ns, &ignored)) ok = false;
+  } else {
+    for (size_t k = 0; ok && k < n; ++k) K[t[k].slot] += t[k].v;
+  }
+  for (int k = 0; ok && k < ns; ++k)
+    if (lead[k])
+      servo_warn(lead[k], k < np ? wl->planes[k].def.name : wl->mesh_walls[k - np].name, K[k], w->dt);
+  free(lead);
+  free(K);
+  free(t);
 }
 
 /* The servos move by their laws from the last force pass's loads, before the walls are placed. */
-static adem_status servo_step(adem_world *w, double dt) {
+static adem_status servo_step(adem_world *w, double dt, adem_error *err) {
+  const adem_world_split *sp = w->split;
   if (w->step % 64 == 0) servo_check(w); /* a warning: now and then is enough */
   adem_vec3 *f = malloc((size_t)(w->walls.nplanes > 0 ? w->walls.nplanes : 1) * sizeof *f);
-  if (!f) return ADEM_ERR_NOMEM;
-  adem_world_plane_forces(w, f);
-  adem_walls_servo_step(&w->walls, f, dt);
+  adem_status st = ADEM_OK;
+  if (sp) st = sp->plane_forces(sp->ctx, w, f, err); /* the whole system's (collective) */
+  else if (f) adem_world_plane_forces(w, f);
+  if (!f && !st) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st) adem_walls_servo_step(&w->walls, f, dt);
   free(f);
-  return ADEM_OK;
+  return st;
 }
 
 adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
@@ -912,8 +954,8 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     if (adem_walls_has_servo(&w->walls)) {
-      adem_status st = servo_step(w, dt);
-      if (st) return adem_error_set(err, st, "out of memory");
+      adem_status st = servo_step(w, dt, err);
+      if (st) return st;
     }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
     bool rebuild = adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads);
@@ -923,6 +965,10 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     compute_forces(w, s + 1 == nsteps);
+    if (sp && w->walls.mesh.ntris > 0 && adem_walls_has_servo(&w->walls)) {
+      adem_status st = sp->mesh_loads(sp->ctx, w, err); /* the servos' next measure */
+      if (st) return st;
+    }
     adem_particles_kick(&w->p, 0.5 * dt, true, nthreads);
     w->step++;
     w->time = (double)w->step * dt;

@@ -19,6 +19,14 @@
 #include "stream.h"
 #include "walls.h"
 
+/* A term of a sum over particles in id order: particle id (and index here), its place among the
+ * particle's terms, the sum it belongs to (slot) and its value. */
+typedef struct adem_id_term {
+  uint64_t id;
+  uint32_t i, seq, slot, pad;
+  double v;
+} adem_id_term;
+
 /* A world that holds one part of a system split over processes (src/mpi): its own particles and
  * copies of the others' near its part. adem_world_step calls these at fixed points of every
  * step, on every process alike; the library without MPI never sets them. */
@@ -31,6 +39,17 @@ typedef struct adem_world_split {
   bool (*any)(void *ctx, bool yes);
   /* the neighbour build: particles go to their new owners and copies first */
   adem_status (*build)(void *ctx, adem_world *w, adem_error *err);
+  /* the whole system's plane forces, the serial sum (adem_world_plane_forces: over the
+   * particles by id), on every process: the servos move by them */
+  adem_status (*plane_forces)(void *ctx, const adem_world *w, adem_vec3 *out, adem_error *err);
+  /* after the force pass of a world with meshes and servos: the face loads (walls.face_force,
+   * face_torque) become the whole system's, the serial sum, on every process */
+  adem_status (*mesh_loads)(void *ctx, adem_world *w, adem_error *err);
+  /* sums out[0 .. nout) of the terms of this process's own particles and of every other
+   * process's, each added in the order of (id, seq): the serial sums (the servo stability
+   * warning's stiffnesses) */
+  adem_status (*sum_terms)(void *ctx, const adem_world *w, const adem_id_term *t, size_t n,
+                           double *out, int nout, adem_error *err);
 } adem_world_split;
 
 /* Every field that changes while stepping is saved by adem_world_save (tests/golden/test_restart.c

@@ -2006,6 +2006,8 @@ static adem_status build(case_ctx *ctx) {
   o->plot = plot;
   if ((st = adem_yaml_get_bool(ctx, &out, "plot_loads", &plot))) return st;
   o->plot_loads = plot;
+  if ((st = adem_yaml_get_bool(ctx, &out, "pieces", &plot))) return st;
+  o->pieces = plot;
   bool balance;
   if ((st = adem_yaml_get_bool(ctx, &out, "energy_balance", &balance))) return st;
   adem_world_set_energy_balance(ctx->w, balance);

@@ -27,6 +27,13 @@ struct adem_split {
   int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
 };
 
+bool adem_split_break(const char *what) {
+  const char *b = getenv("ADEM_SPLIT_BREAK");
+  return b && strcmp(b, what) == 0;
+}
+
+static bool split_broken(const char *what) { return adem_split_break(what); }
+
 /* ---------------------------------------------------------------- byte buffers */
 
 typedef struct bytes {
@@ -86,7 +93,8 @@ typedef struct ghost_state {
   uint8_t held;
 } ghost_state;
 
-/* A touching pair's history at a rebuild: ids (a lower), or id and plane (wall = 1). */
+/* A touching pair's history at a rebuild: ids (a lower), or id and plane (wall = 1), or id
+ * and mesh contact key (wall = 2). */
 typedef struct history_rec {
   uint64_t ka, kb, wall;
   adem_contact_history h;
@@ -398,6 +406,43 @@ static size_t find_id(const id_index *m, size_t n, uint64_t id) {
   return lo < n && m[lo].id == id ? m[lo].i : SIZE_MAX;
 }
 
+/* Keeps the mesh slots of this process's own particles (a ghost's mesh contacts are its
+ * owner's to compute), for particles now at i that were at from[i] when the slots were laid
+ * out (from NULL: where they are), n of them. */
+static adem_status keep_own_mesh_slots(adem_split *s, adem_world *w, const size_t *from, size_t n) {
+  adem_mesh_pairs *pm = &w->pm;
+  const adem_particles *p = &w->p;
+  if (!pm->start || w->walls.mesh.ntris == 0) {
+    pm->l.n = 0;
+    if (pm->start) memset(pm->start, 0, (n + 1) * sizeof *pm->start);
+    return ADEM_OK;
+  }
+  size_t *keep = calloc(pm->l.n + 1, sizeof *keep), *start = malloc((n + 1) * sizeof *start);
+  if (!keep || !start || pm->start_cap < n + 1) {
+    free(keep);
+    free(start);
+    return ADEM_ERR_NOMEM;
+  }
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) {
+    start[i] = m;
+    if (owner(s, p, i) != s->rank) continue;
+    size_t o = from ? from[i] : i;
+    for (size_t k = pm->start[o]; k < pm->start[o + 1]; ++k) keep[m++] = k;
+  }
+  start[n] = m;
+  pm->l.n = m;
+  adem_status st = adem_mesh_pairs_permute(pm, keep);
+  if (!st) {
+    memcpy(pm->start, start, (n + 1) * sizeof *start);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t k = start[i]; k < start[i + 1]; ++k) pm->l.a[k] = (uint32_t)i;
+  }
+  free(keep);
+  free(start);
+  return st;
+}
+
 /* Keeps the pairs with one of this process's particles (a for a wall pair): a pair of two
  * ghosts is another process's to compute. Then the gather lists. */
 static adem_status keep_own_pairs(adem_split *s, adem_world *w) {
@@ -417,6 +462,7 @@ static adem_status keep_own_pairs(adem_split *s, adem_world *w) {
     st = adem_pairs_permute(L, keep);
   }
   free(keep);
+  if (!st) st = keep_own_mesh_slots(s, w, NULL, p->n);
   if (!st) st = adem_world_gather(w);
   return st;
 }
@@ -489,6 +535,18 @@ static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
     if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
       st = ADEM_ERR_NOMEM;
   }
+  const adem_mesh_pairs *pm = &w->pm;
+  bool no_mesh_history = split_broken("mesh_history"); /* the test's control */
+  for (size_t k = 0; k < pm->l.n && pm->start && !no_mesh_history && !st; ++k) {
+    /* mesh contacts: by id and key */
+    size_t a = pm->l.a[k];
+    if (!pm->l.touching[k] || owner(s, p, a) != me) continue;
+    history_rec r;
+    memset(&r, 0, sizeof r);
+    r = (history_rec){p->id[a], pm->key[k], 2, pm->l.hist[k]};
+    if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
+      st = ADEM_ERR_NOMEM;
+  }
   for (size_t i = 0; i < p->n && !st; ++i) {
     if (owner(s, p, i) != me) continue;
     double x = along(p->pos[i], s->axis);
@@ -519,7 +577,7 @@ static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
   qsort(map, n, sizeof *map, compare_id_index);
 
   /* the histories as touching pairs, for the build to carry over */
-  size_t nh = hin.n / sizeof(history_rec), m[2] = {0, 0};
+  size_t nh = hin.n / sizeof(history_rec), m[3] = {0, 0, 0};
   hr = malloc((nh + 1) * sizeof *hr);
   if (!hr) {
     st = ADEM_ERR_NOMEM;
@@ -527,32 +585,36 @@ static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
   }
   if (nh) memcpy(hr, hin.d, nh * sizeof *hr);
   qsort(hr, nh, sizeof *hr, compare_history);
-  adem_pair_list *lists[2] = {&w->pp, &w->pw};
+  /* particle pairs, plane contacts (wall 1: b the plane), mesh contacts (wall 2: b the key,
+   * which the build puts in the particle's first slots) */
+  adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
   for (int pass = 0; pass < 2 && !st; ++pass) {
-    m[0] = m[1] = 0;
+    m[0] = m[1] = m[2] = 0;
     for (size_t k = 0; k < nh; ++k) {
       if (k > 0 && compare_history(&hr[k - 1], &hr[k]) == 0) continue; /* held on both sides */
       size_t a = find_id(map, n, hr[k].ka);
       size_t b = hr[k].wall ? (size_t)hr[k].kb : find_id(map, n, hr[k].kb);
       if (a == SIZE_MAX || b == SIZE_MAX) continue; /* a partner beyond reach: no candidate */
-      int l = hr[k].wall ? 1 : 0;
+      int l = (int)hr[k].wall;
       adem_pair_list *L = lists[l];
       if (pass == 1) {
         L->a[m[l]] = (uint32_t)a;
-        L->b[m[l]] = (uint32_t)b;
+        L->b[m[l]] = l == 2 ? 0u : (uint32_t)b;
         adem_pairs_clear(L, m[l]);
+        if (l == 2) w->pm.key[m[l]] = hr[k].kb;
         L->hist[m[l]] = hr[k].h;
         L->touching[m[l]] = true;
       }
       m[l]++;
     }
-    if (pass == 0 && (adem_pairs_reserve(&w->pp, m[0]) || adem_pairs_reserve(&w->pw, m[1])))
+    if (pass == 0 && (adem_pairs_reserve(&w->pp, m[0]) || adem_pairs_reserve(&w->pw, m[1]) ||
+                      adem_pairs_reserve(&w->pm.l, m[2]) || adem_mesh_pairs_reserve(&w->pm)))
       st = ADEM_ERR_NOMEM;
   }
   if (st) goto done;
   w->pp.n = m[0];
   w->pw.n = m[1];
-  w->pm.l.n = 0; /* no meshes (adem_split_refusal) */
+  w->pm.l.n = m[2];
   w->nb.rmax_floor = s->rmax;
   st = adem_world_build_neighbors(w, err);
   if (st) goto out;
@@ -572,13 +634,198 @@ out:
   return st;
 }
 
+/* Gathers the bytes of every rank to every rank, in rank order (into *in). Collective. */
+static adem_status allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
+  int n = mine->n > INT_MAX ? -1 : (int)mine->n;
+  MPI_Allgather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
+  size_t total = 0;
+  int ok = 1;
+  for (int q = 0; q < s->size; ++q) {
+    if (s->bytes_a[q] < 0) ok = 0;
+    s->bytes_b[q] = (int)(total <= INT_MAX ? total : 0);
+    total += s->bytes_a[q] > 0 ? (size_t)s->bytes_a[q] : 0;
+  }
+  if (total > INT_MAX) ok = 0;
+  in->d = ok ? malloc(total + 1) : NULL;
+  in->n = in->cap = total;
+  int mine_ok = in->d != NULL, all_ok = 0;
+  MPI_Allreduce(&mine_ok, &all_ok, 1, MPI_INT, MPI_LAND, s->comm);
+  if (!all_ok) {
+    free(in->d);
+    in->d = NULL;
+    in->n = in->cap = 0;
+    return ok ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles")
+              : too_big(err);
+  }
+  MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
+                 s->comm);
+  return ADEM_OK;
+}
+
+/* A wall contact's share of a plane force: the particle's id and the contact's place in its
+ * gather list (the order the serial sum takes them in). */
+typedef struct wall_term {
+  uint64_t id;
+  uint32_t seq, wall;
+  adem_vec3 f;
+} wall_term;
+
+static int compare_wall_term(const void *x, const void *y) {
+  const wall_term *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* The plane forces of the whole system on every process, the serial sum's bits: every process
+ * sends every process its own particles' wall contact forces, and each sums all of them in the
+ * serial order (particles by id, each one's contacts as its gather list has them). An
+ * MPI_Allreduce would add in another order. Collective. */
+static adem_status plane_forces_hook(void *ctx, const adem_world *w, adem_vec3 *out,
+                                     adem_error *err) {
+  adem_split *s = ctx;
+  const adem_particles *p = &w->p;
+  const adem_neighbors *nb = &w->nb;
+  const adem_pair_list *l = &w->pw;
+  bytes mine = {0}, all = {0};
+  adem_status st = ADEM_OK;
+  bool alone = split_broken("plane_forces"); /* the test's control: this part's only */
+  for (size_t i = 0; i < nb->gathered && !st; ++i) {
+    if (owner(s, p, i) != s->rank) continue;
+    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1] && !st; ++e) {
+      size_t k = nb->pw_entries[e];
+      wall_term t;
+      memset(&t, 0, sizeof t);
+      t.id = p->id[i];
+      t.seq = (uint32_t)(e - nb->pw_start[i]);
+      t.wall = l->b[k];
+      t.f = l->res[k].force_a;
+      if (!bytes_put(&mine, &t, sizeof t)) st = ADEM_ERR_NOMEM;
+    }
+  }
+  if (st) adem_error_set(err, st, "out of memory summing the plane forces");
+  st = adem_split_agree(s, st, err);
+  if (!st && alone) {
+    all = mine;
+    mine = (bytes){0};
+  } else if (!st) {
+    st = allgather(s, &mine, &all, err);
+  }
+  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
+  if (!st) {
+    size_t m = all.n / sizeof(wall_term);
+    wall_term *t = (wall_term *)(void *)all.d;
+    qsort(t, m, sizeof *t, compare_wall_term);
+    for (size_t k = 0; k < m; ++k)
+      if (t[k].wall < (uint32_t)w->walls.nplanes) out[t[k].wall] = v3_sub(out[t[k].wall], t[k].f);
+  }
+  free(mine.d);
+  free(all.d);
+  return st;
+}
+
+static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
+
+/* A touching mesh contact's load on its face (the opposite of the particle's force, and its
+ * moment about the face's group's reference point less the rolling couple), by the particle's
+ * id and the contact's slot: the order of the serial sum (contacts.c, mesh_pairs). */
+typedef struct face_term {
+  uint64_t id;
+  uint32_t seq, tri;
+  adem_vec3 f, t;
+} face_term;
+
+static int compare_face_term(const void *x, const void *y) {
+  const face_term *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* The face loads of the whole system, the serial sum's bits, into `into` (on rank 0, or on
+ * every process): each process computes its own particles' terms as the serial pass does, and
+ * the receivers add them all in the serial order. Collective. */
+static adem_status face_loads(adem_split *s, const adem_world *w, adem_walls *into,
+                              bool everywhere, adem_error *err) {
+  const adem_particles *p = &w->p;
+  const adem_mesh_pairs *pm = &w->pm;
+  const adem_pair_list *l = &pm->l;
+  const adem_walls *wl = &w->walls;
+  bytes mine = {0}, all = {0};
+  adem_status st = ADEM_OK;
+  for (size_t i = 0; i < p->n && pm->start && !st; ++i) {
+    if (owner(s, p, i) != s->rank) continue;
+    for (size_t k = pm->start[i]; k < pm->start[i + 1] && l->touching[k] && !st; ++k) {
+      face_term t;
+      memset(&t, 0, sizeof t);
+      size_t tri = pm->owner[k];
+      t.id = p->id[i];
+      t.seq = (uint32_t)(k - pm->start[i]);
+      t.tri = (uint32_t)tri;
+      t.f = v3_neg(l->res[k].force_a);
+      adem_vec3 arm = v3_sub(pm->found[k].point, wl->mesh_ref[wl->mesh.group[tri]]);
+      t.t = v3_sub(v3_cross(arm, t.f), l->res[k].rolling_a);
+      if (!bytes_put(&mine, &t, sizeof t)) st = ADEM_ERR_NOMEM;
+    }
+  }
+  if (st) adem_error_set(err, st, "out of memory summing the face loads");
+  st = adem_split_agree(s, st, err);
+  if (!st) st = everywhere ? allgather(s, &mine, &all, err) : gather(s, &mine, &all, err);
+  if (!st && into) {
+    size_t m = all.n / sizeof(face_term);
+    face_term *t = (face_term *)(void *)all.d;
+    qsort(t, m, sizeof *t, compare_face_term);
+    adem_walls_clear_face_loads(into);
+    for (size_t k = 0; k < m; ++k) adem_walls_add_face_load(into, t[k].tri, t[k].f, t[k].t);
+  }
+  free(mine.d);
+  free(all.d);
+  return st;
+}
+
+/* After a force pass: the face loads the mesh servos move by, the whole system's. */
+static adem_status mesh_loads_hook(void *ctx, adem_world *w, adem_error *err) {
+  adem_split *s = ctx;
+  if (split_broken("face_loads")) return ADEM_OK; /* the control of the test: this part's only */
+  return face_loads(s, w, &w->walls, true, err);
+}
+
+static int compare_id_term(const void *x, const void *y) {
+  const adem_id_term *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* Sums of terms over every process's own particles, in the serial order (id, then seq), on
+ * every process. Collective. */
+static adem_status sum_terms_hook(void *ctx, const adem_world *w, const adem_id_term *t,
+                                  size_t n, double *out, int nout, adem_error *err) {
+  adem_split *s = ctx;
+  bytes mine = {0}, all = {0};
+  adem_status st = ADEM_OK;
+  for (size_t k = 0; k < n && !st; ++k)
+    if (owner(s, &w->p, t[k].i) == s->rank && !bytes_put(&mine, &t[k], sizeof t[k]))
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  st = adem_split_agree(s, st, err);
+  if (!st) st = allgather(s, &mine, &all, err);
+  for (int k = 0; k < nout; ++k) out[k] = 0.0;
+  if (!st) {
+    size_t m = all.n / sizeof(adem_id_term);
+    adem_id_term *a = (adem_id_term *)(void *)all.d;
+    qsort(a, m, sizeof *a, compare_id_term);
+    for (size_t k = 0; k < m; ++k)
+      if (a[k].slot < (uint32_t)nout) out[a[k].slot] += a[k].v;
+  }
+  free(mine.d);
+  free(all.d);
+  return st;
+}
+
 /* ---------------------------------------------------------------- set-up */
 
 const char *adem_split_refusal(const adem_world *w) {
-  if (w->walls.mesh.ntris > 0 || w->walls.nmesh_walls > 0) return "its mesh walls";
-  if (w->periodic.axes) return "its periodic axes";
-  if (adem_walls_has_servo(&w->walls)) return "its servo-controlled walls";
-  if (w->insert_rmin || w->admit_pending) return "its pours";
+  /* slabs along an axis that does not wrap hold the whole box along the periodic ones: the
+   * build's minimum images are found within each process's part */
+  if (w->periodic.axes == 7u) return "its periodic axes (all three)";
+  if (w->admit_pending) return "particles waiting to be admitted (a bug: admit them first)";
   if (w->p.n == 0) return "having no particles";
   return NULL;
 }
@@ -611,12 +858,18 @@ static adem_status world_copy(const adem_world *w, adem_world **out, adem_error 
   return ADEM_OK;
 }
 
-/* Cuts along the longest axis of the domain box at the quantiles of the centres (at the last
- * build): equal particle counts. */
+/* Cuts along the longest axis of the domain box that is not periodic, at the quantiles of the
+ * centres (at the last build): equal particle counts. */
 static adem_status place_cuts(adem_split *s, const adem_world *w) {
   const adem_particles *p = &w->p;
   adem_vec3 e = v3_sub(w->domain_hi, w->domain_lo);
-  s->axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;
+  double len[3] = {e.x, e.y, e.z};
+  s->axis = -1;
+  unsigned wraps = w->periodic.axes;
+  for (int d = 0; d < 3; ++d) /* the longest that does not wrap (adem_split_refusal) */
+    if (!(wraps & (1u << d)) && (s->axis < 0 || len[d] > len[s->axis])) s->axis = d;
+  if (wraps && split_broken("periodic_axis")) /* the test's control: along one that wraps */
+    s->axis = wraps & 1u ? 0 : wraps & 2u ? 1 : 2;
   size_t n = p->n;
   double *x = malloc((n + 1) * sizeof *x);
   s->cut = malloc((size_t)s->size * sizeof *s->cut);
@@ -673,7 +926,7 @@ static adem_status trim(adem_split *s, adem_world *w) {
     }
     free(kp);
   }
-  w->pm.l.n = 0; /* no meshes; start[] still holds n + 1 zeros */
+  if (!st) st = keep_own_mesh_slots(s, w, keep, m);
   free(keep);
   free(to);
   if (!st) st = adem_world_gather(w);
@@ -711,7 +964,8 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   if (!st && trim(s, w)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st) {
     w->nb.rmax_floor = s->rmax;
-    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook};
+    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook, plane_forces_hook,
+                                 mesh_loads_hook, sum_terms_hook};
     w->split = &s->hooks;
     st = make_lists(s, w, err);
   }
@@ -745,11 +999,95 @@ static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_erro
   return ADEM_OK;
 }
 
+/* A mesh slot for the assembly: its particle's id, its place in the particle's range, its
+ * triangle and key; then the pair record (put_pair). */
+typedef struct mesh_head {
+  uint64_t id;
+  uint32_t seq, owner;
+  uint64_t key;
+} mesh_head;
+
+typedef struct mesh_slot_ref {
+  uint64_t id;
+  uint32_t seq;
+  const unsigned char *at;
+} mesh_slot_ref;
+
+static int compare_mesh_slot(const void *x, const void *y) {
+  const mesh_slot_ref *a = x, *b = y;
+  if (a->id != b->id) return a->id < b->id ? -1 : 1;
+  return a->seq < b->seq ? -1 : a->seq > b->seq;
+}
+
+/* The gathered mesh slots into pm of the whole (its n particles stored by id: map), each
+ * particle's range in its order. */
+static adem_status put_mesh_slots(adem_mesh_pairs *pm, const bytes *in, const id_index *map,
+                                  size_t n) {
+  size_t rec = sizeof(mesh_head) + pair_bytes(), m = in->n / rec;
+  mesh_slot_ref *r = malloc((m + 1) * sizeof *r);
+  if (!r) return ADEM_ERR_NOMEM;
+  for (size_t k = 0; k < m; ++k) {
+    mesh_head h;
+    memcpy(&h, in->d + k * rec, sizeof h);
+    r[k] = (mesh_slot_ref){h.id, h.seq, in->d + k * rec};
+  }
+  qsort(r, m, sizeof *r, compare_mesh_slot);
+  adem_status st = adem_pairs_reserve(&pm->l, m);
+  if (!st) st = adem_mesh_pairs_reserve(pm);
+  if (!st) {
+    pm->l.n = m;
+    memset(pm->start, 0, (n + 1) * sizeof *pm->start);
+    for (size_t k = 0; k < m; ++k) {
+      mesh_head h;
+      memcpy(&h, r[k].at, sizeof h);
+      uint64_t ka, kb;
+      get_pair(&pm->l, k, r[k].at + sizeof h, &ka, &kb);
+      size_t i = find_id(map, n, ka);
+      if (i == SIZE_MAX) {
+        st = ADEM_ERR_RUNTIME;
+        break;
+      }
+      pm->l.a[k] = (uint32_t)i;
+      pm->l.b[k] = (uint32_t)kb;
+      pm->key[k] = h.key;
+      pm->owner[k] = h.owner;
+      pm->start[i + 1]++;
+    }
+    for (size_t i = 0; i < n; ++i) pm->start[i + 1] += pm->start[i];
+  }
+  free(r);
+  return st;
+}
+
+/* The walls' state (servo positions and speeds, the meshes' reference points) from one world
+ * into another of the same set-up, as a checkpoint carries it. */
+static adem_status copy_wall_state(const adem_world *from, adem_world *to) {
+  bytes b = {0};
+  adem_writer wr = adem_writer_make(mem_sink, &b);
+  adem_walls_save_state(&wr, &from->walls);
+  adem_reader rd = {b.d, b.d + b.n, 0};
+  if (!wr.failed) adem_walls_load_state(&rd, &to->walls);
+  adem_status st = wr.failed || rd.failed ? ADEM_ERR_NOMEM : ADEM_OK;
+  free(b.d);
+  return st;
+}
+
 adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
-                                adem_error *err) {
+                                bool everywhere, adem_error *err) {
   const adem_particles *p = &local->p;
-  bytes mine[3] = {{0}, {0}, {0}}, in[3] = {{0}, {0}, {0}};
+  bytes mine[4] = {{0}, {0}, {0}, {0}}, in[4] = {{0}, {0}, {0}, {0}};
   adem_status st = ADEM_OK;
+  const adem_mesh_pairs *lpm = &local->pm;
+  for (size_t i = 0; i < p->n && lpm->start && !st; ++i) { /* every mesh slot of its own */
+    if (owner(s, p, i) != s->rank) continue;
+    for (size_t k = lpm->start[i]; k < lpm->start[i + 1] && !st; ++k) {
+      mesh_head h;
+      memset(&h, 0, sizeof h);
+      h = (mesh_head){p->id[i], (uint32_t)(k - lpm->start[i]), lpm->owner[k], lpm->key[k]};
+      if (!bytes_put(&mine[3], &h, sizeof h) || !put_pair(&mine[3], &lpm->l, k, p->id[i], lpm->l.b[k]))
+        st = ADEM_ERR_NOMEM;
+    }
+  }
   for (size_t i = 0; i < p->n && !st; ++i)
     if (owner(s, p, i) == s->rank && !put_particle(&mine[0], p, i)) st = ADEM_ERR_NOMEM;
   for (size_t k = 0; k < local->pp.n && !st; ++k)
@@ -762,8 +1100,9 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
       st = ADEM_ERR_NOMEM;
   if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
   st = adem_split_agree(s, st, err);
-  for (int k = 0; k < 3 && !st; ++k) st = gather(s, &mine[k], &in[k], err);
-  if (!st && s->rank == 0) {
+  for (int k = 0; k < 4 && !st; ++k)
+    st = everywhere ? allgather(s, &mine[k], &in[k], err) : gather(s, &mine[k], &in[k], err);
+  if (!st && (everywhere || s->rank == 0)) {
     adem_particles *q = &whole->p;
     size_t rec = particle_bytes(), n = in[0].n / rec;
     uint32_t *order = malloc((n + 1) * sizeof *order);
@@ -798,7 +1137,6 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
         L->b[k] = l == 0 ? (uint32_t)find_id(map, n, kb) : (uint32_t)kb;
       }
     }
-    free(map);
     adem_mesh_pairs *pm = &whole->pm;
     if (!st && pm->start_cap < n + 1) {
       size_t *z = realloc(pm->start, (n + 1) * sizeof *z);
@@ -808,23 +1146,27 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
         pm->start_cap = n + 1;
       }
     }
+    if (!st) st = put_mesh_slots(pm, &in[3], map, n);
+    free(map);
     if (!st) {
-      pm->l.n = 0;
-      memset(pm->start, 0, (n + 1) * sizeof *pm->start);
       whole->time = local->time;
       whole->step = local->step;
       whole->nb.skin = local->nb.skin;
       whole->nb.rebuilds = local->nb.rebuilds;
       whole->nb.time_at_build = local->nb.time_at_build;
+      st = copy_wall_state(local, whole); /* servos: every process moves them alike */
       adem_world_place_walls(whole, local->time);
-      st = adem_world_gather(whole);
+      if (!st) st = adem_world_gather(whole);
     }
     if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
   }
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 4; ++k) {
     free(mine[k].d);
     free(in[k].d);
   }
+  st = adem_split_agree(s, st, err);
+  if (!st && local->walls.mesh.ntris > 0)
+    st = face_loads(s, local, everywhere || s->rank == 0 ? &whole->walls : NULL, everywhere, err);
   return adem_split_agree(s, st, err);
 }
 
@@ -836,6 +1178,29 @@ adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err) {
 }
 
 int adem_split_rank(const adem_split *s) { return s->rank; }
+
+adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, uint32_t **idx,
+                                 size_t *n) {
+  const adem_particles *p = &local->p;
+  id_index *m = malloc((p->n + 1) * sizeof *m);
+  uint32_t *x = malloc((p->n + 1) * sizeof *x);
+  *idx = NULL;
+  *n = 0;
+  if (!m || !x) {
+    free(m);
+    free(x);
+    return ADEM_ERR_NOMEM;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < p->n; ++i)
+    if (owner(s, p, i) == s->rank) m[k++] = (id_index){p->id[i], (uint32_t)i};
+  qsort(m, k, sizeof *m, compare_id_index);
+  for (size_t j = 0; j < k; ++j) x[j] = m[j].i;
+  free(m);
+  *idx = x;
+  *n = k;
+  return ADEM_OK;
+}
 
 size_t adem_split_owned(const adem_split *s, const adem_world *local) {
   size_t n = 0;

@@ -17,8 +17,8 @@
 
 typedef struct adem_split adem_split;
 
-/* Why a world cannot be split yet (meshes, pours, periodic axes, servos), as "its ..." in msg,
- * or NULL when it can. */
+/* Why a world cannot be split yet (three periodic axes: no axis to cut along; no particles),
+ * as "its ...", or NULL when it can. */
 const char *adem_split_refusal(const adem_world *w);
 
 /* Splits a prepared world, whole and the same on every process of comm: *local becomes this
@@ -26,17 +26,28 @@ const char *adem_split_refusal(const adem_world *w);
  * own), which adem_world_step then steps with the others. The cuts are taken here and kept. */
 adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split **out,
                               adem_world **local, adem_error *err);
-/* The whole system on rank 0 (into `whole`, a world prepared from the same case, as given to
- * create): every particle, every pair with its history and results, and the counters, so that
- * the serial outputs and checkpoints can be written from it. Collective. */
+/* The whole system on rank 0, or on every process when `everywhere` (into `whole`, a world
+ * prepared from the same case, as given to create): every particle, every pair with its
+ * history and results, the walls' state and the counters, so that the serial outputs and
+ * checkpoints can be written from it, and the serial decisions taken on it (run-until
+ * conditions, stage starts, pours). Collective. */
 adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
-                                adem_error *err);
+                                bool everywhere, adem_error *err);
 /* A status on every process: the largest (an error somewhere is an error everywhere; the
  * processes without one get "another process failed"). Collective. */
 adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err);
 int adem_split_rank(const adem_split *s);
+/* The indices in local of this process's own particles, by id (*idx: free it). */
+adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, uint32_t **idx,
+                                 size_t *n);
 /* Particles this process owns now. */
 size_t adem_split_owned(const adem_split *s, const adem_world *local);
 void adem_split_free(adem_split *s);
+/* A test's control (tests/mpi/test_split_features.c): true when the environment has
+ * ADEM_SPLIT_BREAK=what, which leaves one exchange out ("plane_forces", "face_loads",
+ * "mesh_history", "resplit"; "pieces": a frame piece holds the process's ghosts too;
+ * "periodic_axis": slabs along a periodic axis, with no images across its faces), so that the
+ * test shows it sees the difference. Never set in a real run. */
+bool adem_split_break(const char *what);
 
 #endif

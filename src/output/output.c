@@ -59,9 +59,61 @@ static int put_types(FILE *f, size_t n) {
   return 1;
 }
 
+/* The particles a frame writes: all of them in storage order (idx NULL), or those at idx. */
+typedef struct frame_set {
+  const adem_particles *p;
+  const uint32_t *idx;
+  size_t n;
+} frame_set;
+
+/* Elements idx[0..n) of an array of elem-byte elements, through a small buffer. */
+static int put_picked(FILE *f, const void *base, size_t elem, const uint32_t *idx, size_t n) {
+  unsigned char buf[CHUNK * 8];
+  size_t per = sizeof buf / elem;
+  for (size_t i = 0; i < n; i += per) {
+    size_t k = n - i < per ? n - i : per;
+    for (size_t j = 0; j < k; ++j)
+      memcpy(buf + j * elem, (const unsigned char *)base + (size_t)idx[i + j] * elem, elem);
+    if (fwrite(buf, elem, k, f) != k) return 0;
+  }
+  return 1;
+}
+
+static int put_material_picked(FILE *f, const uint16_t *m, const uint32_t *idx, size_t n) {
+  int32_t buf[CHUNK];
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t k = n - i < CHUNK ? n - i : CHUNK;
+    for (size_t j = 0; j < k; ++j) buf[j] = m[idx[i + j]];
+    if (fwrite(buf, sizeof buf[0], k, f) != k) return 0;
+  }
+  return 1;
+}
+
+/* Array k of a frame of the particles at idx. */
+static int put_picked_array(FILE *f, int k, const frame_set *fs) {
+  const adem_particles *p = fs->p;
+  const uint32_t *x = fs->idx;
+  size_t n = fs->n;
+  switch (k) {
+    case 0: return put_picked(f, p->radius, sizeof *p->radius, x, n);
+    case 1: return put_picked(f, p->id, sizeof *p->id, x, n);
+    case 2: return put_material_picked(f, p->material, x, n);
+    case 3: return put_picked(f, p->vel, sizeof *p->vel, x, n);
+    case 4: return put_picked(f, p->omega, sizeof *p->omega, x, n);
+    case 5: return put_picked(f, p->force, sizeof *p->force, x, n);
+    case 6: return put_picked(f, p->rolling_torque, sizeof *p->rolling_torque, x, n);
+    case 7: return put_picked(f, p->pos, sizeof *p->pos, x, n);
+    case 8: return put_counting(f, n, 0);
+    case 9: return put_counting(f, n, 1);
+    default: return put_types(f, n);
+  }
+}
+
 /* Array k of a particle frame (the order of the table in adem_output_write_vtu). */
 static int put_particle_array(FILE *f, int k, void *user) {
-  const adem_particles *p = user;
+  const frame_set *fs = user;
+  if (fs->idx) return put_picked_array(f, k, fs);
+  const adem_particles *p = fs->p;
   size_t n = p->n;
   switch (k) {
     case 0: return put_raw(f, p->radius, n * sizeof *p->radius);
@@ -78,9 +130,24 @@ static int put_particle_array(FILE *f, int k, void *user) {
   }
 }
 
+/* The point arrays of a particle frame, as the .vtu and the .pvtu list them. */
+static const struct {
+  const char *name, *type;
+  int ncomp;
+} frame_arrays[] = {{"radius", "Float64", 1},           {"id", "Int64", 1},
+                    {"material", "Int32", 1},           {"velocity", "Float64", 3},
+                    {"angular_velocity", "Float64", 3}, {"force", "Float64", 3},
+                    {"rolling_torque", "Float64", 3}};
+
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err) {
+  return adem_output_write_vtu_of(w, NULL, w->p.n, path, err);
+}
+
+adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, size_t count,
+                                     const char *path, adem_error *err) {
   const adem_particles *p = &w->p;
-  const size_t n = p->n;
+  const size_t n = idx ? count : p->n;
+  frame_set fs = {p, idx, n};
   /* Arrays in the order they are appended. */
   const adem_vtu_array arr[] = {
       {"radius", "Float64", 1, 8 * n},           {"id", "Int64", 1, 8 * n},
@@ -99,7 +166,40 @@ adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_er
            w->time, w->step);
   adem_vtu_layout lay = {n, n, field, "PointData", "Scalars=\"radius\" Vectors=\"velocity\"", 7, 8};
   return adem_vtu_write(path, &lay, arr, (int)(sizeof arr / sizeof arr[0]), put_particle_array,
-                        (void *)p, err);
+                        &fs, err);
+}
+
+adem_status adem_output_write_pvtu(const char *path, const char *const *pieces, int npieces,
+                                   adem_error *err) {
+  adem_afile af;
+  adem_status st = adem_fileio_open(&af, path, err);
+  if (st) return st;
+  FILE *f = af.f;
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n"
+          "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
+          "header_type=\"UInt64\">\n"
+          "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+          "    <PPointData Scalars=\"radius\" Vectors=\"velocity\">\n",
+          adem_vtu_byte_order());
+  for (size_t k = 0; k < sizeof frame_arrays / sizeof frame_arrays[0]; ++k) {
+    fprintf(f, "      <PDataArray type=\"%s\" Name=\"%s\"", frame_arrays[k].type,
+            frame_arrays[k].name);
+    if (frame_arrays[k].ncomp > 1) fprintf(f, " NumberOfComponents=\"%d\"", frame_arrays[k].ncomp);
+    fprintf(f, "/>\n");
+  }
+  fprintf(f,
+          "    </PPointData>\n"
+          "    <PPoints>\n"
+          "      <PDataArray type=\"Float64\" Name=\"position\" NumberOfComponents=\"3\"/>\n"
+          "    </PPoints>\n");
+  for (int k = 0; k < npieces; ++k) fprintf(f, "    <Piece Source=\"%s\"/>\n", pieces[k]);
+  fprintf(f, "  </PUnstructuredGrid>\n</VTKFile>\n");
+  if (ferror(f)) {
+    adem_fileio_abort(&af);
+    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
+  }
+  return adem_fileio_commit(&af, err);
 }
 
 /* ---------------------------------------------------------------- PVD */
@@ -158,9 +258,11 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
                               double frame_period, adem_error *err) {
   double *time = malloc((frames_done ? frames_done : 1) * sizeof *time);
   unsigned char *found = calloc(frames_done ? frames_done : 1, 1);
-  if (!time || !found) {
+  char (*names)[64] = calloc(frames_done ? frames_done : 1, sizeof *names);
+  if (!time || !found || !names) {
     free(time);
     free(found);
+    free(names);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the PVD list");
   }
   char *text = NULL;
@@ -177,9 +279,12 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
         double t = strtod(ts + 10, NULL);
         char *end;
         unsigned long long k = strtoull(fl + 23, &end, 10);
-        if (k < frames_done && !found[k]) {
+        size_t nl = strcspn(fl + 6, "\"");
+        if (k < frames_done && !found[k] && nl < sizeof names[0]) {
           time[k] = t;
           found[k] = 1;
+          memcpy(names[k], fl + 6, nl); /* .vtu, or .pvtu of a run split in pieces */
+          names[k][nl] = '\0';
           missing--;
         }
       }
@@ -194,10 +299,12 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
   char name[64];
   for (size_t k = 0; k < frames_done && !st; ++k) {
     frame_name(name, sizeof name, k);
-    st = adem_output_pvd_add(pvd, found[k] ? time[k] : (double)k * frame_period, name, err);
+    st = adem_output_pvd_add(pvd, found[k] ? time[k] : (double)k * frame_period,
+                             found[k] ? names[k] : name, err);
   }
   free(time);
   free(found);
+  free(names);
   return st;
 }
 
@@ -616,6 +723,57 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_status st = adem_output_write_vtu(w, path, err);
   free(path);
+  if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
+  if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+  if (!st) st = mesh_frame(o, w, err);
+  if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
+  if (!st) o->next_frame++;
+  return st;
+}
+
+/* frames/particles_NNNNNN_pK.vtu, relative to the output folder (piece < 0: the .pvtu). */
+static void piece_name(char *buf, size_t cap, size_t index, int piece) {
+  if (piece < 0) snprintf(buf, cap, "frames/particles_%06zu.pvtu", index);
+  else snprintf(buf, cap, "frames/particles_%06zu_p%d.vtu", index, piece);
+}
+
+adem_status adem_output_frame_piece(const char *dir, size_t index, int piece, const adem_world *w,
+                                    const uint32_t *idx, size_t n, adem_error *err) {
+  char name[64];
+  piece_name(name, sizeof name, index, piece);
+  char *path = adem_file_join(dir, name);
+  if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = adem_output_write_vtu_of(w, idx, n, path, err);
+  free(path);
+  return st;
+}
+
+adem_status adem_output_frame_pvtu(adem_output *o, const adem_world *w, int npieces,
+                                   adem_error *err) {
+  if (!o->frames) return ADEM_OK;
+  char name[64];
+  piece_name(name, sizeof name, o->next_frame, -1);
+  char *path = adem_file_join(o->dir, name);
+  char (*pieces)[64] = calloc((size_t)(npieces > 0 ? npieces : 1), sizeof *pieces);
+  const char **src = calloc((size_t)(npieces > 0 ? npieces : 1), sizeof *src);
+  adem_status st = path && pieces && src ? ADEM_OK : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  for (int k = 0; k < npieces && !st; ++k) { /* beside the .pvtu, in frames/ */
+    snprintf(pieces[k], sizeof pieces[k], "particles_%06zu_p%d.vtu", o->next_frame, k);
+    src[k] = pieces[k];
+  }
+  if (!st) st = adem_output_write_pvtu(path, src, npieces, err);
+  /* pieces of this frame left by a run on more processes that ended here: named by nothing */
+  for (int k = npieces; !st; ++k) {
+    char stale[64];
+    piece_name(stale, sizeof stale, o->next_frame, k);
+    char *sp = adem_file_join(o->dir, stale);
+    int gone = !sp || unlink(sp) != 0;
+    free(sp);
+    if (gone) break;
+  }
+  free(path);
+  free(pieces);
+  free(src);
   if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
   if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
   if (!st) st = mesh_frame(o, w, err);

@@ -18,6 +18,13 @@ adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force,
  * headers; point data radius, id, material, velocity, angular_velocity, force, rolling_torque
  * (the rolling resistance torque of the last force pass). */
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err);
+/* The same of the n particles at idx (in that order); idx NULL: every particle. */
+adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, size_t n,
+                                     const char *path, adem_error *err);
+/* A ParaView .pvtu: the point arrays of a particle frame and its pieces (.vtu files, paths
+ * relative to the .pvtu's folder). */
+adem_status adem_output_write_pvtu(const char *path, const char *const *pieces, int npieces,
+                                   adem_error *err);
 
 /* The PVD collection: one (time, file) entry per frame, rewritten after each frame. */
 typedef struct adem_pvd {
@@ -87,6 +94,14 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
 /* Writes frames/particles_NNNNNN.vtu and rewrites the PVD; with mesh walls also
  * frames/mesh_NNNNNN.vtu (face force and pressure) and mesh.pvd, the same times. */
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err);
+/* A frame in pieces (output.pieces, a run split over processes): each process writes its piece
+ * dir/frames/particles_NNNNNN_pK.vtu (index the frame's, K its rank) of the n particles at idx
+ * with adem_output_frame_piece; then the writer, with adem_output_frame_pvtu, the frame's
+ * frames/particles_NNNNNN.pvtu naming the npieces pieces, the PVD entry and the mesh frame. */
+adem_status adem_output_frame_piece(const char *dir, size_t index, int piece, const adem_world *w,
+                                    const uint32_t *idx, size_t n, adem_error *err);
+adem_status adem_output_frame_pvtu(adem_output *o, const adem_world *w, int npieces,
+                                   adem_error *err);
 /* Appends one CSV row with a single write (the extra columns' values read from o->extra.value
  * now). */
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err);

@@ -239,13 +239,16 @@ static int split_size(run_split *rs, adem_case *c) {
 static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error *err) {
 #ifdef ADEM_HAVE_MPI
   if (size < 2) return ADEM_OK;
-  const char *why = c->pours ? "its pours" : c->stages ? "its stages" : c->until ? "time.until"
-                    : c->regions ? "output.regions" : NULL;
-  if (why)
-    return adem_error_set(err, ADEM_ERR_INPUT,
-                          "this case cannot run on more than one MPI process yet because of %s; "
-                          "run it with one process", why);
-  return adem_split_create(c->world, MPI_COMM_WORLD, &rs->s, &rs->part, err);
+  adem_world *w = c->world;
+  /* nothing to split yet (every particle comes from a pour): every process steps the same
+   * empty world until the first batch, then splits */
+  if (w->p.n == 0 && !w->admit_pending) return ADEM_OK;
+  if (w->admit_pending) { /* what the serial run's next step begins with */
+    w->admit_pending = false;
+    adem_status st = adem_world_admit_particles(w, w->admit_from, err);
+    if (st) return st;
+  }
+  return adem_split_create(w, MPI_COMM_WORLD, &rs->s, &rs->part, err);
 #else
   (void)c;
   (void)rs;
@@ -255,15 +258,62 @@ static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error
 #endif
 }
 
-/* The whole state in the case's world on the writer (collective when split). */
-static adem_status split_assemble(adem_case *c, run_split *rs, adem_error *err) {
+/* The whole state in the case's world on the writer, or on every process (everywhere: for the
+ * decisions every process takes alike, on the serial state). Collective when split. */
+static adem_status split_assemble(adem_case *c, run_split *rs, bool everywhere, adem_error *err) {
 #ifdef ADEM_HAVE_MPI
-  if (rs->s) return adem_split_assemble(rs->s, rs->part, c->world, err);
+  if (rs->s) return adem_split_assemble(rs->s, rs->part, c->world, everywhere, err);
 #endif
   (void)c;
   (void)rs;
+  (void)everywhere;
   (void)err;
   return ADEM_OK;
+}
+
+static adem_status split_agree(run_split *rs, adem_status st, adem_error *err);
+
+/* A frame: one .vtu of the whole, written by the writer; split and with output.pieces, a piece
+ * of its own particles from every process and the .pvtu from the writer (collective then). */
+static adem_status write_frame(adem_output *out, adem_case *c, run_split *rs, size_t *frame_no,
+                               adem_error *err) {
+  adem_status st = ADEM_OK;
+  if (!adem_stages_output_on(c, 0)) return ADEM_OK;
+#ifdef ADEM_HAVE_MPI
+  if (rs->s && c->output.pieces) {
+    uint32_t *idx = NULL;
+    size_t n = 0;
+    if (adem_split_own_by_id(rs->s, rs->part, &idx, &n))
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    if (!st && adem_split_break("pieces")) { /* the test's control: the ghosts too */
+      n = 0;
+      uint32_t *all = realloc(idx, (rs->part->p.n + 1) * sizeof *all);
+      if (all) for (idx = all; n < rs->part->p.n; ++n) idx[n] = (uint32_t)n;
+    }
+    const char *dir = c->output.dir[0] ? c->output.dir : ".";
+    if (!st)
+      st = adem_output_frame_piece(dir, *frame_no, adem_split_rank(rs->s), rs->part, idx, n, err);
+    free(idx);
+    st = split_agree(rs, st, err); /* every piece is there before the .pvtu names it */
+    int size = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &size);
+    if (!st && rs->writer) st = adem_output_frame_pvtu(out, c->world, size, err);
+    if (!st) (*frame_no)++;
+    return st;
+  }
+#endif
+  if (rs->writer) st = adem_output_frame(out, c->world, err);
+  if (!st) (*frame_no)++;
+  return st;
+}
+
+/* After a change to the whole (a stage begun, particles poured), assembled on every process
+ * and changed alike on each: the parts are cut from it again, as from a checkpoint. */
+static void split_end(adem_case *c, run_split *rs);
+static adem_status split_again(adem_case *c, run_split *rs, adem_error *err) {
+  int size = rs->many ? 2 : 1;
+  split_end(c, rs);
+  return split_start(c, rs, size, err);
 }
 
 /* A status the same on every process: an error on one is an error on all. */
@@ -386,11 +436,18 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   bool have_ckpt = resume;
   double t_ckpt = w->time;
 
-  if (!resume && rs->writer) {
-    st = adem_output_frame(&out, w, err);
+  bool stale = false; /* the whole changed: split it again before the next step */
+  size_t frame_no = frames_done; /* the next frame's index, on every process */
+  if (!st && !resume) st = write_frame(&out, c, rs, &frame_no, err);
+  if (!st && !resume && rs->writer) {
     c->frames_written = out.next_frame;
-    if (!st) st = csv_row(&out, c, &rc, err);
-    if (!st) st = adem_stages_events(c, err); /* pour batches due at step 0 */
+    st = csv_row(&out, c, &rc, err);
+  }
+  st = split_agree(rs, st, err);
+  if (!resume && !st) { /* pour batches due at step 0, on every process's whole alike */
+    size_t n_before = w->p.n;
+    st = adem_stages_events(c, err);
+    stale = rs->many && w->p.n != n_before;
   }
   st = split_agree(rs, st, err);
   const double t0 = wall_now();
@@ -402,6 +459,16 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
 
   bool ended = false; /* a run-until condition was met */
   while (!st && ws->step < total && !ended) {
+#ifdef ADEM_HAVE_MPI
+    if (stale && adem_split_break("resplit")) stale = false; /* the test's control */
+#endif
+    if (stale) {
+      st = split_again(c, rs, err);
+      st = split_agree(rs, st, err);
+      if (st) break;
+      ws = rs->part;
+      stale = false;
+    }
     uint64_t target = next_event(ws->step, total, periods, 3);
     uint64_t staged = adem_stages_next_step(c, ws->step); /* stage starts, pour batches */
     if (staged < target) target = staged;
@@ -424,6 +491,16 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     }
 
     uint64_t s = ws->step;
+    if (ws != w) { /* the conditions and stages read the whole's clock */
+      w->step = ws->step;
+      w->time = ws->time;
+    }
+    /* A run-until check, a stage start or a pour batch here: every process takes the serial
+     * decision on the whole (assembled on each), and changes it alike. */
+    bool decide = ws != w && (adem_stages_until_next(c, s - 1) == s ||
+                              adem_stages_next_step(c, s - 1) == s);
+    if (decide) st = split_assemble(c, rs, true, err);
+    if (st) break;
     /* Conditions first: a run that ends here writes this step's outputs as its last; a stage
      * that ends lets the next begin here (after the outputs, as any stage start). */
     adem_until_outcome until = adem_stages_until(c, why, sizeof why);
@@ -432,11 +509,14 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     ended = until == ADEM_UNTIL_RUN_ENDS;
     bool last = s >= total || ended;
     bool ckpt_due = last || due(s, k_ckpt);
-    if (ws != w && (ckpt_due || due(s, k_frame) || due(s, k_csv))) st = split_assemble(c, rs, err);
+    /* frames in pieces need the whole only for the mesh frame */
+    bool frame_whole = due(s, k_frame) && !(c->output.pieces && w->walls.mesh.ntris == 0);
+    if (ws != w && !decide && (ckpt_due || frame_whole || due(s, k_csv)))
+      st = split_assemble(c, rs, false, err);
+    if (!st && (last || due(s, k_frame))) st = write_frame(&out, c, rs, &frame_no, err);
     if (!st && rs->writer) {
-      if (last || due(s, k_frame)) st = adem_output_frame(&out, w, err);
       if (due(s, k_frame)) c->frames_written = out.next_frame;
-      if (!st && (last || due(s, k_csv))) st = csv_row(&out, c, &rc, err);
+      if (last || due(s, k_csv)) st = csv_row(&out, c, &rc, err);
     }
     st = split_agree(rs, st, err);
     c->csv_last_extra = last && !due(s, k_csv);
@@ -444,7 +524,11 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
      * checkpoint, the last step's too: a resumed run, even one given a later end, finds them
      * done. */
     if (!st) {
+      int stage_before = adem_stages_current(c);
+      size_t n_before = w->p.n;
       st = adem_stages_events(c, err);
+      /* (split, they come at `decide` steps only, on the whole assembled everywhere) */
+      if (rs->many && (adem_stages_current(c) != stage_before || w->p.n != n_before)) stale = true;
       k_frame = periods[0] = adem_schedule_period(c->output.frame_interval, dt);
       k_csv = periods[1] = adem_schedule_period(c->output.csv_interval, dt);
       k_ckpt = periods[2] = adem_schedule_period(c->output.checkpoint_interval, dt);
@@ -466,7 +550,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     }
     if (!last && split_any(rs, opt.stop_flag && *opt.stop_flag)) {
       if (!(have_ckpt && t_ckpt == ws->time)) {
-        if (ws != w) st = split_assemble(c, rs, err);
+        if (ws != w) st = split_assemble(c, rs, false, err);
         if (!st && rs->writer) st = adem_checkpoint_write(c, ckpt_path, err);
         st = split_agree(rs, st, err);
       }

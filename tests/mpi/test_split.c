@@ -95,7 +95,7 @@ static adem_case *run_split(const char *text, uint64_t steps, bool broken, const
   if (!broken && rank == 0)
     printf("# %d processes own %llu to %llu particles each at the end\n", nproc, least, most);
   if (!broken) assert_true(most - least <= 1);
-  if (!st) st = adem_split_assemble(s, part, c->world, &err);
+  if (!st) st = adem_split_assemble(s, part, c->world, false, &err);
   static char why[ADEM_MSG_MAX];
   snprintf(why, sizeof why, "%s", err.message);
   if (failed) *failed = st ? why : NULL;
