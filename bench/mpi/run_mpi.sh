@@ -28,7 +28,7 @@ for r in $(seq "$reps"); do
       rm -rf "$out/run"
       t0=$(date +%s.%N)
       OMP_NUM_THREADS=$nt mpirun $root --oversubscribe -np "$np" "$adem" run "$out/bed-$s.yaml" \
-        --out "$out/run" --threads "$nt" --quiet > "$out/log-$l-$s-$r.txt" 2>&1
+        --out "$out/run" --threads "$nt" > "$out/log-$l-$s-$r.txt" 2>&1
       t1=$(date +%s.%N)
       echo "$l $r $s $(echo "$t1 - $t0" | bc)" | tee -a "$out/times.txt"
     done
@@ -55,4 +55,9 @@ echo "| processes x threads | s per step | M particle-steps/s | speed-up over 1 
 echo "|---|---|---|---|---|"
 awk -v b="$base" -v cores="$(nproc)" '{ split($1, a, "x"); p = a[1] * a[2]; if (p > cores) p = cores
   printf "| %s | %.5f | %.3f | %.2f | %.0f %% |\n", $1, $2, $3, b / $2, 100 * b / $2 / p }' "$out/step.txt"
+# the exchanges of the longer runs, as adem reports them (one line per 2-process layout)
+for l in $layouts; do
+  f="$out/log-$l-$s2-1.txt"
+  grep -h "split over" "$f" 2> /dev/null | sed "s/^/$l: /" || true
+done
 echo "run_mpi: logs in $out"

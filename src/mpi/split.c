@@ -25,7 +25,13 @@ struct adem_split {
   unsigned char *sbuf, *rbuf;
   size_t sbuf_cap, rbuf_cap;
   int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
+  adem_split_stats stats; /* what the exchanges cost (split.h) */
+  double sent;            /* bytes this process has sent to others, every exchange */
 };
+
+/* Bytes sent to the other processes by a collective in which this process sends `bytes` to
+ * each of `to` others. */
+static void tally(adem_split *s, double bytes) { s->sent += bytes; }
 
 bool adem_split_break(const char *what) {
   const char *b = getenv("ADEM_SPLIT_BREAK");
@@ -236,6 +242,7 @@ static adem_status exchange(adem_split *s, const bytes *out, bytes *in, adem_err
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   MPI_Alltoallv(all.d ? all.d : in->d, sc, sd, MPI_BYTE, in->d, rc, rd, MPI_BYTE, s->comm);
+  tally(s, (double)total - (double)sc[s->rank]);
   free(all.d);
   return ADEM_OK;
 }
@@ -335,8 +342,22 @@ static bool any_hook(void *ctx, bool yes) {
   return r != 0;
 }
 
+static adem_status refresh_hook_work(adem_split *s, adem_world *w, adem_error *err);
+
+/* The ghost refresh, timed and counted (adem_split_stats). */
 static adem_status refresh_hook(void *ctx, adem_world *w, adem_error *err) {
   adem_split *s = ctx;
+  double t0 = MPI_Wtime(), sent0 = s->sent;
+  adem_status st = refresh_hook_work(s, w, err);
+  s->stats.refreshes += 1.0;
+  s->stats.refresh_seconds += MPI_Wtime() - t0;
+  s->stats.refresh_bytes += s->sent - sent0;
+  s->stats.ghosts += (double)(s->rdispl[s->size - 1] + s->rcount[s->size - 1]);
+  s->stats.owned += (double)(w->p.n) - (double)(s->rdispl[s->size - 1] + s->rcount[s->size - 1]);
+  return st;
+}
+
+static adem_status refresh_hook_work(adem_split *s, adem_world *w, adem_error *err) {
   adem_particles *p = &w->p;
   size_t rec = sizeof(ghost_state);
   size_t ns = (size_t)(s->sdispl[s->size - 1] + s->scount[s->size - 1]);
@@ -371,6 +392,7 @@ static adem_status refresh_hook(void *ctx, adem_world *w, adem_error *err) {
   }
   MPI_Alltoallv(s->sbuf, s->bytes_a, s->bytes_b, MPI_BYTE, s->rbuf, s->bytes_c, s->bytes_d,
                 MPI_BYTE, s->comm);
+  tally(s, (double)(ns - (size_t)s->scount[s->rank]) * (double)rec);
   for (size_t k = 0; k < nr; ++k) {
     size_t i = s->recv_idx[k];
     ghost_state g;
@@ -488,6 +510,7 @@ static adem_status recut(adem_split *s, const adem_world *w, double *cut) {
   MPI_Allreduce(&ok, &every, 1, MPI_INT, MPI_LAND, s->comm);
   if (every) {
     MPI_Allgatherv(mine, n, MPI_DOUBLE, all, count, displ, MPI_DOUBLE, s->comm);
+    tally(s, (double)n * sizeof *mine * (s->size - 1));
     quantile_cuts(all, total, s->size, cut);
   }
   free(mine);
@@ -500,7 +523,20 @@ static adem_status recut(adem_split *s, const adem_world *w, double *cut) {
  * owners and copies to the slabs within reach, and the history of each touching pair of one
  * of its own to the new owners of its particles of the pair (the old owner of a particle holds
  * every pair of it: so the new owner of a particle gets every history it needs). */
+static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err);
+
+/* The build, timed and counted (adem_split_stats). */
 static adem_status build_hook(void *ctx, adem_world *w, adem_error *err) {
+  adem_split *s = ctx;
+  double t0 = MPI_Wtime(), sent0 = s->sent;
+  adem_status st = build_hook_work(ctx, w, err);
+  s->stats.builds += 1.0;
+  s->stats.build_seconds += MPI_Wtime() - t0;
+  s->stats.build_bytes += s->sent - sent0;
+  return st;
+}
+
+static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
   adem_split *s = ctx;
   adem_particles *p = &w->p;
   int me = s->rank, size = s->size;
@@ -659,6 +695,7 @@ static adem_status allgather(adem_split *s, const bytes *mine, bytes *in, adem_e
   }
   MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
                  s->comm);
+  tally(s, (double)n * (s->size - 1));
   return ADEM_OK;
 }
 
@@ -996,6 +1033,7 @@ static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_erro
   if (!ok) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles");
   MPI_Gatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE, 0,
               s->comm);
+  if (s->rank != 0) tally(s, (double)n);
   return ADEM_OK;
 }
 
@@ -1206,6 +1244,18 @@ size_t adem_split_owned(const adem_split *s, const adem_world *local) {
   size_t n = 0;
   for (size_t i = 0; i < local->p.n; ++i) n += owner(s, &local->p, i) == s->rank;
   return n;
+}
+
+void adem_split_stats_add(const adem_split *s, adem_split_stats *into) {
+  into->refreshes += s->stats.refreshes;
+  into->ghosts += s->stats.ghosts;
+  into->owned += s->stats.owned;
+  into->refresh_bytes += s->stats.refresh_bytes;
+  into->refresh_seconds += s->stats.refresh_seconds;
+  into->builds += s->stats.builds;
+  into->build_bytes += s->stats.build_bytes;
+  into->build_seconds += s->stats.build_seconds;
+  into->other_bytes += s->sent - s->stats.refresh_bytes - s->stats.build_bytes;
 }
 
 void adem_split_free(adem_split *s) {

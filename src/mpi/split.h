@@ -43,6 +43,24 @@ adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, u
 /* Particles this process owns now. */
 size_t adem_split_owned(const adem_split *s, const adem_world *local);
 void adem_split_free(adem_split *s);
+
+/* What this process's exchanges have cost (bench/mpi, docs/parallel.md): each a sum, so that
+ * the splits of one run (a run is split again after a stage or a pour) add up. */
+typedef struct adem_split_stats {
+  double refreshes;       /* ghost refreshes: one per step */
+  double owned, ghosts;   /* own particles and ghosts held, summed over the refreshes */
+  double refresh_bytes;   /* bytes sent to other processes by the refreshes */
+  double refresh_seconds; /* wall time inside them: packing, the exchange, unpacking */
+  double builds;          /* neighbour builds */
+  double build_bytes;     /* bytes sent at builds: the cuts' centres, particles and histories
+                           * to new owners, copies to the slabs within reach */
+  double build_seconds;   /* wall time inside the builds, the neighbour search included */
+  double other_bytes;     /* bytes sent otherwise: assembling for outputs and decisions,
+                           * plane forces and face loads */
+} adem_split_stats;
+#define ADEM_SPLIT_STATS_COUNT 9 /* doubles in adem_split_stats */
+/* Adds this split's figures to *into. */
+void adem_split_stats_add(const adem_split *s, adem_split_stats *into);
 /* A test's control (tests/mpi/test_split_features.c): true when the environment has
  * ADEM_SPLIT_BREAK=what, which leaves one exchange out ("plane_forces", "face_loads",
  * "mesh_history", "resplit"; "pieces": a frame piece holds the process's ghosts too;

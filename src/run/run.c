@@ -209,6 +209,7 @@ static adem_status csv_row(adem_output *out, const adem_case *c, region_columns 
 typedef struct run_split {
 #ifdef ADEM_HAVE_MPI
   adem_split *s;
+  adem_split_stats stats; /* of the run's splits so far (a stage or a pour splits again) */
 #endif
   adem_world *part; /* the world that steps: the case's own, or this process's part */
   bool many;        /* more than one process */
@@ -223,6 +224,7 @@ static int split_size(run_split *rs, adem_case *c) {
   int size = 1;
 #ifdef ADEM_HAVE_MPI
   rs->s = NULL;
+  memset(&rs->stats, 0, sizeof rs->stats);
   int on = 0, rank = 0;
   MPI_Initialized(&on);
   if (on) {
@@ -345,6 +347,7 @@ static bool split_any(run_split *rs, bool yes) {
 static void split_end(adem_case *c, run_split *rs) {
 #ifdef ADEM_HAVE_MPI
   if (rs->s) {
+    adem_split_stats_add(rs->s, &rs->stats);
     adem_world_free(rs->part);
     adem_split_free(rs->s);
     rs->s = NULL;
@@ -356,10 +359,59 @@ static void split_end(adem_case *c, run_split *rs) {
 static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_split *rs,
                             adem_error *err);
 
+/* What the split run's exchanges cost, per process and step (bench/mpi, docs/parallel.md):
+ * every process's figures to rank 0, which logs the mean and the largest. Collective. */
+static void split_report(run_split *rs) {
+#ifdef ADEM_HAVE_MPI
+  if (!rs->many) return;
+  int size = 1, rank = 0;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  double *all = malloc((size_t)size * ADEM_SPLIT_STATS_COUNT * sizeof *all);
+  double mine[ADEM_SPLIT_STATS_COUNT];
+  memcpy(mine, &rs->stats, sizeof mine);
+  MPI_Gather(mine, ADEM_SPLIT_STATS_COUNT, MPI_DOUBLE, all, all ? ADEM_SPLIT_STATS_COUNT : 0,
+             MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (rank == 0 && all) {
+    adem_split_stats sum, top;
+    memset(&sum, 0, sizeof sum);
+    memset(&top, 0, sizeof top);
+    double *ps = (double *)&sum, *pt = (double *)&top;
+    for (int q = 0; q < size; ++q)
+      for (int k = 0; k < ADEM_SPLIT_STATS_COUNT; ++k) {
+        double v = all[q * ADEM_SPLIT_STATS_COUNT + k];
+        ps[k] += v;
+        pt[k] = v > pt[k] ? v : pt[k];
+      }
+    double steps = sum.refreshes / size, n = size;
+    if (steps > 0.0) {
+      adem_log(ADEM_LOG_INFO,
+               "split over %d processes, per process and step (mean, largest): own particles "
+               "%.0f, %.0f; ghosts %.0f, %.0f; ghost refresh %.1f, %.1f kB sent in %.1f, %.1f "
+               "us (%.4f us per own particle); %.0f builds, per build %.1f kB sent in %.2f ms "
+               "(mean); other exchanges %.1f kB per step (outputs, decisions, wall loads)",
+               size, sum.owned / n / steps, top.owned / steps, sum.ghosts / n / steps,
+               top.ghosts / steps, sum.refresh_bytes / n / steps / 1e3,
+               top.refresh_bytes / steps / 1e3, sum.refresh_seconds / n / steps * 1e6,
+               top.refresh_seconds / steps * 1e6,
+               sum.owned > 0.0 ? sum.refresh_seconds / sum.owned * 1e6 : 0.0,
+               sum.builds / n,
+               sum.builds > 0.0 ? sum.build_bytes / sum.builds / 1e3 : 0.0,
+               sum.builds > 0.0 ? sum.build_seconds / sum.builds * 1e3 : 0.0,
+               sum.other_bytes / n / steps / 1e3);
+    }
+  }
+  free(all);
+#else
+  (void)rs;
+#endif
+}
+
 adem_status adem_run(adem_case *c, const adem_run_options *opt_in, adem_error *err) {
   run_split rs;
   adem_status st = run_case(c, opt_in, &rs, err);
   split_end(c, &rs);
+  if (!st) split_report(&rs); /* collective: only when every process ended well */
   return st;
 }
 
