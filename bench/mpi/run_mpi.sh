@@ -27,7 +27,9 @@ for r in $(seq "$reps"); do
     for s in "$s1" "$s2"; do
       rm -rf "$out/run"
       t0=$(date +%s.%N)
-      OMP_NUM_THREADS=$nt mpirun $root --oversubscribe -np "$np" "$adem" run "$out/bed-$s.yaml" \
+      # --bind-to none: Open MPI binds each process to one core by default, and a process's
+      # second thread would then share its core
+      OMP_NUM_THREADS=$nt mpirun $root --oversubscribe --bind-to none -np "$np" "$adem" run "$out/bed-$s.yaml" \
         --out "$out/run" --threads "$nt" > "$out/log-$l-$s-$r.txt" 2>&1
       t1=$(date +%s.%N)
       echo "$l $r $s $(echo "$t1 - $t0" | bc)" | tee -a "$out/times.txt"

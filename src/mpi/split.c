@@ -15,6 +15,8 @@ struct adem_split {
   MPI_Comm comm;
   int rank, size;
   int axis;    /* slabs along x, y or z */
+  bool wraps;  /* that axis is periodic: slab 0 and the last are neighbours across its faces */
+  double plo, plen; /* the periodic box along it */
   double *cut; /* size - 1 cuts, ascending: slab r is [cut[r-1], cut[r]) */
   double rmax; /* the whole system's largest radius */
   adem_world_split hooks;
@@ -151,6 +153,15 @@ static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint
 
 static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
 
+/* A centre's coordinate along the slabs' axis; along a periodic axis wrapped into the box as the
+ * neighbour build wraps it (periodic.h), so that the slab a build sends a particle to is the
+ * slab of its position after the build (pos_at_build). */
+static inline double coord(const adem_split *s, adem_vec3 v) {
+  double x = along(v, s->axis);
+  int32_t image = 0;
+  return s->wraps ? adem_periodic_wrap_component(x, s->plo, s->plen, &image) : x;
+}
+
 /* The slab holding coordinate x: the number of cuts at or below it. */
 static int slab_in(const double *cut, int size, double x) {
   int lo = 0, hi = size - 1;
@@ -167,7 +178,7 @@ static int slab_of(const adem_split *s, double x) { return slab_in(s->cut, s->si
 /* Owner of local particle i: by its centre at the last build, so that owners change at builds
  * only, the same on every process. */
 static inline int owner(const adem_split *s, const adem_particles *p, size_t i) {
-  return slab_of(s, along(p->pos_at_build[i], s->axis));
+  return slab_of(s, coord(s, p->pos_at_build[i]));
 }
 
 /* Reach of a pair: the cut-off of the largest two spheres and the skin the build takes (as
@@ -178,15 +189,28 @@ static double halo(const adem_split *s, const adem_world *w) {
   return 1.01 * (2.0 * s->rmax + skin);
 }
 
-/* Within the halo of slab q (a copy of the particle is needed there). */
-static bool near_in(const double *cut, int size, int q, double x, double h) {
-  double lo = q > 0 ? cut[q - 1] - h : -INFINITY;
-  double hi = q < size - 1 ? cut[q] + h : INFINITY;
-  return x > lo && x < hi;
+/* Within the halo of slab q (a copy of the particle is needed there). Along a periodic axis the
+ * first and the last slab end at the box's faces, and a coordinate is near a slab through its
+ * images one box length away too (its copy keeps its own position: the pairs take minimum
+ * images). */
+static bool near_in(const adem_split *s, const double *cut, int q, double x, double h) {
+  int size = s->size;
+  if (!s->wraps) {
+    double lo = q > 0 ? cut[q - 1] - h : -INFINITY;
+    double hi = q < size - 1 ? cut[q] + h : INFINITY;
+    return x > lo && x < hi;
+  }
+  double lo = (q > 0 ? cut[q - 1] : s->plo) - h;
+  double hi = (q < size - 1 ? cut[q] : s->plo + s->plen) + h;
+  for (int k = -1; k <= 1; ++k) {
+    double y = x + k * s->plen;
+    if (y > lo && y < hi) return true;
+  }
+  return false;
 }
 
 static bool near_slab(const adem_split *s, int q, double x, double h) {
-  return near_in(s->cut, s->size, q, x, h);
+  return near_in(s, s->cut, q, x, h);
 }
 
 static int compare_double(const void *x, const void *y) {
@@ -293,7 +317,7 @@ static adem_status make_lists(adem_split *s, const adem_world *w, adem_error *er
       rcv[nr++] = (rank_item){o, p->id[i], (uint32_t)i};
       continue;
     }
-    double x = along(p->pos_at_build[i], s->axis);
+    double x = coord(s, p->pos_at_build[i]);
     for (int q = 0; q < s->size && !st; ++q) {
       if (q == s->rank || !near_slab(s, q, x, h)) continue;
       if (ns == cap) {
@@ -498,7 +522,7 @@ static adem_status recut(adem_split *s, const adem_world *w, double *cut) {
   int *count = s->bytes_a, *displ = s->bytes_b;
   int n = 0;
   for (size_t i = 0; mine && i < p->n; ++i)
-    if (owner(s, p, i) == s->rank) mine[n++] = along(p->pos[i], s->axis);
+    if (owner(s, p, i) == s->rank) mine[n++] = coord(s, p->pos[i]);
   MPI_Allgather(&n, 1, MPI_INT, count, 1, MPI_INT, s->comm);
   size_t total = 0;
   for (int q = 0; q < s->size; ++q) {
@@ -552,8 +576,8 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
   for (size_t k = 0; k < w->pp.n && !st; ++k) {
     if (!w->pp.touching[k]) continue;
     size_t a = w->pp.a[k], b = w->pp.b[k];
-    int da = owner(s, p, a) == me ? slab_in(next, size, along(p->pos[a], s->axis)) : -1;
-    int db = owner(s, p, b) == me ? slab_in(next, size, along(p->pos[b], s->axis)) : -1;
+    int da = owner(s, p, a) == me ? slab_in(next, size, coord(s, p->pos[a])) : -1;
+    int db = owner(s, p, b) == me ? slab_in(next, size, coord(s, p->pos[b])) : -1;
     history_rec r;
     memset(&r, 0, sizeof r);
     r.ka = p->id[a];
@@ -568,7 +592,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     history_rec r;
     memset(&r, 0, sizeof r);
     r = (history_rec){p->id[a], w->pw.b[k], 1, w->pw.hist[k]};
-    if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
+    if (!bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
       st = ADEM_ERR_NOMEM;
   }
   const adem_mesh_pairs *pm = &w->pm;
@@ -580,15 +604,15 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     history_rec r;
     memset(&r, 0, sizeof r);
     r = (history_rec){p->id[a], pm->key[k], 2, pm->l.hist[k]};
-    if (!bytes_put(&hout[slab_in(next, size, along(p->pos[a], s->axis))], &r, sizeof r))
+    if (!bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
       st = ADEM_ERR_NOMEM;
   }
   for (size_t i = 0; i < p->n && !st; ++i) {
     if (owner(s, p, i) != me) continue;
-    double x = along(p->pos[i], s->axis);
+    double x = coord(s, p->pos[i]);
     int r = slab_in(next, size, x);
     for (int q = 0; q < size && !st; ++q)
-      if ((q == r || near_in(next, size, q, x, h)) && !put_particle(&pout[q], p, i))
+      if ((q == r || near_in(s, next, q, x, h)) && !put_particle(&pout[q], p, i))
         st = ADEM_ERR_NOMEM;
   }
   if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
@@ -859,9 +883,6 @@ static adem_status sum_terms_hook(void *ctx, const adem_world *w, const adem_id_
 /* ---------------------------------------------------------------- set-up */
 
 const char *adem_split_refusal(const adem_world *w) {
-  /* slabs along an axis that does not wrap hold the whole box along the periodic ones: the
-   * build's minimum images are found within each process's part */
-  if (w->periodic.axes == 7u) return "its periodic axes (all three)";
   if (w->admit_pending) return "particles waiting to be admitted (a bug: admit them first)";
   if (w->p.n == 0) return "having no particles";
   return NULL;
@@ -895,18 +916,28 @@ static adem_status world_copy(const adem_world *w, adem_world **out, adem_error 
   return ADEM_OK;
 }
 
-/* Cuts along the longest axis of the domain box that is not periodic, at the quantiles of the
- * centres (at the last build): equal particle counts. */
+/* Cuts along the longest axis of the domain box that is not periodic (slabs along an axis that
+ * does not wrap hold the whole box along the periodic ones, so that the build's minimum images
+ * along those are within each process's part), or, when all three wrap, along the longest,
+ * whose slabs meet across its faces; at the quantiles of the centres (at the last build): equal
+ * particle counts. */
 static adem_status place_cuts(adem_split *s, const adem_world *w) {
   const adem_particles *p = &w->p;
   adem_vec3 e = v3_sub(w->domain_hi, w->domain_lo);
   double len[3] = {e.x, e.y, e.z};
   s->axis = -1;
   unsigned wraps = w->periodic.axes;
-  for (int d = 0; d < 3; ++d) /* the longest that does not wrap (adem_split_refusal) */
+  for (int d = 0; d < 3; ++d) /* the longest that does not wrap */
     if (!(wraps & (1u << d)) && (s->axis < 0 || len[d] > len[s->axis])) s->axis = d;
-  if (wraps && split_broken("periodic_axis")) /* the test's control: along one that wraps */
-    s->axis = wraps & 1u ? 0 : wraps & 2u ? 1 : 2;
+  for (int d = 0; d < 3 && wraps == 7u; ++d) /* all wrap: the longest */
+    if (s->axis < 0 || len[d] > len[s->axis]) s->axis = d;
+  s->wraps = (wraps >> s->axis) & 1u;
+  s->plo = w->periodic.lo[s->axis];
+  s->plen = w->periodic.len[s->axis];
+  if (wraps && split_broken("periodic_axis")) { /* the test's control: along one that wraps, */
+    s->axis = wraps & 1u ? 0 : wraps & 2u ? 1 : 2; /* as if it did not (no images across) */
+    s->wraps = false;
+  }
   size_t n = p->n;
   double *x = malloc((n + 1) * sizeof *x);
   s->cut = malloc((size_t)s->size * sizeof *s->cut);
@@ -914,7 +945,7 @@ static adem_status place_cuts(adem_split *s, const adem_world *w) {
     free(x);
     return ADEM_ERR_NOMEM;
   }
-  for (size_t i = 0; i < n; ++i) x[i] = along(p->pos_at_build[i], s->axis);
+  for (size_t i = 0; i < n; ++i) x[i] = coord(s, p->pos_at_build[i]);
   quantile_cuts(x, n, s->size, s->cut);
   free(x);
   return ADEM_OK;
@@ -935,7 +966,7 @@ static adem_status trim(adem_split *s, adem_world *w) {
   size_t m = 0;
   for (size_t i = 0; i < n; ++i) {
     to[i] = SIZE_MAX;
-    if (owner(s, p, i) == s->rank || near_slab(s, s->rank, along(p->pos_at_build[i], s->axis), h)) {
+    if (owner(s, p, i) == s->rank || near_slab(s, s->rank, coord(s, p->pos_at_build[i]), h)) {
       to[i] = m;
       keep[m++] = i;
     }
