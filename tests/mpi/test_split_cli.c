@@ -1,6 +1,7 @@
 /* Claim: `mpirun -np N adem run CASE.yaml` writes what `adem run CASE.yaml` writes: the final
  * checkpoint holds the same particles, contacts and histories bit for bit (compared by id: the
- * storage orders differ), the CSV time series is the same text, for N = 2, 3 and 4; a
+ * storage orders differ), the CSV time series is the same text, for N = 2, 3 and 4 processes
+ * of one thread and 2 of two threads; a
  * checkpoint written by one process count resumes under another to the serial run's end; and
  * the same holds for a box periodic along all three axes (slabs that meet across the faces). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
@@ -86,21 +87,29 @@ static void runs_equal(const char *name, const char *text) {
   char csv[512];
   snprintf(csv, sizeof csv, "%s/%s/timeseries.csv", tmpdir, serial);
   char *ta = slurp(csv);
-  for (int np = 2; np <= 4; ++np) {
+  /* 2, 3, 4 processes of one thread, and 2 processes of 2 threads (threads that do not spin
+   * while they wait: four on two cores) */
+  setenv("OMP_WAIT_POLICY", "passive", 1);
+  for (int np = 2; np <= 5; ++np) {
+    int procs = np <= 4 ? np : 2, threads = np <= 4 ? 1 : 2;
     char dir[64];
-    snprintf(dir, sizeof dir, "%s-np%d", name, np);
-    assert_int_equal(adem_np(np, &out, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, dir), 0);
+    snprintf(dir, sizeof dir, "%s-np%dx%d", name, procs, threads);
+    assert_int_equal(adem_np(procs, &out, "run '%s' --out '%s/%s' --threads %d --quiet", yaml, tmpdir,
+                             dir, threads), 0);
     adem_case *b = checkpoint(dir);
     const char *why = split_compare(a->world, b->world);
-    if (why) fail_msg("%s, %d processes: %s differs from the serial run's checkpoint", name, np, why);
+    if (why)
+      fail_msg("%s, %d processes x %d threads: %s differs from the serial run's checkpoint", name,
+               procs, threads, why);
     snprintf(csv, sizeof csv, "%s/%s/timeseries.csv", tmpdir, dir);
     char *tb = slurp(csv);
     assert_string_equal(ta, tb);
-    printf("# %s, %d processes: the checkpoint's %zu particles and contacts and the CSV (%zu "
-           "bytes) are the serial run's\n", name, np, b->world->p.n, strlen(tb));
+    printf("# %s, %d processes x %d threads: the checkpoint's %zu particles and contacts and the "
+           "CSV (%zu bytes) are the serial run's\n", name, procs, threads, b->world->p.n, strlen(tb));
     free(tb);
     adem_case_free(b);
   }
+  unsetenv("OMP_WAIT_POLICY");
   adem_case_free(a);
   free(ta);
   free(yaml);
