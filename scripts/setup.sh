@@ -2,11 +2,14 @@
 # One-step set-up on a fresh Debian 12 machine (as root):
 #   scripts/setup.sh demo   install what is missing, build (Release), run the flagship example
 #   scripts/setup.sh test   install what is missing, build (Release), run the whole test suite
+#   scripts/setup.sh mpi-test   the same with Open MPI: the MPI build (build-mpi, ADEM_MPI=ON)
+#                               and its tests under mpirun (ctest -L mpi; docs/parallel.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 what=${1:-demo}
 packages=(build-essential cmake pkg-config libyaml-dev libcmocka-dev libomp-dev gnuplot-nox)
+[ "$what" = mpi-test ] && packages+=(libopenmpi-dev openmpi-bin)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -21,6 +24,12 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
+if [ "$what" = mpi-test ]; then
+  cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=Release -DADEM_MPI=ON >/dev/null
+  cmake --build build-mpi -j"$jobs"
+  ctest --test-dir build-mpi --output-on-failure -L mpi # under mpirun: one test at a time
+  exit 0
+fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$jobs"
 
@@ -33,7 +42,7 @@ case "$what" in
     ctest --test-dir build --output-on-failure -j"$jobs"
     ;;
   *)
-    echo "usage: scripts/setup.sh demo|test" >&2
+    echo "usage: scripts/setup.sh demo|test|mpi-test" >&2
     exit 2
     ;;
 esac

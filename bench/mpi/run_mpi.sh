@@ -27,9 +27,10 @@ for r in $(seq "$reps"); do
     for s in "$s1" "$s2"; do
       rm -rf "$out/run"
       t0=$(date +%s.%N)
-      # --bind-to none: Open MPI binds each process to one core by default, and a process's
-      # second thread would then share its core
-      OMP_NUM_THREADS=$nt mpirun $root --oversubscribe --bind-to none -np "$np" "$adem" run "$out/bed-$s.yaml" \
+      # Open MPI binds each process to one core by default: right for processes of one thread;
+      # a process's second thread would share its core, so with threads, no binding
+      bind=$([ "$nt" = 1 ] && echo core || echo none)
+      OMP_NUM_THREADS=$nt mpirun $root --oversubscribe --bind-to "$bind" -np "$np" "$adem" run "$out/bed-$s.yaml" \
         --out "$out/run" --threads "$nt" > "$out/log-$l-$s-$r.txt" 2>&1
       t1=$(date +%s.%N)
       echo "$l $r $s $(echo "$t1 - $t0" | bc)" | tee -a "$out/times.txt"
