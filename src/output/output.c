@@ -715,6 +715,18 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   return st;
 }
 
+/* After a frame's particle file: the particles' .pvd lists it (name, relative to the output
+ * folder), the mesh frame and its .pvd are written, and the frame counter moves on. */
+static adem_status finish_frame(adem_output *o, const adem_world *w, const char *name,
+                                adem_error *err) {
+  adem_status st = adem_output_pvd_add(&o->pvd, w->time, name, err);
+  if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
+  if (!st) st = mesh_frame(o, w, err);
+  if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
+  if (!st) o->next_frame++;
+  return st;
+}
+
 adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *err) {
   if (!o->frames) return ADEM_OK;
   char name[64];
@@ -723,11 +735,7 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_status st = adem_output_write_vtu(w, path, err);
   free(path);
-  if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
-  if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
-  if (!st) st = mesh_frame(o, w, err);
-  if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
-  if (!st) o->next_frame++;
+  if (!st) st = finish_frame(o, w, name, err);
   return st;
 }
 
@@ -774,11 +782,7 @@ adem_status adem_output_frame_pvtu(adem_output *o, const adem_world *w, int npie
   free(path);
   free(pieces);
   free(src);
-  if (!st) st = adem_output_pvd_add(&o->pvd, w->time, name, err);
-  if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
-  if (!st) st = mesh_frame(o, w, err);
-  if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
-  if (!st) o->next_frame++;
+  if (!st) st = finish_frame(o, w, name, err);
   return st;
 }
 
