@@ -252,6 +252,12 @@ static void frame_name(char *buf, size_t cap, size_t index) {
   snprintf(buf, cap, "frames/particles_%06zu.vtu", index);
 }
 
+/* frames/particles_NNNNNN_pK.vtu, relative to the output folder (piece < 0: the .pvtu). */
+static void piece_name(char *buf, size_t cap, size_t index, int piece) {
+  if (piece < 0) snprintf(buf, cap, "frames/particles_%06zu.pvtu", index);
+  else snprintf(buf, cap, "frames/particles_%06zu_p%d.vtu", index, piece);
+}
+
 /* Reads the times of frames 0..frames_done-1 back from a PVD we wrote earlier. Entries that
  * cannot be found get k * frame_period. */
 static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_done,
@@ -277,15 +283,24 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
       const char *fl = strstr(line, "file=\"frames/particles_");
       if (ts && fl) {
         double t = strtod(ts + 10, NULL);
-        char *end;
-        unsigned long long k = strtoull(fl + 23, &end, 10);
+        unsigned long long k = strtoull(fl + 23, NULL, 10);
         size_t nl = strcspn(fl + 6, "\"");
         if (k < frames_done && !found[k] && nl < sizeof names[0]) {
-          time[k] = t;
-          found[k] = 1;
-          memcpy(names[k], fl + 6, nl); /* .vtu, or .pvtu of a run split in pieces */
-          names[k][nl] = '\0';
-          missing--;
+          /* only the names adem gives frame k: its .vtu, or the .pvtu of a run split in
+           * pieces (a name is written back into the PVD as it is) */
+          char vtu[64], pvtu[64];
+          frame_name(vtu, sizeof vtu, (size_t)k);
+          piece_name(pvtu, sizeof pvtu, (size_t)k, -1);
+          const char *nm = fl + 6;
+          bool ok = (nl == strlen(vtu) && !strncmp(nm, vtu, nl)) ||
+                    (nl == strlen(pvtu) && !strncmp(nm, pvtu, nl));
+          if (ok) {
+            time[k] = t;
+            found[k] = 1;
+            memcpy(names[k], nm, nl);
+            names[k][nl] = '\0';
+            missing--;
+          }
         }
       }
       line = next;
@@ -739,11 +754,6 @@ adem_status adem_output_frame(adem_output *o, const adem_world *w, adem_error *e
   return st;
 }
 
-/* frames/particles_NNNNNN_pK.vtu, relative to the output folder (piece < 0: the .pvtu). */
-static void piece_name(char *buf, size_t cap, size_t index, int piece) {
-  if (piece < 0) snprintf(buf, cap, "frames/particles_%06zu.pvtu", index);
-  else snprintf(buf, cap, "frames/particles_%06zu_p%d.vtu", index, piece);
-}
 
 adem_status adem_output_frame_piece(const char *dir, size_t index, int piece, const adem_world *w,
                                     const uint32_t *idx, size_t n, adem_error *err) {
