@@ -58,7 +58,9 @@ typedef struct adem_split_stats {
   double other_bytes;     /* bytes sent otherwise: assembling for outputs and decisions,
                            * plane forces and face loads */
 } adem_split_stats;
-#define ADEM_SPLIT_STATS_COUNT 9 /* doubles in adem_split_stats */
+#define ADEM_SPLIT_STATS_COUNT 9 /* doubles in adem_split_stats (run.c sends them as an array) */
+_Static_assert(sizeof(adem_split_stats) == ADEM_SPLIT_STATS_COUNT * sizeof(double),
+               "adem_split_stats must be ADEM_SPLIT_STATS_COUNT doubles");
 /* Adds this split's figures to *into. */
 void adem_split_stats_add(const adem_split *s, adem_split_stats *into);
 /* A test's control (tests/mpi/test_split_features.c): true when the environment has
