@@ -374,9 +374,10 @@ void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec
 /* Neighbour-list builds since the world was made (performance figures). */
 uint64_t adem_world_neighbor_builds(const adem_world *w);
 
-/* Memory: bytes per particle and per candidate pair of the world's arrays. */
+/* Memory: bytes per particle and per candidate pair of the world's arrays (a pair's energy
+ * balance terms count only while the world keeps the balance). */
 size_t adem_world_bytes_per_particle(void);
-size_t adem_world_bytes_per_pair(void);
+size_t adem_world_bytes_per_pair(const adem_world *w);
 
 /* Memory a run of n particles needs, estimated before anything is allocated from the sizes of
  * the real arrays (particles.h, pairs.h, neighbors.c): the particle table at the capacity that

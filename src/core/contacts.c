@@ -185,14 +185,14 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
   /* the smaller radius (a wall's rj is 0); not fmin, which is a library call without
    * -ffast-math: radii are positive and finite, so the two agree */
   l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 && g->rj < g->ri ? g->rj : g->ri);
-  if (g->energy) l->en[k].elastic = r->elastic; /* only the diagnostics read it */
+  if (g->energy) l->elastic[k] = r->elastic; /* only the diagnostics read it */
   if (!balance) return; /* the rest is only the energy balance's, and only it reads them */
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
-  l->en[k].damping_a = r->damping;
-  l->en[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
-  l->en[k].damping_torque_b =
+  l->bal[k].damping_a = r->damping;
+  l->bal[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  l->bal[k].damping_torque_b =
       g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
-  l->en[k].dissipated = r->dissipated;
+  l->bal[k].dissipated = r->dissipated;
 }
 
 /* A wall contact's power: the wall's material at the contact point moves at V and turns at
@@ -201,8 +201,8 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
  * motion did not take (the particle-side sums subtract it back). */
 static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
                                     adem_vec3 v_wall, adem_vec3 omega_wall) {
-  l->en[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
-  l->en[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+  l->bal[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->bal[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
 
 
@@ -214,7 +214,7 @@ static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction
   double lost = l->hist[k].elastic;
   double f = onset ? break_correction(it, g, dt) : 0.0;
   adem_pairs_clear(l, k);
-  if (balance) l->en[k].dissipated = lost;
+  if (balance) l->bal[k].dissipated = lost;
   l->res[k].force_a = v3_scale(g->n, -f);
 }
 
@@ -230,7 +230,7 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
  * energy (adem_world_set_energy_balance clears those when the balance comes on). Zeroing those
  * is the same as clearing the pair, and touches one record instead of all of them. */
 static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
-  if (balance) l->en[k].dissipated = 0.0;
+  if (balance) l->bal[k].dissipated = 0.0;
   l->res[k].force_a = v3_zero();
 }
 
@@ -415,13 +415,13 @@ static void mesh_pairs(const adem_force_scope *w) {
       l->res[k].rolling_a = r.rolling;
       l->res[k].rolling_capacity = r.capacity;
       l->res[k].overlap_ratio = g.delta / ri;
-      if (g.energy) l->en[k].elastic = r.elastic;
+      if (g.energy) l->elastic[k] = r.elastic;
       note_overlap(w, l->res[k].overlap_ratio);
       if (!w->balance) continue;
-      l->en[k].damping_a = r.damping;
-      l->en[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
-      l->en[k].damping_torque_b = v3_zero();
-      l->en[k].dissipated = r.dissipated;
+      l->bal[k].damping_a = r.damping;
+      l->bal[k].damping_torque_a = v3_add(v3_cross(v3_scale(g.n, ri), r.damping), r.damping_couple);
+      l->bal[k].damping_torque_b = v3_zero();
+      l->bal[k].dissipated = r.dissipated;
       store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->mesh_motion[grp]));
     }
   }
@@ -501,7 +501,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
-      if (balance) en.dissipated += 0.5 * pp->en[k].dissipated; /* also of one just opened */
+      if (balance) en.dissipated += 0.5 * pp->bal[k].dissipated; /* also of one just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
         adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
@@ -512,16 +512,16 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         t = v3_add(t, pp->res[k].torque_b);
         roll = v3_sub(roll, pp->res[k].rolling_a);
         if (balance) {
-          en.G = v3_sub(en.G, pp->en[k].damping_a);
-          en.H = v3_add(en.H, pp->en[k].damping_torque_b);
+          en.G = v3_sub(en.G, pp->bal[k].damping_a);
+          en.H = v3_add(en.H, pp->bal[k].damping_torque_b);
         }
       } else {
         f = v3_add(f, pp->res[k].force_a);
         t = v3_add(t, pp->res[k].torque_a);
         roll = v3_add(roll, pp->res[k].rolling_a);
         if (balance) {
-          en.G = v3_add(en.G, pp->en[k].damping_a);
-          en.H = v3_add(en.H, pp->en[k].damping_torque_a);
+          en.G = v3_add(en.G, pp->bal[k].damping_a);
+          en.H = v3_add(en.H, pp->bal[k].damping_torque_a);
         }
       }
       capacity += pp->res[k].rolling_capacity;
@@ -529,7 +529,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
-      if (balance) en.dissipated += pw->en[k].dissipated;
+      if (balance) en.dissipated += pw->bal[k].dissipated;
       if (!pw->touching[k]) {
         adem_vec3 fb = pw->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
@@ -544,10 +544,10 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pw->res[k].rolling_capacity, motion_spin(mo));
       }
       if (balance) {
-        en.G = v3_add(en.G, pw->en[k].damping_a);
-        en.H = v3_add(en.H, pw->en[k].damping_torque_a);
-        en.P_w += pw->en[k].wall_power;
-        en.P_d += pw->en[k].wall_damping_power;
+        en.G = v3_add(en.G, pw->bal[k].damping_a);
+        en.H = v3_add(en.H, pw->bal[k].damping_torque_a);
+        en.P_w += pw->bal[k].wall_power;
+        en.P_d += pw->bal[k].wall_damping_power;
       }
     }
     /* mesh contacts: the first slots of the particle's range, by key */
@@ -562,11 +562,11 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         if (mo->omega != 0.0) wall_spin = v3_axpy(wall_spin, pm->res[k].rolling_capacity, motion_spin(mo));
       }
       if (balance) {
-        en.G = v3_add(en.G, pm->en[k].damping_a);
-        en.H = v3_add(en.H, pm->en[k].damping_torque_a);
-        en.dissipated += pm->en[k].dissipated;
-        en.P_w += pm->en[k].wall_power;
-        en.P_d += pm->en[k].wall_damping_power;
+        en.G = v3_add(en.G, pm->bal[k].damping_a);
+        en.H = v3_add(en.H, pm->bal[k].damping_torque_a);
+        en.dissipated += pm->bal[k].dissipated;
+        en.P_w += pm->bal[k].wall_power;
+        en.P_d += pm->bal[k].wall_damping_power;
       }
     }
     uint8_t held = 0;

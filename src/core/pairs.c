@@ -26,37 +26,75 @@ static const adem_soa_field saved_slot_fields[] = {
 #undef ADEM_X
 };
 
-size_t adem_pairs_item_bytes(void) { return adem_soa_item_bytes(pair_layout); }
+/* The balance records as a layout of their own, grown, reordered and saved only while kept. */
+static const adem_soa_field balance_fields[] = {{"bal", offsetof(adem_pair_list, bal), sizeof(adem_pair_balance)}};
+static const adem_soa_layout balance_layout = {balance_fields, 1};
+
+size_t adem_pairs_item_bytes(bool with_balance) {
+  return adem_soa_item_bytes(pair_layout) + (with_balance ? sizeof(adem_pair_balance) : 0);
+}
 
 adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap) {
   if (cap <= l->cap) return ADEM_OK;
   cap = cap + cap / 4 + 16; /* headroom: the list is rebuilt often with similar sizes */
   adem_status st = adem_soa_grow(l, pair_layout, cap);
+  if (!st && l->keeps_balance) st = adem_soa_grow(l, balance_layout, cap);
   if (!st) l->cap = cap;
   return st;
 }
 
+adem_status adem_pairs_keep_balance(adem_pair_list *l, bool on) {
+  if (on == l->keeps_balance) return ADEM_OK;
+  l->keeps_balance = on;
+  if (!on) {
+    adem_soa_free(l, balance_layout);
+    return ADEM_OK;
+  }
+  if (l->cap == 0) return ADEM_OK; /* grown with the list */
+  l->bal = calloc(l->cap, sizeof *l->bal);
+  if (l->bal) return ADEM_OK;
+  l->keeps_balance = false;
+  return ADEM_ERR_NOMEM;
+}
+
 void adem_pairs_free(adem_pair_list *l) {
   adem_soa_free(l, pair_layout);
+  adem_soa_free(l, balance_layout);
   memset(l, 0, sizeof *l);
 }
 
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm) {
-  return adem_soa_permute(l, pair_layout, l->n, perm);
+  adem_status st = adem_soa_permute(l, pair_layout, l->n, perm);
+  if (!st && l->bal) st = adem_soa_permute(l, balance_layout, l->n, perm);
+  return st;
 }
 
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l) {
   adem_put_u64(wr, l->n);
   adem_soa_save(wr, l, pair_layout, l->n);
+  adem_put_u8(wr, l->bal ? 1 : 0);
+  if (l->bal) adem_soa_save(wr, l, balance_layout, l->n);
 }
 
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err) {
-  uint64_t n = adem_get_count(rd, adem_pairs_item_bytes());
+  uint64_t n = adem_get_count(rd, adem_pairs_item_bytes(false));
   if (rd->failed) return ADEM_OK;
   if (n > l->cap && adem_pairs_reserve(l, (size_t)n) != ADEM_OK)
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
   l->n = (size_t)n;
   adem_soa_load(rd, l, pair_layout, l->n);
+  uint8_t with_balance = adem_get_u8(rd);
+  if (rd->failed || with_balance > 1) {
+    rd->failed = 1;
+    return ADEM_OK;
+  }
+  if (with_balance) {
+    if (adem_pairs_keep_balance(l, true) != ADEM_OK)
+      return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
+    adem_soa_load(rd, l, balance_layout, l->n);
+  } else if (l->bal) {
+    memset(l->bal, 0, l->n * sizeof *l->bal);
+  }
   /* a bool must hold 0 or 1 */
   for (size_t k = 0; k < l->n && !rd->failed; ++k) {
     unsigned char b;

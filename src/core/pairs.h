@@ -31,7 +31,8 @@ typedef struct adem_contact_history {
 /* What a force pass writes for a pair and the per-particle sums read back: one record, so that
  * the sums gather one or two cache lines per pair rather than one per quantity. Zero when the
  * pair does not touch (but see forget_opened in contacts.c). Only what every pass needs is here;
- * the energy bookkeeping is in adem_pair_energy, which the passes that want it write. */
+ * the stored energy and the energy balance's terms are apart (elastic, adem_pair_balance), written
+ * only by the passes that want them. */
 typedef struct adem_pair_result {
   adem_vec3 force_a;        /* force on a (on b it is the opposite), N */
   double rolling_capacity;  /* BROF: e_c |F_n| this contact offers (I9) */
@@ -41,13 +42,11 @@ typedef struct adem_pair_result {
   adem_vec3 rolling_a;      /* rolling couple on a (on b: the opposite), N m */
 } adem_pair_result;
 
-/* The energy bookkeeping of a pair at the last force pass: the stored energy (written by the
- * passes after which the diagnostics can be read) and the energy balance's terms (written
- * while the balance is on). Apart from adem_pair_result so that the passes that want neither
- * do not carry it through the cache. */
-typedef struct adem_pair_energy {
+/* The energy balance's terms of a pair at the last force pass, written while the balance is on.
+ * A list keeps these records only then (adem_pairs_keep_balance): they are most of a pair's
+ * bytes, and a run without the balance never reads them. */
+typedef struct adem_pair_balance {
   double dissipated;        /* energy the laws took in the step by slip or a spring's limit, J */
-  double elastic;           /* elastic energy stored in the contact, J */
   adem_vec3 damping_a;      /* dissipative force on a, the dashpots (b: the opposite), N */
   adem_vec3 damping_torque_a; /* dissipative torque on a: the dashpots' moments and dissipative
                                * couples, N m */
@@ -55,7 +54,7 @@ typedef struct adem_pair_energy {
   double wall_power;        /* walls: power the wall gives through the contact, F.V + R.Omega
                              * (V, Omega the wall's), W */
   double wall_damping_power; /* walls: the dissipative forces' and couples' share of wall_power */
-} adem_pair_energy;
+} adem_pair_balance;
 
 /* Roles of the per-pair arrays. */
 enum {
@@ -71,7 +70,7 @@ enum {
   X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
   X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")          \
-  X(adem_pair_energy, en, ADEM_PAIR_RESULT, "the energy bookkeeping of the last force pass")
+  X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J, written by the passes after which the diagnostics can be read")
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
  * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
@@ -80,6 +79,8 @@ typedef struct adem_pair_list {
 #define ADEM_X(type, name, role, doc) type *name;
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+  bool keeps_balance;      /* bal is kept (the energy balance is on) */
+  adem_pair_balance *bal;  /* the energy balance's terms, a result like res; NULL unless kept */
 } adem_pair_list;
 
 /* Forgets the pair's state and results: a candidate out of contact. */
@@ -88,6 +89,7 @@ static inline void adem_pairs_clear(adem_pair_list *l, size_t k) {
   if (role != ADEM_PAIR_KEY) memset(&l->name[k], 0, sizeof l->name[k]);
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+  if (l->bal) memset(&l->bal[k], 0, sizeof l->bal[k]);
 }
 
 /* Zeroes the pair's results, keeping its state. */
@@ -96,6 +98,7 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
   if (role == ADEM_PAIR_RESULT) memset(&l->name[k], 0, sizeof l->name[k]);
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+  if (l->bal) memset(&l->bal[k], 0, sizeof l->bal[k]);
 }
 
 /* Clears every pair out of contact except what the pass in which it opened left (its lost
@@ -104,23 +107,26 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
 static inline void adem_pairs_clear_apart(adem_pair_list *l) {
   for (size_t k = 0; k < l->n; ++k) {
     if (l->touching[k]) continue;
-    double lost = l->en[k].dissipated;
+    double lost = l->bal ? l->bal[k].dissipated : 0.0;
     adem_vec3 f = l->res[k].force_a;
     adem_pairs_clear(l, k);
-    l->en[k].dissipated = lost;
+    if (l->bal) l->bal[k].dissipated = lost;
     l->res[k].force_a = f;
   }
 }
 
 /* Grows to at least cap pairs (with headroom: lists are rebuilt often with similar sizes). */
 adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap);
+/* Keeps the balance records (on: allocated for the capacity and zeroed, as a balance switched on
+ * finds no terms from before) or frees them (off). */
+adem_status adem_pairs_keep_balance(adem_pair_list *l, bool on);
 void adem_pairs_free(adem_pair_list *l);
 /* Reorders the pairs: new pair k is old pair perm[k] (the particle indices are not remapped). */
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm);
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l);
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err);
-/* Bytes per pair over every array. */
-size_t adem_pairs_item_bytes(void);
+/* Bytes per pair over every array; with_balance: the balance records too. */
+size_t adem_pairs_item_bytes(bool with_balance);
 
 /* Particle-mesh contacts. The pair list holds each particle's candidate triangles (b = triangle
  * index) in one range, start[i] .. start[i+1]. After a force pass the first k slots of a range

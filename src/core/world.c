@@ -266,11 +266,22 @@ adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error 
 /* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
  * (a JKR contact's costs a cbrt and four pow): the last pass of a call to adem_world_step and
  * the pass of prepare, after which the diagnostics can be read. */
+/* Makes the lists keep their balance records exactly while the balance is on (pairs.h). */
+static adem_status sync_balance_records(adem_world *w) {
+  adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
+  for (int s = 0; s < 3; ++s)
+    if (adem_pairs_keep_balance(lists[s], w->energy_balance)) return ADEM_ERR_NOMEM;
+  return ADEM_OK;
+}
+
 static void compute_forces(adem_world *w, bool energy) {
+  /* the balance's terms need their records: adem_world_step and prepare report a failure to
+   * allocate them before they get here */
+  bool balance = w->energy_balance && sync_balance_records(w) == ADEM_OK;
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
-                        w->energy_balance, &w->periodic, w->max_overlap_ratio,
+                        balance, &w->periodic, w->max_overlap_ratio,
                         &w->overlap_exceeded};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
@@ -458,17 +469,10 @@ void adem_world_set_dt(adem_world *w, double dt) { w->dt = dt; }
 void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme) {
   w->second_order = scheme == ADEM_CONTACTS_SECOND_ORDER;
 }
-/* Switched on, the balance finds no lost spring energy left on open pairs from before (the force
- * pass leaves it there only while the balance is on: contacts.c, forget_opened). */
-void adem_world_set_energy_balance(adem_world *w, bool on) {
-  if (on && !w->energy_balance) {
-    adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
-    for (int s = 0; s < 3; ++s)
-      for (size_t k = 0; k < lists[s]->n; ++k)
-        if (!lists[s]->touching[k]) lists[s]->en[k].dissipated = 0.0;
-  }
-  w->energy_balance = on;
-}
+/* The pair lists keep their balance records while the balance is on, and only then; switched
+ * on, the balance finds fresh (zero) records: no lost spring energy of pairs that opened before.
+ * The force pass makes the lists agree with the flag (sync_balance_records). */
+void adem_world_set_energy_balance(adem_world *w, bool on) { w->energy_balance = on; }
 bool adem_world_energy_balance(const adem_world *w) { return w->energy_balance; }
 double adem_world_dt(const adem_world *w) { return w->dt; }
 double adem_world_time(const adem_world *w) { return w->time; }
@@ -709,6 +713,8 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   st = check_initial_state(w, err);
   if (st) return st;
   default_domain(w);
+  if (sync_balance_records(w))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the energy balance's pair records");
   adem_world_compute_forces(w);
   /* the balance starts here: what this pass dissipated belongs to no step (its opening-kick
    * share, held in *_next, does) */
@@ -941,6 +947,8 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     adem_status st = adem_world_admit_particles(w, w->admit_from, err);
     if (st) return st;
   }
+  if (sync_balance_records(w))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the energy balance's pair records");
   double dt = w->dt;
   for (uint64_t s = 0; s < nsteps; ++s) {
     int nthreads = adem_world_threads(w);
@@ -993,11 +1001,11 @@ static void sum_elastic(const adem_world *w, double *buf, double out[3]) {
   for (size_t r = 0; r < nb->gathered; ++r) {
     size_t i = nb->id_order[r];
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e)
-      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.en[nb->pp_entries[e] >> 1].elastic;
+      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.elastic[nb->pp_entries[e] >> 1];
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e)
-      b[1][m[1]++] = w->pw.en[nb->pw_entries[e]].elastic;
+      b[1][m[1]++] = w->pw.elastic[nb->pw_entries[e]];
     for (size_t k = pm->start ? pm->start[i] : 0; pm->start && k < pm->start[i + 1]; ++k)
-      b[2][m[2]++] = pm->l.en[k].elastic;
+      b[2][m[2]++] = pm->l.elastic[k];
   }
   for (int s = 0; s < 3; ++s) out[s] = adem_sum(b[s], m[s]);
 }
@@ -1373,7 +1381,7 @@ static void contact_from(adem_contact_info *c, adem_contact_kind kind, uint64_t 
   c->b = b;
   c->force = l->res[k].force_a;
   c->overlap_ratio = l->res[k].overlap_ratio;
-  c->elastic = l->en[k].elastic;
+  c->elastic = l->elastic[k];
   c->tangential_history = l->hist[k].tangential;
   c->rolling_history = l->hist[k].rolling;
 }
@@ -1460,9 +1468,9 @@ size_t adem_world_bytes_per_particle(void) {
          sizeof(uint32_t);
 }
 
-size_t adem_world_bytes_per_pair(void) {
+size_t adem_world_bytes_per_pair(const adem_world *w) {
   /* the pair table and the gather entries (two for a particle pair) */
-  return adem_pairs_item_bytes() + 2 * sizeof(uint32_t);
+  return adem_pairs_item_bytes(w->energy_balance) + 2 * sizeof(uint32_t);
 }
 
 /* Capacity appending grows a table of n to: doubling from 64 (adem_particles_append). */
@@ -1485,7 +1493,7 @@ adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double n) {
   e.particle_bytes = grown_capacity(n) * (double)adem_soa_item_bytes(adem_particles_layout()) +
                      (n + 1.0) * (double)sizeof(size_t); /* mesh slot ranges */
   /* the lists keep a quarter more than they hold (adem_pairs_reserve) */
-  e.pair_bytes = 1.25 * (e.pairs * (double)adem_pairs_item_bytes() +
+  e.pair_bytes = 1.25 * (e.pairs * (double)adem_pairs_item_bytes(w->energy_balance) +
                          pm * (double)adem_mesh_pairs_slot_bytes());
   adem_neighbors_estimate_bytes(n, e.pairs, w->walls.mesh.ntris > 0, &e.grid_bytes, &e.build_bytes);
   e.total = e.particle_bytes + e.pair_bytes + e.grid_bytes + e.build_bytes;

@@ -117,26 +117,32 @@ static int compare_history(const void *x, const void *y) {
 }
 
 /* A pair for the assembly: its keys as ids (or id and plane), then every field of
- * ADEM_PAIR_FIELDS but the keys. */
-static size_t pair_bytes(void) {
+ * ADEM_PAIR_FIELDS but the keys, then (bal: while the balance is on) its balance record. */
+static size_t pair_bytes(bool bal) {
   size_t n = 2 * sizeof(uint64_t);
 #define ADEM_X(type, name, role, doc) if (role != ADEM_PAIR_KEY) n += sizeof(type);
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
-  return n;
+  return n + (bal ? sizeof(adem_pair_balance) : 0);
 }
 
-static bool put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb) {
+static bool put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb,
+                     bool bal) {
   bool ok = bytes_put(b, &ka, sizeof ka) && bytes_put(b, &kb, sizeof kb);
 #define ADEM_X(type, name, role, doc) \
   if (role != ADEM_PAIR_KEY) ok = ok && bytes_put(b, &l->name[k], sizeof(type));
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+  if (bal) { /* records not made yet (no force pass since the balance came on) are zero */
+    adem_pair_balance zero;
+    memset(&zero, 0, sizeof zero);
+    ok = ok && bytes_put(b, l->bal ? &l->bal[k] : &zero, sizeof zero);
+  }
   return ok;
 }
 
 static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
-                     uint64_t *kb) {
+                     uint64_t *kb, bool bal) {
   memcpy(ka, src, sizeof *ka);
   memcpy(kb, src + sizeof *ka, sizeof *kb);
   src += 2 * sizeof(uint64_t);
@@ -147,6 +153,7 @@ static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint
   }
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+  if (bal && l->bal) memcpy(&l->bal[k], src, sizeof l->bal[k]);
 }
 
 /* ---------------------------------------------------------------- slabs */
@@ -1091,8 +1098,8 @@ static int compare_mesh_slot(const void *x, const void *y) {
 /* The gathered mesh slots into pm of the whole (its n particles stored by id: map), each
  * particle's range in its order. */
 static adem_status put_mesh_slots(adem_mesh_pairs *pm, const bytes *in, const id_index *map,
-                                  size_t n) {
-  size_t rec = sizeof(mesh_head) + pair_bytes(), m = in->n / rec;
+                                  size_t n, bool bal) {
+  size_t rec = sizeof(mesh_head) + pair_bytes(bal), m = in->n / rec;
   mesh_slot_ref *r = malloc((m + 1) * sizeof *r);
   if (!r) return ADEM_ERR_NOMEM;
   for (size_t k = 0; k < m; ++k) {
@@ -1101,7 +1108,8 @@ static adem_status put_mesh_slots(adem_mesh_pairs *pm, const bytes *in, const id
     r[k] = (mesh_slot_ref){h.id, h.seq, in->d + k * rec};
   }
   qsort(r, m, sizeof *r, compare_mesh_slot);
-  adem_status st = adem_pairs_reserve(&pm->l, m);
+  adem_status st = adem_pairs_keep_balance(&pm->l, bal);
+  if (!st) st = adem_pairs_reserve(&pm->l, m);
   if (!st) st = adem_mesh_pairs_reserve(pm);
   if (!st) {
     pm->l.n = m;
@@ -1110,7 +1118,7 @@ static adem_status put_mesh_slots(adem_mesh_pairs *pm, const bytes *in, const id
       mesh_head h;
       memcpy(&h, r[k].at, sizeof h);
       uint64_t ka, kb;
-      get_pair(&pm->l, k, r[k].at + sizeof h, &ka, &kb);
+      get_pair(&pm->l, k, r[k].at + sizeof h, &ka, &kb, bal);
       size_t i = find_id(map, n, ka);
       if (i == SIZE_MAX) {
         st = ADEM_ERR_RUNTIME;
@@ -1144,6 +1152,7 @@ static adem_status copy_wall_state(const adem_world *from, adem_world *to) {
 adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
                                 bool everywhere, adem_error *err) {
   const adem_particles *p = &local->p;
+  bool bal = local->energy_balance; /* the pairs carry their balance records (pairs.h) */
   bytes mine[4] = {{0}, {0}, {0}, {0}}, in[4] = {{0}, {0}, {0}, {0}};
   adem_status st = ADEM_OK;
   const adem_mesh_pairs *lpm = &local->pm;
@@ -1153,7 +1162,8 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
       mesh_head h;
       memset(&h, 0, sizeof h);
       h = (mesh_head){p->id[i], (uint32_t)(k - lpm->start[i]), lpm->owner[k], lpm->key[k]};
-      if (!bytes_put(&mine[3], &h, sizeof h) || !put_pair(&mine[3], &lpm->l, k, p->id[i], lpm->l.b[k]))
+      if (!bytes_put(&mine[3], &h, sizeof h) ||
+          !put_pair(&mine[3], &lpm->l, k, p->id[i], lpm->l.b[k], bal))
         st = ADEM_ERR_NOMEM;
     }
   }
@@ -1161,11 +1171,11 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
     if (owner(s, p, i) == s->rank && !put_particle(&mine[0], p, i)) st = ADEM_ERR_NOMEM;
   for (size_t k = 0; k < local->pp.n && !st; ++k)
     if (owner(s, p, local->pp.a[k]) == s->rank &&
-        !put_pair(&mine[1], &local->pp, k, p->id[local->pp.a[k]], p->id[local->pp.b[k]]))
+        !put_pair(&mine[1], &local->pp, k, p->id[local->pp.a[k]], p->id[local->pp.b[k]], bal))
       st = ADEM_ERR_NOMEM;
   for (size_t k = 0; k < local->pw.n && !st; ++k)
     if (owner(s, p, local->pw.a[k]) == s->rank &&
-        !put_pair(&mine[2], &local->pw, k, p->id[local->pw.a[k]], local->pw.b[k]))
+        !put_pair(&mine[2], &local->pw, k, p->id[local->pw.a[k]], local->pw.b[k], bal))
       st = ADEM_ERR_NOMEM;
   if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
   st = adem_split_agree(s, st, err);
@@ -1190,18 +1200,18 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
     if (!st && !map) st = ADEM_ERR_NOMEM;
     for (size_t i = 0; i < n && !st; ++i) map[i] = (id_index){q->id[i], (uint32_t)i};
     adem_pair_list *lists[2] = {&whole->pp, &whole->pw};
-    size_t prec = pair_bytes();
+    size_t prec = pair_bytes(bal);
     for (int l = 0; l < 2 && !st; ++l) {
       adem_pair_list *L = lists[l];
       size_t m = in[l + 1].n / prec;
-      if (adem_pairs_reserve(L, m)) {
+      if (adem_pairs_keep_balance(L, bal) || adem_pairs_reserve(L, m)) {
         st = ADEM_ERR_NOMEM;
         break;
       }
       L->n = m;
       for (size_t k = 0; k < m; ++k) {
         uint64_t ka, kb;
-        get_pair(L, k, in[l + 1].d + k * prec, &ka, &kb);
+        get_pair(L, k, in[l + 1].d + k * prec, &ka, &kb, bal);
         L->a[k] = (uint32_t)find_id(map, n, ka);
         L->b[k] = l == 0 ? (uint32_t)find_id(map, n, kb) : (uint32_t)kb;
       }
@@ -1215,7 +1225,7 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
         pm->start_cap = n + 1;
       }
     }
-    if (!st) st = put_mesh_slots(pm, &in[3], map, n);
+    if (!st) st = put_mesh_slots(pm, &in[3], map, n, bal);
     free(map);
     if (!st) {
       whole->time = local->time;

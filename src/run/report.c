@@ -545,7 +545,7 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
 
   /* The estimate the loader checked against limits.max_memory (adem_world_memory_estimate). */
   const adem_memory_estimate *me = &c->memory;
-  double per_pair = (double)adem_world_bytes_per_pair();
+  double per_pair = (double)adem_world_bytes_per_pair(w);
   double frame = 1500.0 + (double)p->n * (8 + 8 + 4 + 4 * 24 + 8 + 8 + 1);
   double row = (9.0 + 3.0 * w->walls.nplanes) * 24.0;
   double ckpt = (double)strlen(c->source) + (double)p->n * (6 * 24 + 3 * 8 + 8 + 4) +
