@@ -171,15 +171,15 @@ static inline void note_overlap(const adem_force_scope *w, double ratio) {
 }
 
 /* Stores a contact's results. The tangential force acts at r_a n from a's centre and at -r_b n
- * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b; the rolling couple is
- * equal and opposite. A wall (r_b = 0) takes no torque. */
+ * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b: the pair keeps n x F_t
+ * and the sums scale it by the particle's radius; the rolling couple is equal and opposite. A
+ * wall takes no torque. */
 static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
                               const contact_result *r, bool balance) {
   adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
   l->touching[k] = true;
   l->res[k].force_a = r->force;
-  l->res[k].torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), ft), r->rolling);
-  l->res[k].torque_b = g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), ft), r->rolling) : v3_zero();
+  l->res[k].moment = v3_cross(g->n, ft);
   l->res[k].rolling_a = r->rolling;
   l->res[k].rolling_capacity = r->capacity;
   /* the smaller radius (a wall's rj is 0); not fmin, which is a library call without
@@ -410,8 +410,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       pm->owner[k] = c->tri;
       l->touching[k] = true;
       l->res[k].force_a = r.force;
-      l->res[k].torque_a = v3_add(v3_cross(v3_scale(g.n, ri), ft), r.rolling);
-      l->res[k].torque_b = v3_zero();
+      l->res[k].moment = v3_cross(g.n, ft);
       l->res[k].rolling_a = r.rolling;
       l->res[k].rolling_capacity = r.capacity;
       l->res[k].overlap_ratio = g.delta / ri;
@@ -495,6 +494,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
   {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
+    double ri = p->radius[i]; /* the arm of its contacts' tangential forces */
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
     double capacity = 0.0, capacity_pp = 0.0;
     adem_vec3 wall_spin = v3_zero(); /* sum of capacity x spin of the walls it touches (BROF) */
@@ -509,7 +509,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       }
       if (code & 1u) {
         f = v3_sub(f, pp->res[k].force_a);
-        t = v3_add(t, pp->res[k].torque_b);
+        t = v3_add(t, v3_sub(v3_scale(pp->res[k].moment, ri), pp->res[k].rolling_a));
         roll = v3_sub(roll, pp->res[k].rolling_a);
         if (balance) {
           en.G = v3_sub(en.G, pp->bal[k].damping_a);
@@ -517,7 +517,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         }
       } else {
         f = v3_add(f, pp->res[k].force_a);
-        t = v3_add(t, pp->res[k].torque_a);
+        t = v3_add(t, v3_add(v3_scale(pp->res[k].moment, ri), pp->res[k].rolling_a));
         roll = v3_add(roll, pp->res[k].rolling_a);
         if (balance) {
           en.G = v3_add(en.G, pp->bal[k].damping_a);
@@ -536,7 +536,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         continue;
       }
       f = v3_add(f, pw->res[k].force_a);
-      t = v3_add(t, pw->res[k].torque_a);
+      t = v3_add(t, v3_add(v3_scale(pw->res[k].moment, ri), pw->res[k].rolling_a));
       roll = v3_add(roll, pw->res[k].rolling_a);
       capacity += pw->res[k].rolling_capacity;
       if (pw->res[k].rolling_capacity > 0.0) {
@@ -554,7 +554,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     for (size_t k = pm_start ? pm_start[i] : 0; pm_start && k < pm_start[i + 1]; ++k) {
       if (!pm->touching[k]) break;
       f = v3_add(f, pm->res[k].force_a);
-      t = v3_add(t, pm->res[k].torque_a);
+      t = v3_add(t, v3_add(v3_scale(pm->res[k].moment, ri), pm->res[k].rolling_a));
       roll = v3_add(roll, pm->res[k].rolling_a);
       capacity += pm->res[k].rolling_capacity;
       if (pm->res[k].rolling_capacity > 0.0) {

@@ -37,8 +37,10 @@ typedef struct adem_pair_result {
   adem_vec3 force_a;        /* force on a (on b it is the opposite), N */
   double rolling_capacity;  /* BROF: e_c |F_n| this contact offers (I9) */
   double overlap_ratio;     /* overlap / smaller radius */
-  adem_vec3 torque_a;       /* every contact torque on a, rolling included, N m */
-  adem_vec3 torque_b;       /* every contact torque on b, N m (0 for a wall) */
+  adem_vec3 moment;         /* n x F_t, N: the tangential force's moment per metre of arm. It
+                             * acts at r_a n from a's centre and (as -F_t) at -r_b n from b's,
+                             * so a takes r_a n x F_t and b r_b n x F_t; each particle's sum
+                             * scales it by its own radius (a wall takes none) */
   adem_vec3 rolling_a;      /* rolling couple on a (on b: the opposite), N m */
 } adem_pair_result;
 
