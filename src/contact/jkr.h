@@ -11,7 +11,28 @@
 #define ADEM_CONTACT_JKR_H
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 #include "adem/vec3.h"
+
+/* Cube root of x within 3 ulp of libm's cbrt (7e-16 relative: tests/unit/test_jkr.c), without
+ * the library call, whose frexp and scalbn made an eighth of a JKR bed's time. The exponent
+ * divided by three in the bits starts within 3.2 %; two Halley steps (cubic: 3e-5, then 7e-15)
+ * and a Newton step (quadratic) finish. Outside [2^-1000, 2^1000], x <= 0 and NaN: libm's. The
+ * same operations in the same order everywhere: the same bits for any thread count. */
+static inline double adem_jkr_cbrt(double x) {
+  if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return cbrt(x);
+  uint64_t bits;
+  memcpy(&bits, &x, sizeof bits);
+  bits = bits / 3u + 0x2A9F7893782DA1CEull; /* exponent / 3, bias kept */
+  double y;
+  memcpy(&y, &bits, sizeof y);
+  for (int k = 0; k < 2; ++k) {
+    double y3 = y * y * y;
+    y = y * ((y3 + 2.0 * x) / (2.0 * y3 + x)); /* Halley; the ratio first: no overflow */
+  }
+  return y - (y - x / (y * y)) * (1.0 / 3.0); /* Newton */
+}
 
 /* Critical force F_C = 3 pi gamma R (notes section 1). */
 static inline double adem_jkr_critical_force(double gamma, double R) {
@@ -31,7 +52,7 @@ static inline double adem_jkr_contact_radius(double gamma, double R, double E, d
   /* Cardano: m = A + B with A = cbrt(-Q/2 + sqrt(Q^2/4 + P^3/27)), A B = -P/3. The sum A + B
    * cancels badly for large P; m = -Q / (A^2 - AB + B^2) does not (all terms positive). */
   double disc = 0.25 * Q * Q + P * P * P / 27.0;
-  double A = cbrt(-0.5 * Q + sqrt(disc > 0.0 ? disc : 0.0));
+  double A = adem_jkr_cbrt(-0.5 * Q + sqrt(disc > 0.0 ? disc : 0.0));
   double B = -P / (3.0 * A);
   double m = -Q / (A * A - A * B + B * B);
   double s = sqrt(2.0 * m);
