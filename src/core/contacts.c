@@ -210,12 +210,19 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
 /* A contact that opened since the last pass: its history's spring energy is gone (dissipated),
  * and an adhesive law's jump gets its break correction (a force on a; no torque). */
 static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction *it,
-                             const contact_geometry *g, bool onset, double dt, bool balance) {
+                             const contact_geometry *g, bool onset, double dt, bool balance,
+                             int *breaks) {
   double lost = l->hist[k].elastic;
   double f = onset ? break_correction(it, g, dt) : 0.0;
   adem_pairs_clear(l, k);
   if (balance) l->bal[k].dissipated = lost;
   l->res[k].force_a = v3_scale(g->n, -f);
+  if (f != 0.0) {
+#ifdef ADEM_HAVE_OPENMP
+#pragma omp atomic write
+#endif
+    *breaks = 1;
+  }
 }
 
 /* The rolling inertia I_r enters only model C's dashpot, c_r = beta_r 2 sqrt(I_r k_r): with
@@ -278,7 +285,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k) {
       g.inertia_r = Ici * Icj / (Ici + Icj);
     }
     if (g.delta <= 0.0) { /* it opened since the last pass */
-      open_pair(l, k, it, &g, w->second_order, dt, w->balance);
+      open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
@@ -324,7 +331,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
-      open_pair(l, k, it, &g, w->second_order, dt, w->balance);
+      open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
       return;
     }
     contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
@@ -491,6 +498,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
   const size_t *pm_start = w->walls->mesh.ntris > 0 ? w->pm->start : NULL;
   adem_vec3 g = w->gravity;
   double dt = w->dt;
+  bool breaks = *w->break_forces != 0;
   {
     adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
     adem_vec3 t = v3_zero(), roll = v3_zero();
@@ -503,6 +511,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       size_t k = code >> 1;
       if (balance) en.dissipated += 0.5 * pp->bal[k].dissipated; /* also of one just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
+        if (!breaks) continue;
         adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
         continue;
@@ -531,6 +540,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       size_t k = nb->pw_entries[e];
       if (balance) en.dissipated += pw->bal[k].dissipated;
       if (!pw->touching[k]) {
+        if (!breaks) continue;
         adem_vec3 fb = pw->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = v3_add(f, fb);
         continue;
@@ -608,7 +618,11 @@ static inline void sum_particle_loads(const adem_force_scope *w, size_t i) {
   sum_particle_as(w, i, false);
 }
 
-void adem_contacts_compute(const adem_force_scope *w) {
+void adem_contacts_compute(const adem_force_scope *scope) {
+  adem_force_scope s = *scope;
+  int breaks = 0;
+  s.break_forces = &breaks;
+  const adem_force_scope *w = &s;
   int nthreads = w->nthreads;
   ADEM_FOR(nthreads, w->pp->n, particle_pair, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);

@@ -30,6 +30,9 @@ typedef struct adem_force_scope {
   const adem_periodic *periodic; /* particle separations are minimum images (periodic.h) */
   double overlap_limit;          /* a contact whose overlap ratio exceeds it sets ... */
   int *overlap_exceeded;         /* ... this flag (the step's check then finds which) */
+  int *break_forces; /* the pass sets it when a pair that opened carries a break correction;
+                      * only then do the sums read the forces of pairs apart (contacts.c sets
+                      * it up: callers leave it NULL) */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

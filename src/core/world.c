@@ -282,7 +282,7 @@ static void compute_forces(adem_world *w, bool energy) {
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
-                        &w->overlap_exceeded};
+                        &w->overlap_exceeded, NULL};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }
