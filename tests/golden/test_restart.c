@@ -3,6 +3,7 @@
  * its output files (CSV, PVD, frames) are identical too. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <cmocka.h>
@@ -15,29 +16,31 @@ static int setup(void **state) {
   return tmpdir_make("adem_restart");
 }
 
-static adem_case *load_settle(const char *subdir) {
+static adem_case *load_settle_as(const char *subdir, bool balance) {
   adem_case *c = NULL;
   adem_error err;
-  adem_status st = adem_case_load_string(settle_case, "settle.yaml", NULL, 0, &c, &err);
+  const char *const sets[] = {"output.energy_balance=false"};
+  adem_status st = adem_case_load_string(settle_case, "settle.yaml", sets, balance ? 0 : 1, &c, &err);
   if (st) fail_msg("case does not load: %s", err.message);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/%s", tmpdir, subdir);
   return c;
 }
+static adem_case *load_settle(const char *subdir) { return load_settle_as(subdir, true); }
 
 static void assert_same(const adem_world *a, const adem_world *b) {
   const char *what = "";
   if (!settle_same_state(a, b, &what)) fail_msg("restarted run differs in %s", what);
 }
 
-/* Stop halfway through world stepping, write a checkpoint, read it into a new case, go on. */
-static void test_restart_halfway(void **state) {
-  (void)state;
+/* Stop halfway through world stepping, write a checkpoint, read it into a new case, go on; with
+ * the energy balance on (the pairs carry their balance records) or off (they carry none). */
+static void restart_halfway(bool balance) {
   adem_error err;
-  adem_case *a = load_settle("a");
+  adem_case *a = load_settle_as("a", balance);
   assert_int_equal(adem_world_prepare(a->world, &err), ADEM_OK);
   assert_int_equal(adem_world_step(a->world, SETTLE_STEPS, &err), ADEM_OK);
 
-  adem_case *b = load_settle("b");
+  adem_case *b = load_settle_as("b", balance);
   assert_int_equal(adem_world_prepare(b->world, &err), ADEM_OK);
   assert_int_equal(adem_world_step(b->world, SETTLE_STEPS / 2, &err), ADEM_OK);
   uint64_t rebuilds_half = b->world->nb.rebuilds;
@@ -58,9 +61,21 @@ static void test_restart_halfway(void **state) {
   /* The comparison means something only with loaded contacts and rebuilds after the restart. */
   assert_true(settle_loaded_contacts(a->world) > 100);
   assert_true(a->world->nb.rebuilds > rebuilds_half);
+  assert_true(adem_world_energy_balance(r->world) == balance);
+  assert_true((r->world->pp.bal != NULL) == balance);
   assert_same(a->world, r->world);
   adem_case_free(a);
   adem_case_free(r);
+}
+
+static void test_restart_halfway(void **state) {
+  (void)state;
+  restart_halfway(true);
+}
+
+static void test_restart_halfway_without_balance(void **state) {
+  (void)state;
+  restart_halfway(false);
 }
 
 /* The same through adem_run: a run stopped after every chunk (stop flag always set) and resumed
@@ -88,6 +103,7 @@ static void test_run_interrupted_everywhere(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_restart_halfway),
+      cmocka_unit_test(test_restart_halfway_without_balance),
       cmocka_unit_test(test_run_interrupted_everywhere),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);

@@ -75,14 +75,15 @@ static int setup(void **state) {
 }
 
 /* `mpirun -np 2/3/4 adem run` of the case `name` against `adem run`: the final checkpoint by id
- * and the CSV text. */
-static void runs_equal(const char *name, const char *text) {
+ * and the CSV text. extra: more arguments for every run. */
+static void runs_equal(const char *name, const char *text, const char *extra) {
   char *out;
   char file[128], serial[128];
   snprintf(file, sizeof file, "%s.yaml", name);
   snprintf(serial, sizeof serial, "%s-serial", name);
   char *yaml = write_case(file, text);
-  assert_int_equal(adem_np(0, &out, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, serial), 0);
+  assert_int_equal(adem_np(0, &out, "run '%s' --out '%s/%s' --threads 1 --quiet %s", yaml, tmpdir,
+                           serial, extra), 0);
   adem_case *a = checkpoint(serial);
   char csv[512];
   snprintf(csv, sizeof csv, "%s/%s/timeseries.csv", tmpdir, serial);
@@ -94,8 +95,8 @@ static void runs_equal(const char *name, const char *text) {
     int procs = np <= 4 ? np : 2, threads = np <= 4 ? 1 : 2;
     char dir[64];
     snprintf(dir, sizeof dir, "%s-np%dx%d", name, procs, threads);
-    assert_int_equal(adem_np(procs, &out, "run '%s' --out '%s/%s' --threads %d --quiet", yaml, tmpdir,
-                             dir, threads), 0);
+    assert_int_equal(adem_np(procs, &out, "run '%s' --out '%s/%s' --threads %d --quiet %s", yaml,
+                             tmpdir, dir, threads, extra), 0);
     adem_case *b = checkpoint(dir);
     const char *why = split_compare(a->world, b->world);
     if (why)
@@ -117,7 +118,14 @@ static void runs_equal(const char *name, const char *text) {
 
 static void test_mpirun_equals_serial(void **state) {
   (void)state;
-  runs_equal("settle", settle_case);
+  runs_equal("settle", settle_case, "");
+}
+
+/* Without the energy balance the pairs carry no balance records (pairs.h): the assembly and the
+ * checkpoints without them. */
+static void test_without_balance(void **state) {
+  (void)state;
+  runs_equal("settle-nobalance", settle_case, "--set output.energy_balance=false");
 }
 
 /* Half the run on 3 processes, the rest resumed from its checkpoint on 2. */
@@ -172,7 +180,7 @@ static const char *const periodic_gas =
 
 static void test_triply_periodic(void **state) {
   (void)state;
-  runs_equal("periodic-gas", periodic_gas);
+  runs_equal("periodic-gas", periodic_gas, "");
   /* the control: slabs along z as if it did not wrap (no copies across its faces) */
   char *out;
   char *yaml = write_case("periodic-gas.yaml", periodic_gas);
@@ -194,6 +202,7 @@ static void test_triply_periodic(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_mpirun_equals_serial),
+      cmocka_unit_test(test_without_balance),
       cmocka_unit_test(test_resume_other_count),
       cmocka_unit_test(test_triply_periodic),
   };
