@@ -551,16 +551,9 @@ uint32_t *adem_world_id_order(const adem_world *w) {
 }
 
 double adem_sum(const double *x, size_t n) {
-  /* Blocks of fixed size summed in order: the same result whatever the thread count. */
-  enum { BLOCK = 4096 };
-  double total = 0.0;
-  for (size_t b = 0; b < n; b += BLOCK) {
-    size_t e = b + BLOCK < n ? b + BLOCK : n;
-    double s = 0.0;
-    for (size_t k = b; k < e; ++k) s += x[k];
-    total += s;
-  }
-  return total;
+  adem_block_sum s = ADEM_BLOCK_SUM_START;
+  for (size_t k = 0; k < n; ++k) adem_block_sum_add(&s, x[k]);
+  return adem_block_sum_result(&s);
 }
 
 static double total_energy(const adem_diagnostics *d) {
@@ -989,31 +982,24 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   return ADEM_OK;
 }
 
-/* The stored energies of the contacts (buf: room for every pair of a list), in an order the
- * storage does not change: particles by id (as at the last gather, which the lists follow), and
- * each one's pairs as its gather list has them, a particle pair under its lower id; mesh slots
- * by key. */
-static void sum_elastic(const adem_world *w, double *buf, double out[3]) {
+/* The stored energies of the contacts, in an order the storage does not change: particles by id
+ * (as at the last gather, which the lists follow), and each one's pairs as its gather list has
+ * them, a particle pair under its lower id; mesh slots by key. Summed as streams (no array of
+ * every pair's term: the diagnostics would add it to a run's peak memory). */
+static void sum_elastic(const adem_world *w, double out[3]) {
   const adem_neighbors *nb = &w->nb;
   const adem_mesh_pairs *pm = &w->pm;
-  size_t m[3] = {0, 0, 0};
-  double *b[3] = {buf, buf + w->pp.n, buf + w->pp.n + w->pw.n};
+  adem_block_sum b[3] = {ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START};
   for (size_t r = 0; r < nb->gathered; ++r) {
     size_t i = nb->id_order[r];
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e)
-      if (!(nb->pp_entries[e] & 1u)) b[0][m[0]++] = w->pp.elastic[nb->pp_entries[e] >> 1];
+      if (!(nb->pp_entries[e] & 1u)) adem_block_sum_add(&b[0], w->pp.elastic[nb->pp_entries[e] >> 1]);
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e)
-      b[1][m[1]++] = w->pw.elastic[nb->pw_entries[e]];
+      adem_block_sum_add(&b[1], w->pw.elastic[nb->pw_entries[e]]);
     for (size_t k = pm->start ? pm->start[i] : 0; pm->start && k < pm->start[i + 1]; ++k)
-      b[2][m[2]++] = pm->l.elastic[k];
+      adem_block_sum_add(&b[2], pm->l.elastic[k]);
   }
-  for (int s = 0; s < 3; ++s) out[s] = adem_sum(b[s], m[s]);
-}
-
-/* Sum of x[order[k]] for k = 0 .. n-1 (buf: room for n), fixed blocks as adem_sum. */
-static double sum_ordered(const double *x, const uint32_t *order, size_t n, double *buf) {
-  for (size_t k = 0; k < n; ++k) buf[k] = x[order[k]];
-  return adem_sum(buf, n);
+  for (int s = 0; s < 3; ++s) out[s] = adem_block_sum_result(&b[s]);
 }
 
 /* Every sum over particles or contacts runs in order of id (docs/architecture.md, "Order
@@ -1024,29 +1010,45 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   d.time = w->time;
   const adem_particles *p = &w->p;
   size_t n = p->n;
-  size_t npairs = w->pp.n + w->pw.n + w->pm.l.n;
-  /* x: a value per particle (by index); buf: the values in order of id */
-  double *x = malloc((n + 1) * sizeof *x), *buf = malloc((n + npairs + 1) * sizeof *buf);
   uint32_t *order = adem_world_id_order(w);
-  if (!x || !buf || !order) {
-    free(x);
-    free(buf);
-    free(order);
-    return d;
-  }
-  for (size_t i = 0; i < n; ++i) x[i] = 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i];
-  d.kinetic = sum_ordered(x, order, n, buf);
-  for (size_t i = 0; i < n; ++i) x[i] = 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i];
-  d.rotational = sum_ordered(x, order, n, buf);
-  /* Potential of the constant body forces: -(m g + F_ext) . x */
-  for (size_t i = 0; i < n; ++i) {
+  if (!order) return d;
+  /* one walk over the particles by id, each sum a stream of its own (adem_block_sum) */
+  adem_block_sum ke = ADEM_BLOCK_SUM_START, rot = ADEM_BLOCK_SUM_START, pot = ADEM_BLOCK_SUM_START, dis = ADEM_BLOCK_SUM_START, work = ADEM_BLOCK_SUM_START;
+  adem_block_sum am[3] = {ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START}, bi[3] = {ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START};
+  for (size_t r = 0; r < n; ++r) {
+    size_t i = order[r];
+    adem_block_sum_add(&ke, 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i]);
+    adem_block_sum_add(&rot, 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i]);
+    /* Potential of the constant body forces: -(m g + F_ext) . x */
     adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
                          w->groups[p->group[i]].external_force);
-    x[i] = -v3_dot(f, adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]));
+    adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
+    adem_block_sum_add(&pot, -v3_dot(f, xi));
+    /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
+     * laws' own losses, and the work of moving walls */
+    adem_block_sum_add(&dis, p->dissipated[i]);
+    adem_block_sum_add(&work, p->wall_work[i]);
+    adem_vec3 l = v3_add(v3_scale(v3_cross(xi, p->vel[i]), 1.0 / p->inv_mass[i]),
+                         v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
+    adem_block_sum_add(&am[0], l.x);
+    adem_block_sum_add(&am[1], l.y);
+    adem_block_sum_add(&am[2], l.z);
+    adem_block_sum_add(&bi[0], p->brof_impulse[i].x);
+    adem_block_sum_add(&bi[1], p->brof_impulse[i].y);
+    adem_block_sum_add(&bi[2], p->brof_impulse[i].z);
   }
-  d.potential = sum_ordered(x, order, n, buf);
+  free(order);
+  d.kinetic = adem_block_sum_result(&ke);
+  d.rotational = adem_block_sum_result(&rot);
+  d.potential = adem_block_sum_result(&pot);
+  d.dissipated = adem_block_sum_result(&dis);
+  d.wall_work = adem_block_sum_result(&work);
+  d.angular_momentum = v3(adem_block_sum_result(&am[0]), adem_block_sum_result(&am[1]),
+                          adem_block_sum_result(&am[2]));
+  d.brof_impulse = v3(adem_block_sum_result(&bi[0]), adem_block_sum_result(&bi[1]),
+                      adem_block_sum_result(&bi[2]));
   double elastic[3];
-  sum_elastic(w, buf, elastic);
+  sum_elastic(w, elastic);
   d.elastic = elastic[0] + elastic[1] + elastic[2];
   for (size_t k = 0; k < w->pp.n; ++k) {
     d.contacts_pp += w->pp.touching[k];
@@ -1060,27 +1062,6 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     d.contacts_pw += w->pm.l.touching[k];
     d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pm.l.res[k].overlap_ratio);
   }
-  /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
-   * laws' own losses, and the work of moving walls */
-  d.dissipated = sum_ordered(p->dissipated, order, n, buf);
-  d.wall_work = sum_ordered(p->wall_work, order, n, buf);
-  double *c[3] = {&d.angular_momentum.x, &d.angular_momentum.y, &d.angular_momentum.z};
-  double *bi[3] = {&d.brof_impulse.x, &d.brof_impulse.y, &d.brof_impulse.z};
-  for (int a = 0; a < 3; ++a) {
-    for (size_t i = 0; i < n; ++i) {
-      adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
-      adem_vec3 l = v3_add(v3_scale(v3_cross(xi, p->vel[i]), 1.0 / p->inv_mass[i]),
-                           v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
-      x[i] = a == 0 ? l.x : a == 1 ? l.y : l.z;
-    }
-    *c[a] = sum_ordered(x, order, n, buf);
-    for (size_t i = 0; i < n; ++i)
-      x[i] = a == 0 ? p->brof_impulse[i].x : a == 1 ? p->brof_impulse[i].y : p->brof_impulse[i].z;
-    *bi[a] = sum_ordered(x, order, n, buf);
-  }
-  free(x);
-  free(buf);
-  free(order);
   d.balance_error = w->prepared ? total_energy(&d) + d.dissipated - w->energy_initial - d.wall_work : 0.0;
   if (!w->energy_balance) d.dissipated = d.wall_work = d.balance_error = NAN;
   d.initial = w->prepared ? w->energy_initial : total_energy(&d);

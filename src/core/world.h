@@ -194,7 +194,28 @@ adem_status adem_world_load_setup(adem_reader *rd, adem_world *w, adem_error *er
  * independence"). */
 uint32_t *adem_world_id_order(const adem_world *w);
 
-/* Deterministic sum: fixed blocks, independent of the thread count. */
+/* Deterministic sum: fixed blocks of ADEM_SUM_BLOCK terms, each summed in order from 0.0 and added
+ * in order to the total; independent of the thread count. */
 double adem_sum(const double *x, size_t n);
+
+/* adem_sum as a stream, term by term: the same additions in the same order (the same bits),
+ * without an array of the terms. Start from ADEM_BLOCK_SUM_START. */
+enum { ADEM_SUM_BLOCK = 4096 };
+typedef struct adem_block_sum {
+  double total, part; /* the finished blocks; the block under way */
+  size_t count;       /* terms in the block under way */
+} adem_block_sum;
+#define ADEM_BLOCK_SUM_START {0.0, 0.0, 0}
+static inline void adem_block_sum_add(adem_block_sum *s, double x) {
+  s->part += x;
+  if (++s->count == ADEM_SUM_BLOCK) {
+    s->total += s->part;
+    s->part = 0.0;
+    s->count = 0;
+  }
+}
+static inline double adem_block_sum_result(const adem_block_sum *s) {
+  return s->count ? s->total + s->part : s->total;
+}
 
 #endif
