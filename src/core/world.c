@@ -263,9 +263,6 @@ adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error 
   return ADEM_OK;
 }
 
-/* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
- * (a JKR contact's costs a cbrt and four pow): the last pass of a call to adem_world_step and
- * the pass of prepare, after which the diagnostics can be read. */
 /* Makes the lists keep their balance records exactly while the balance is on (pairs.h). */
 static adem_status sync_balance_records(adem_world *w) {
   adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
@@ -274,6 +271,9 @@ static adem_status sync_balance_records(adem_world *w) {
   return ADEM_OK;
 }
 
+/* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
+ * (a JKR contact's costs a cbrt and four pow): the last pass of a call to adem_world_step and
+ * the pass of prepare, after which the diagnostics can be read. */
 static void compute_forces(adem_world *w, bool energy) {
   /* the balance's terms need their records: adem_world_step and prepare report a failure to
    * allocate them before they get here */
@@ -1013,40 +1013,39 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   uint32_t *order = adem_world_id_order(w);
   if (!order) return d;
   /* one walk over the particles by id, each sum a stream of its own (adem_block_sum) */
-  adem_block_sum ke = ADEM_BLOCK_SUM_START, rot = ADEM_BLOCK_SUM_START, pot = ADEM_BLOCK_SUM_START, dis = ADEM_BLOCK_SUM_START, work = ADEM_BLOCK_SUM_START;
-  adem_block_sum am[3] = {ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START}, bi[3] = {ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START, ADEM_BLOCK_SUM_START};
+  enum { KINETIC, ROTATIONAL, POTENTIAL, DISSIPATED, WALL_WORK, MOMENTUM, IMPULSE = MOMENTUM + 3,
+         SUMS = IMPULSE + 3 };
+  adem_block_sum sum[SUMS];
+  for (int k = 0; k < SUMS; ++k) sum[k] = (adem_block_sum)ADEM_BLOCK_SUM_START;
   for (size_t r = 0; r < n; ++r) {
     size_t i = order[r];
-    adem_block_sum_add(&ke, 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i]);
-    adem_block_sum_add(&rot, 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i]);
+    adem_block_sum_add(&sum[KINETIC], 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i]);
+    adem_block_sum_add(&sum[ROTATIONAL], 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i]);
     /* Potential of the constant body forces: -(m g + F_ext) . x */
     adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
                          w->groups[p->group[i]].external_force);
     adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
-    adem_block_sum_add(&pot, -v3_dot(f, xi));
+    adem_block_sum_add(&sum[POTENTIAL], -v3_dot(f, xi));
     /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
      * laws' own losses, and the work of moving walls */
-    adem_block_sum_add(&dis, p->dissipated[i]);
-    adem_block_sum_add(&work, p->wall_work[i]);
+    adem_block_sum_add(&sum[DISSIPATED], p->dissipated[i]);
+    adem_block_sum_add(&sum[WALL_WORK], p->wall_work[i]);
     adem_vec3 l = v3_add(v3_scale(v3_cross(xi, p->vel[i]), 1.0 / p->inv_mass[i]),
                          v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
-    adem_block_sum_add(&am[0], l.x);
-    adem_block_sum_add(&am[1], l.y);
-    adem_block_sum_add(&am[2], l.z);
-    adem_block_sum_add(&bi[0], p->brof_impulse[i].x);
-    adem_block_sum_add(&bi[1], p->brof_impulse[i].y);
-    adem_block_sum_add(&bi[2], p->brof_impulse[i].z);
+    adem_vec3 b = p->brof_impulse[i];
+    double c[6] = {l.x, l.y, l.z, b.x, b.y, b.z};
+    for (int a = 0; a < 6; ++a) adem_block_sum_add(&sum[MOMENTUM + a], c[a]);
   }
   free(order);
-  d.kinetic = adem_block_sum_result(&ke);
-  d.rotational = adem_block_sum_result(&rot);
-  d.potential = adem_block_sum_result(&pot);
-  d.dissipated = adem_block_sum_result(&dis);
-  d.wall_work = adem_block_sum_result(&work);
-  d.angular_momentum = v3(adem_block_sum_result(&am[0]), adem_block_sum_result(&am[1]),
-                          adem_block_sum_result(&am[2]));
-  d.brof_impulse = v3(adem_block_sum_result(&bi[0]), adem_block_sum_result(&bi[1]),
-                      adem_block_sum_result(&bi[2]));
+  double total[SUMS];
+  for (int k = 0; k < SUMS; ++k) total[k] = adem_block_sum_result(&sum[k]);
+  d.kinetic = total[KINETIC];
+  d.rotational = total[ROTATIONAL];
+  d.potential = total[POTENTIAL];
+  d.dissipated = total[DISSIPATED];
+  d.wall_work = total[WALL_WORK];
+  d.angular_momentum = v3(total[MOMENTUM], total[MOMENTUM + 1], total[MOMENTUM + 2]);
+  d.brof_impulse = v3(total[IMPULSE], total[IMPULSE + 1], total[IMPULSE + 2]);
   double elastic[3];
   sum_elastic(w, elastic);
   d.elastic = elastic[0] + elastic[1] + elastic[2];
