@@ -234,8 +234,8 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
 /* A candidate apart now and at the last pass. Every field of a pair that is not touching is
  * zero (the build clears new pairs, open_pair clears an opening one) except what open_pair left
  * for the pass in which it opened: its break correction, and with the balance on its lost spring
- * energy (adem_world_set_energy_balance clears those when the balance comes on). Zeroing those
- * is the same as clearing the pair, and touches one record instead of all of them. */
+ * energy (a balance switched on starts from zeroed records: world.c, sync_balance_records).
+ * Zeroing those is the same as clearing the pair, and touches one record instead of all. */
 static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
   if (balance) l->bal[k].dissipated = 0.0;
   l->res[k].force_a = v3_zero();
