@@ -81,6 +81,102 @@ static void restore_history(const build_ctx *w, adem_pair_list *l, bool walls,
   }
 }
 
+/* The particle pairs' histories stay in their array through a build (the largest list: a copy
+ * of every touching pair's history with its ids would be the build's largest allocation, ~80 B
+ * per touching pair, on top of the lists). Before the build, the ids of the touching pairs and
+ * their slots (24 B each); after it, each new pair's old slot by its ids, and the histories
+ * moved within the array along those links. */
+typedef struct pair_key {
+  uint64_t ka, kb; /* ids, ka the lower */
+  size_t k;        /* the pair's slot before the build */
+} pair_key;
+
+static int compare_key(const void *x, const void *y) {
+  const pair_key *a = x, *b = y;
+  if (a->ka != b->ka) return a->ka < b->ka ? -1 : 1;
+  if (a->kb != b->kb) return a->kb < b->kb ? -1 : 1;
+  return 0;
+}
+
+/* The touching pairs' ids and slots, sorted by ids. */
+static pair_key *save_pair_keys(const build_ctx *w, const adem_pair_list *l, size_t *count) {
+  size_t m = 0;
+  for (size_t k = 0; k < l->n; ++k) m += l->touching[k];
+  pair_key *s = malloc((m + 1) * sizeof *s);
+  if (!s) return NULL;
+  size_t j = 0;
+  for (size_t k = 0; k < l->n; ++k)
+    if (l->touching[k]) s[j++] = (pair_key){w->p->id[l->a[k]], w->p->id[l->b[k]], k};
+  qsort(s, m, sizeof *s, compare_key);
+  *count = m;
+  return s;
+}
+
+enum { NO_SLOT = UINT32_MAX };
+
+/* After the build (l holds the new pairs; its history array still the old pairs' histories in
+ * their old slots, n_old of them): each new pair takes the history its ids had, every other
+ * field cleared, as restore_history does for the other lists. src[k] is new pair k's old slot;
+ * as src is one-to-one, the moves are chains that start at a slot whose history nobody wants
+ * and cycles, which go through one temporary. */
+static adem_status carry_pair_history(const build_ctx *w, adem_pair_list *l, size_t n_old,
+                                      const pair_key *s, size_t ns) {
+  int nthreads = w->nthreads;
+  size_t n = l->n, m = n > n_old ? n : n_old;
+  uint32_t *src = malloc((n + 1) * sizeof *src);
+  unsigned char *state = calloc(m + 1, 1); /* 1: an old slot some new pair takes; 2: filled */
+  if (!src || !state) {
+    free(src);
+    free(state);
+    return ADEM_ERR_NOMEM;
+  }
+  const uint64_t *id = w->p->id;
+  ADEM_PARALLEL_FOR
+  for (size_t k = 0; k < n; ++k) {
+    pair_key key = {id[l->a[k]], id[l->b[k]], 0};
+    size_t lo = 0, hi = ns;
+    while (lo < hi) {
+      size_t mid = lo + (hi - lo) / 2;
+      if (compare_key(&s[mid], &key) < 0) lo = mid + 1;
+      else hi = mid;
+    }
+    src[k] = lo < ns && compare_key(&s[lo], &key) == 0 ? (uint32_t)s[lo].k : NO_SLOT;
+  }
+  for (size_t k = 0; k < n; ++k)
+    if (src[k] != NO_SLOT) state[src[k]] |= 1;
+  adem_contact_history *h = l->hist;
+  for (size_t p0 = 0; p0 < n; ++p0) { /* chains: from a slot whose history nobody takes */
+    if (state[p0] & 1) continue;
+    for (size_t p = p0; p < n && src[p] != NO_SLOT && !(state[p] & 2); p = src[p]) {
+      h[p] = h[src[p]];
+      state[p] |= 2;
+    }
+  }
+  for (size_t p0 = 0; p0 < n; ++p0) { /* what is left are cycles */
+    if (src[p0] == NO_SLOT || (state[p0] & 2)) continue;
+    adem_contact_history first = h[p0];
+    size_t p = p0;
+    for (; src[p] != p0; p = src[p]) {
+      h[p] = h[src[p]];
+      state[p] |= 2;
+    }
+    h[p] = first;
+    state[p] |= 2;
+  }
+  ADEM_PARALLEL_FOR
+  for (size_t k = 0; k < n; ++k) {
+    adem_contact_history kept = h[k];
+    adem_pairs_clear(l, k);
+    if (src[k] != NO_SLOT) {
+      l->hist[k] = kept;
+      l->touching[k] = true;
+    }
+  }
+  free(src);
+  free(state);
+  return ADEM_OK;
+}
+
 static adem_status grow_size_t(size_t **p, size_t *cap, size_t need) {
   if (need <= *cap) return ADEM_OK;
   size_t c = need + need / 4 + 16;
@@ -553,8 +649,8 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   nb->periodic = scope->periodic ? *scope->periodic : (adem_periodic){0, {0}, {0}};
   adem_particles_wrap(p, &nb->periodic, w->nthreads);
 
-  size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0;
-  saved_history *saved_pp = save_history(w, w->pp, false, &nsaved_pp);
+  size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0, npp_old = w->pp->n;
+  pair_key *saved_pp = save_pair_keys(w, w->pp, &nsaved_pp);
   saved_history *saved_pw = save_history(w, w->pw, true, &nsaved_pw);
   saved_history *saved_pm = save_mesh_history(w, &nsaved_pm);
   size_t *offsets = malloc((n + 1) * sizeof *offsets);
@@ -583,7 +679,8 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   if (!st && grow_size_t(&w->pm->start, &w->pm->start_cap, n + 1)) st = ADEM_ERR_NOMEM;
   if (st) goto done;
   memcpy(w->pm->start, offsets, (n + 1) * sizeof *offsets);
-  restore_history(w, w->pp, false, saved_pp, nsaved_pp);
+  st = carry_pair_history(w, w->pp, npp_old, saved_pp, nsaved_pp);
+  if (st) goto done;
   restore_history(w, w->pw, true, saved_pw, nsaved_pw);
   restore_mesh_history(w, saved_pm, nsaved_pm);
   nb->time_at_build = w->walls->time;
@@ -624,7 +721,10 @@ bool adem_neighbors_need_rebuild(const adem_neighbors *nb, const adem_particles 
 void adem_neighbors_estimate_bytes(double n, double npairs, bool mesh, double *grid, double *build) {
   double cells = 8.0 * n + 1024.0 + 1.0; /* sort_by_cell's cap, + 1 start */
   *grid = cells * (double)sizeof(size_t) * (mesh ? 2.0 : 1.0);
-  *build = npairs * (double)sizeof(saved_history)          /* history kept across the build */
+  /* history kept across the build: particle pairs' keys and links (carry_pair_history), the
+   * copies of the wall and mesh pairs' (one a particle at most, as the estimate counts them) */
+  *build = npairs * (double)(sizeof(pair_key) + sizeof(uint32_t) + 1)
+           + n * (double)sizeof(saved_history)
            + 3.0 * (n + 1.0) * (double)sizeof(size_t)      /* cell_of, perm, offsets */
            + 2.0 * (n + 1.0) * (double)sizeof(size_t)      /* pp_start, pw_start */
            + (n + 1.0) * (double)sizeof(uint32_t)          /* id_order */
