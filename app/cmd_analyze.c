@@ -55,7 +55,7 @@ int cmd_analyze(int argc, char **argv) {
   if (argc < 2) return fail(EXIT_INPUT, "adem analyze repose needs a run's output folder");
   const char *dir = argv[1];
   adem_pile_options opt = adem_pile_default_options();
-  for (int i = 2; i < argc; ++i) {
+  for (int i = 2; i < argc; i += 2) { /* option and value */
     const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
     int ok = v != NULL;
     if (ok && !strcmp(a, "--floor")) ok = number(v, &opt.floor_z);
@@ -67,7 +67,6 @@ int cmd_analyze(int argc, char **argv) {
       return fail(EXIT_INPUT, "unknown option or missing value '%s' for adem analyze repose (see: "
                               "adem analyze --help)", a);
     if (!ok) return fail(EXIT_INPUT, "%s: bad value '%s'", a, v);
-    ++i;
   }
   adem_error err;
   memset(&err, 0, sizeof err);
