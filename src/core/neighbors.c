@@ -25,11 +25,16 @@ typedef struct saved_history {
   adem_contact_history h;
 } saved_history;
 
+/* Order of two pairs' keys: by ka, then kb. */
+static int compare_ids(uint64_t ka, uint64_t kb, uint64_t la, uint64_t lb) {
+  if (ka != la) return ka < la ? -1 : 1;
+  if (kb != lb) return kb < lb ? -1 : 1;
+  return 0;
+}
+
 static int compare_saved(const void *x, const void *y) {
   const saved_history *a = x, *b = y;
-  if (a->ka != b->ka) return a->ka < b->ka ? -1 : 1;
-  if (a->kb != b->kb) return a->kb < b->kb ? -1 : 1;
-  return 0;
+  return compare_ids(a->ka, a->kb, b->ka, b->kb);
 }
 
 static const saved_history *find_saved(const saved_history *s, size_t n, uint64_t ka, uint64_t kb) {
@@ -93,9 +98,7 @@ typedef struct pair_key {
 
 static int compare_key(const void *x, const void *y) {
   const pair_key *a = x, *b = y;
-  if (a->ka != b->ka) return a->ka < b->ka ? -1 : 1;
-  if (a->kb != b->kb) return a->kb < b->kb ? -1 : 1;
-  return 0;
+  return compare_ids(a->ka, a->kb, b->ka, b->kb);
 }
 
 /* The touching pairs' ids and slots, sorted by ids. */
