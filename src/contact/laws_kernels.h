@@ -165,10 +165,12 @@ typedef struct adem_rolling_output {
 static inline double adem_rolling_radius(const adem_contact_geometry *g) {
   return g->R; /* r_i r_j/(r_i + r_j), a wall's r_i: the effective radius, computed once */
 }
+/* (Both values are read whatever the branch: a load under a branch keeps the force pass's block
+ * loops from packing, contacts.c.) */
 static inline double adem_rolling_eta(const adem_rolling_input *in) {
-  const double *a = in->pp->param_a, *b = in->pp->param_b;
   int k = ADEM_PARAM_ROLLING_FRICTION;
-  return in->g->rj == 0.0 ? a[k] : 0.5 * (a[k] + b[k]);
+  double eta_a = in->pp->param_a[k], eta_b = in->pp->param_b[k];
+  return in->g->rj == 0.0 ? eta_a : 0.5 * (eta_a + eta_b);
 }
 
 /* Model C's dashpot C_r = delta_r 2 sqrt(I_r k_r); without one (delta_r = 0) the square root is
@@ -226,10 +228,9 @@ static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3
   const adem_contact_geometry *g = in->g;
   int k = ADEM_PARAM_ROLLING_FRICTION;
   double e_c = in->pp->param_a[k] * g->ri;
-  if (g->rj != 0.0) { /* fmin without a library call: both are finite and >= 0 */
-    double e_b = in->pp->param_b[k] * g->rj;
-    if (e_b < e_c) e_c = e_b;
-  }
+  double e_b = in->pp->param_b[k] * g->rj; /* read whatever the branch, as in adem_rolling_eta */
+  /* fmin without a library call: both are finite and >= 0 */
+  if (g->rj != 0.0 && e_b < e_c) e_c = e_b;
   out->capacity = e_c * in->f_load;
 }
 

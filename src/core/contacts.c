@@ -13,15 +13,23 @@
 
 typedef adem_contact_geometry contact_geometry;
 
+/* a where c holds, else b, component by component: a select the block kernels' loops can pack */
+static inline adem_vec3 v3_select(bool c, adem_vec3 a, adem_vec3 b) {
+  return v3(c ? a.x : b.x, c ? a.y : b.y, c ? a.z : b.z);
+}
+
 /* A particle's velocity and spin predicted at the end of the step, from the half step's with
  * the last pass's force (the closing kick will use the new one: the difference is O(dt^2)). A
- * particle BROF holds has its spin set to zero by that kick. */
+ * particle BROF holds has its spin set to zero by that kick. Every operand is loaded whatever
+ * the branch, so that a block kernel's loop has no branch to a load (pair_block). */
 static inline adem_vec3 predicted_velocity(const adem_particles *p, size_t i, double dt) {
-  return dt == 0.0 ? p->vel[i] : v3_axpy(p->vel[i], 0.5 * dt * p->inv_mass[i], p->force[i]);
+  adem_vec3 v = p->vel[i];
+  return v3_select(dt == 0.0, v, v3_axpy(v, 0.5 * dt * p->inv_mass[i], p->force[i]));
 }
 static inline adem_vec3 predicted_spin(const adem_particles *p, size_t i, double dt) {
-  if (dt == 0.0) return p->omega[i];
-  return p->held[i] ? v3_zero() : v3_axpy(p->omega[i], 0.5 * dt * p->inv_inertia[i], p->torque[i]);
+  adem_vec3 o = p->omega[i];
+  adem_vec3 o_pred = v3_axpy(o, 0.5 * dt * p->inv_inertia[i], p->torque[i]);
+  return v3_select(dt == 0.0, o, v3_select(p->held[i] != 0, v3_zero(), o_pred));
 }
 
 /* The spin of a wall's motion (constant rotation about its axis), rad/s. */
@@ -39,12 +47,21 @@ typedef struct contact_result {
   double dissipated;        /* J */
 } contact_result;
 
+/* The laws a contact goes through: its interaction's, or constants that a block kernel of one
+ * combination passes (pair_block below), so that the switches on them fold away. */
+typedef struct law_set {
+  int normal, damping, tangential, rolling;
+} law_set;
+static inline law_set laws_of(const adem_interaction *it) {
+  return (law_set){(int)it->normal, (int)it->damping, (int)it->tangential, (int)it->rolling};
+}
+
 /* The normal law of the pair at the geometry g (a: the Hertz radius sqrt(R delta)). */
-static inline adem_normal_result normal_law(const adem_interaction *it, const contact_geometry *g,
-                                            double a) {
+static inline adem_normal_result normal_law(const adem_interaction *it, int normal,
+                                            const contact_geometry *g, double a) {
   const adem_pair_params *pp = &it->pp;
   adem_normal_result nr;
-  switch (it->normal) {
+  switch (normal) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
     nr = kernel(pp, g, a);                                       \
@@ -79,7 +96,7 @@ static inline double break_correction(const adem_interaction *it, const contact_
   if (!(prev > 0.0) || !(g->delta < 0.0)) return 0.0;
   contact_geometry gp = *g;
   gp.delta = prev;
-  adem_normal_result nr = normal_law(it, &gp, adem_hertz_radius(g->R, prev));
+  adem_normal_result nr = normal_law(it, it->normal, &gp, adem_hertz_radius(g->R, prev));
   if (nr.f_critical == 0.0) return 0.0; /* no jump: the Hertz force is 0 at delta = 0 */
   return nr.f_elastic * (prev / (prev - g->delta) - 0.5);
 }
@@ -89,8 +106,9 @@ static inline double break_correction(const adem_interaction *it, const contact_
  * contact formed since the last pass (onset correction of an adhesive law, when asked for). */
 /* always inlined: GCC kept it out of line and copied the geometry and the result through the
  * stack for every contact (2.5% of a step's instructions) */
-static inline __attribute__((always_inline)) contact_result contact_force(const adem_interaction *it, const contact_geometry *g,
-                                           adem_contact_history *h, double dt, bool fresh) {
+static inline __attribute__((always_inline)) contact_result
+contact_force(const adem_interaction *it, law_set laws, const contact_geometry *g,
+              adem_contact_history *h, double dt, bool fresh) {
   const adem_pair_params *pp = &it->pp;
   contact_result r;
   double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
@@ -101,12 +119,12 @@ static inline __attribute__((always_inline)) contact_result contact_force(const 
   adem_vec3 vt_d = v3_axpy(g->w_pred, -vn_d, g->n);
 
   double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
-  adem_normal_result nr = normal_law(it, g, a);
+  adem_normal_result nr = normal_law(it, laws.normal, g, a);
   double Sn = adem_hertz_normal_stiffness(pp->E, a);
   double St = adem_hertz_tangential_stiffness(pp->G, a);
   adem_damping_input din = {Sn, St, g->mstar, vn_d, nr.f_elastic, nr.f_critical};
   adem_damping_output dout = {nr.f_elastic, 0.0};
-  switch (it->damping) {
+  switch (laws.damping) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
     kernel(pp, &din, &dout);                                     \
@@ -125,7 +143,7 @@ static inline __attribute__((always_inline)) contact_result contact_force(const 
   double f_limit = pp->friction * f_load;                     /* H17 */
   adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit};
   adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
-  switch (it->tangential) {
+  switch (laws.tangential) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
   case ID:                                                              \
     kernel(&tin, &h->tangential, &h->tangential_aux, &tout);            \
@@ -141,7 +159,7 @@ static inline __attribute__((always_inline)) contact_result contact_force(const 
   r.damping = v3_axpy(tout.dashpot, -f_damp, g->n);
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
   adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
-  switch (it->rolling) {
+  switch (laws.rolling) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
     kernel(&in, &h->rolling, &ro);                               \
@@ -170,29 +188,35 @@ static inline void note_overlap(const adem_force_scope *w, double ratio) {
   *w->overlap_exceeded = 1;
 }
 
-/* Stores a contact's results. The tangential force acts at r_a n from a's centre and at -r_b n
- * from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b: the pair keeps n x F_t
- * and the sums scale it by the particle's radius; the rolling couple is equal and opposite. A
- * wall takes no torque. */
-static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
-                              const contact_result *r, bool balance) {
+/* A contact's results as its records hold them. The tangential force acts at r_a n from a's
+ * centre and at -r_b n from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b: the
+ * pair keeps n x F_t and the sums scale it by the particle's radius; the rolling couple is equal
+ * and opposite. A wall takes no torque. bal: the energy balance's terms, written when balance. */
+static inline __attribute__((always_inline)) void pair_records(const contact_geometry *g, const contact_result *r, bool balance,
+                                adem_pair_result *res, adem_pair_balance *bal) {
   adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
-  l->touching[k] = true;
-  l->res[k].force_a = r->force;
-  l->res[k].moment = v3_cross(g->n, ft);
-  l->res[k].rolling_a = r->rolling;
-  l->res[k].rolling_capacity = r->capacity;
+  res->force_a = r->force;
+  res->moment = v3_cross(g->n, ft);
+  res->rolling_a = r->rolling;
+  res->rolling_capacity = r->capacity;
   /* the smaller radius (a wall's rj is 0); not fmin, which is a library call without
    * -ffast-math: radii are positive and finite, so the two agree */
-  l->res[k].overlap_ratio = g->delta / (g->rj > 0.0 && g->rj < g->ri ? g->rj : g->ri);
-  if (g->energy) l->elastic[k] = r->elastic; /* only the diagnostics read it */
+  res->overlap_ratio = g->delta / (g->rj > 0.0 && g->rj < g->ri ? g->rj : g->ri);
   if (!balance) return; /* the rest is only the energy balance's, and only it reads them */
   /* the dashpots' moments (their normal part has none) and the dissipative couple */
-  l->bal[k].damping_a = r->damping;
-  l->bal[k].damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
-  l->bal[k].damping_torque_b =
+  bal->damping_a = r->damping;
+  bal->damping_torque_a = v3_add(v3_cross(v3_scale(g->n, g->ri), r->damping), r->damping_couple);
+  bal->damping_torque_b =
       g->rj > 0.0 ? v3_sub(v3_cross(v3_scale(g->n, g->rj), r->damping), r->damping_couple) : v3_zero();
-  l->bal[k].dissipated = r->dissipated;
+  bal->dissipated = r->dissipated;
+}
+
+/* Stores a contact's results in its list. */
+static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
+                              const contact_result *r, bool balance) {
+  l->touching[k] = true;
+  pair_records(g, r, balance, &l->res[k], balance ? &l->bal[k] : NULL);
+  if (g->energy) l->elastic[k] = r->elastic; /* only the diagnostics read it */
 }
 
 /* A wall contact's power: the wall's material at the contact point moves at V and turns at
@@ -241,57 +265,263 @@ static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
   l->res[k].force_a = v3_zero();
 }
 
-static inline void particle_pair(const adem_force_scope *w, size_t k) {
+/* What the geometry of a particle pair takes of its two particles: their separation and the
+ * differences of their motion, formed where the particles are read (one pair at a time), so that
+ * the rest (kinematic_geometry) works on these numbers alone. hp is the step of the predicted
+ * velocities (0: the half step's, first order). */
+typedef struct pair_kinematics {
+  adem_vec3 d;              /* x_j - x_i (minimum image) */
+  double dist;              /* |d|, below r_i + r_j */
+  double ri, rj, inv_mass;  /* radii and 1/m_i + 1/m_j */
+  adem_vec3 dv, spin, om;   /* v_i - v_j, r_i w_i + r_j w_j, w_i - w_j at the half step */
+  adem_vec3 dv_pred, spin_pred, om_pred; /* the same with the predicted velocities and spins */
+} pair_kinematics;
+
+static inline __attribute__((always_inline)) pair_kinematics particle_kinematics(const adem_particles *p, size_t i, size_t j,
+                                                  adem_vec3 d, double dist, double hp) {
+  pair_kinematics k;
+  double ri = p->radius[i], rj = p->radius[j];
+  k.d = d;
+  k.dist = dist;
+  k.ri = ri;
+  k.rj = rj;
+  k.inv_mass = p->inv_mass[i] + p->inv_mass[j];
+  /* contact points: i's at +r_i n, j's at -r_j n */
+  k.spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
+  k.dv = v3_sub(p->vel[i], p->vel[j]);
+  k.om = v3_sub(p->omega[i], p->omega[j]);
+  adem_vec3 vpi = predicted_velocity(p, i, hp), vpj = predicted_velocity(p, j, hp);
+  adem_vec3 opi = predicted_spin(p, i, hp), opj = predicted_spin(p, j, hp);
+  k.dv_pred = v3_sub(vpi, vpj);
+  k.spin_pred = v3_add(v3_scale(opi, ri), v3_scale(opj, rj));
+  k.om_pred = v3_sub(opi, opj);
+  return k;
+}
+
+/* The contact as the laws see it. I_r is left 0: the caller sets it when a law needs it. */
+static inline __attribute__((always_inline)) contact_geometry
+kinematic_geometry(const pair_kinematics *k, bool energy) {
+  double rsum = k->ri + k->rj;
+  contact_geometry g;
+  g.n = v3_scale(k->d, 1.0 / k->dist);
+  g.delta = rsum - k->dist;
+  g.R = k->ri * k->rj / rsum;
+  g.mstar = 1.0 / k->inv_mass;
+  g.w = v3_add(k->dv, v3_cross(k->spin, g.n));
+  g.omega_rel = v3_axpy(k->om, -v3_dot(k->om, g.n), g.n);
+  g.w_pred = v3_add(k->dv_pred, v3_cross(k->spin_pred, g.n));
+  g.omega_pred = v3_axpy(k->om_pred, -v3_dot(k->om_pred, g.n), g.n);
+  g.ri = k->ri;
+  g.rj = k->rj;
+  g.energy = energy;
+  g.inertia_r = 0.0;
+  return g;
+}
+
+/* A particle pair one contact at a time, through the laws of its interaction: every pair that
+ * pair_block does not take (other laws, an opening pair, a pass that wants the energies). */
+static inline void particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, double dist,
+                                 bool was, const adem_interaction *it) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
   double dt = w->dt;
-  {
+  size_t i = l->a[k], j = l->b[k];
+  double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
+  pair_kinematics kin = particle_kinematics(p, i, j, d, dist, hp);
+  contact_geometry g = kinematic_geometry(&kin, w->energy);
+  /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
+  if (needs_rolling_inertia(it)) {
+    double ri = g.ri, rj = g.rj;
+    double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
+    double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
+    g.inertia_r = Ici * Icj / (Ici + Icj);
+  }
+  if (g.delta <= 0.0) { /* it opened since the last pass */
+    open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
+    return;
+  }
+  contact_result r = contact_force(it, laws_of(it), &g, &l->hist[k], dt, w->second_order && !was);
+  store_pair(l, k, &g, &r, w->balance);
+  note_overlap(w, l->res[k].overlap_ratio);
+}
+
+/* Touching particle pairs of one interaction in blocks: the same geometry and laws as
+ * particle_pair, lane by lane, in a loop the compiler turns into packed arithmetic (SSE2, and
+ * AVX2 where the processor has it: the clones below). Lanes are independent and packed
+ * instructions round each lane as the scalar ones do (no fused multiply-add: -ffp-contract=off),
+ * so a pair's results are the same bits by either path and in either clone. The block kernels
+ * exist for the laws most runs use (Hertz, viscoelastic damping, incremental tangential law;
+ * rolling none, model A, model C without its dashpot, model C capped, BROF); the rest go one at a
+ * time. */
+enum { PAIR_BLOCK = 64, PAIR_CHUNK = 2048 };
+
+/* The block's inputs, a pair per lane: pair_kinematics and the history, one array per number
+ * (contiguous lanes are what packed loads read). */
+#define PAIR_BLOCK_INPUTS(X)                                                                    \
+  X(dx, d.x) X(dy, d.y) X(dz, d.z) X(dist, dist) X(ri, ri) X(rj, rj) X(inv_mass, inv_mass)       \
+  X(dvx, dv.x) X(dvy, dv.y) X(dvz, dv.z) X(spinx, spin.x) X(spiny, spin.y) X(spinz, spin.z)      \
+  X(omx, om.x) X(omy, om.y) X(omz, om.z) X(dvpx, dv_pred.x) X(dvpy, dv_pred.y)                   \
+  X(dvpz, dv_pred.z) X(spinpx, spin_pred.x) X(spinpy, spin_pred.y) X(spinpz, spin_pred.z)        \
+  X(ompx, om_pred.x) X(ompy, om_pred.y) X(ompz, om_pred.z)
+#define PAIR_BLOCK_HISTORY(X)                                                                   \
+  X(tx, tangential.x) X(ty, tangential.y) X(tz, tangential.z) X(rx, rolling.x)                  \
+  X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(elastic, elastic)
+
+typedef struct pair_block {
+  int m;                        /* pairs held */
+  int kind;                     /* the kernel's index in pair_block_kernels */
+  const adem_interaction *it;   /* the interaction of every pair of the block */
+  size_t k[PAIR_BLOCK];         /* pair index */
+  double fresh[PAIR_BLOCK];     /* 1: not touching at the last pass */
+  struct {
+#define PAIR_BLOCK_ARRAY(a, f) double a[PAIR_BLOCK];
+    struct { PAIR_BLOCK_INPUTS(PAIR_BLOCK_ARRAY) } kin;
+    struct { PAIR_BLOCK_HISTORY(PAIR_BLOCK_ARRAY) } hist;
+#undef PAIR_BLOCK_ARRAY
+  } in;
+  adem_contact_history hist[PAIR_BLOCK]; /* the histories after the pass */
+  adem_pair_result res[PAIR_BLOCK];
+  adem_pair_balance bal[PAIR_BLOCK];
+} pair_block;
+
+/* Puts pair k's kinematics and history in lane q. */
+static inline __attribute__((always_inline)) void pair_block_put(pair_block *b, int q, const pair_kinematics *kin,
+                                  const adem_contact_history *h) {
+#define PAIR_BLOCK_PUT_KIN(a, f) b->in.kin.a[q] = kin->f;
+#define PAIR_BLOCK_PUT_HIST(a, f) b->in.hist.a[q] = h->f;
+  PAIR_BLOCK_INPUTS(PAIR_BLOCK_PUT_KIN)
+  PAIR_BLOCK_HISTORY(PAIR_BLOCK_PUT_HIST)
+#undef PAIR_BLOCK_PUT_KIN
+#undef PAIR_BLOCK_PUT_HIST
+}
+
+static inline __attribute__((always_inline)) void pair_block_laws(const adem_force_scope *w,
+                                                                  pair_block *restrict b,
+                                                                  law_set laws, bool balance) {
+  const adem_interaction *it = b->it;
+  double dt = w->dt;
+  int m = b->m;
+  for (int q = 0; q < m; ++q) {
+    pair_kinematics kin;
+    adem_contact_history h;
+#define PAIR_BLOCK_GET_KIN(a, f) kin.f = b->in.kin.a[q];
+#define PAIR_BLOCK_GET_HIST(a, f) h.f = b->in.hist.a[q];
+    PAIR_BLOCK_INPUTS(PAIR_BLOCK_GET_KIN)
+    PAIR_BLOCK_HISTORY(PAIR_BLOCK_GET_HIST)
+#undef PAIR_BLOCK_GET_KIN
+#undef PAIR_BLOCK_GET_HIST
+    contact_geometry g = kinematic_geometry(&kin, false);
+    contact_result r = contact_force(it, laws, &g, &h, dt, b->fresh[q] != 0.0);
+    b->hist[q] = h;
+    pair_records(&g, &r, balance, &b->res[q], &b->bal[q]);
+  }
+}
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ADEM_NO_CLONES)
+#define PAIR_BLOCK_CLONES __attribute__((flatten, target_clones("avx2", "default")))
+#else
+#define PAIR_BLOCK_CLONES __attribute__((flatten))
+#endif
+
+/* The rolling laws with a block kernel, in the order of pair_block_kernels' rows. */
+#define PAIR_BLOCK_ROLLING(X) \
+  X(none, ADEM_ROLLING_NONE) X(model_a, ADEM_ROLLING_A) X(model_c, ADEM_ROLLING_C) \
+  X(model_c_capped, ADEM_ROLLING_C_CAPPED) X(brof, ADEM_ROLLING_BROF)
+#define PAIR_BLOCK_KERNEL(name, rolling)                                                          \
+  PAIR_BLOCK_CLONES static void pair_block_##name(const adem_force_scope *w, pair_block *b) {     \
+    law_set laws = {ADEM_NORMAL_HERTZ, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL,    \
+                    rolling};                                                                     \
+    pair_block_laws(w, b, laws, false);                                                          \
+  }                                                                                               \
+  PAIR_BLOCK_CLONES static void pair_block_##name##_balance(const adem_force_scope *w,            \
+                                                            pair_block *b) {                      \
+    law_set laws = {ADEM_NORMAL_HERTZ, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL,    \
+                    rolling};                                                                     \
+    pair_block_laws(w, b, laws, true);                                                           \
+  }
+PAIR_BLOCK_ROLLING(PAIR_BLOCK_KERNEL)
+#undef PAIR_BLOCK_KERNEL
+
+typedef void (*pair_block_kernel)(const adem_force_scope *w, pair_block *b);
+static const struct {
+  int rolling;
+  pair_block_kernel laws[2]; /* without and with the energy balance */
+} pair_block_kernels[] = {
+#define PAIR_BLOCK_ROW(name, rolling) {rolling, {pair_block_##name, pair_block_##name##_balance}},
+    PAIR_BLOCK_ROLLING(PAIR_BLOCK_ROW)
+#undef PAIR_BLOCK_ROW
+};
+
+/* The block kernel for the interaction's laws, or -1. */
+static inline int pair_block_kind(const adem_interaction *it) {
+  if (it->normal != ADEM_NORMAL_HERTZ || it->damping != ADEM_DAMPING_VISCOELASTIC ||
+      it->tangential != ADEM_TANGENTIAL_INCREMENTAL || needs_rolling_inertia(it))
+    return -1;
+  for (int r = 0; r < (int)(sizeof pair_block_kernels / sizeof pair_block_kernels[0]); ++r)
+    if (pair_block_kernels[r].rolling == (int)it->rolling) return r;
+  return -1;
+}
+
+/* Runs the block's kernel and stores its pairs' results. */
+static void pair_block_flush(const adem_force_scope *w, pair_block *b) {
+  if (b->m == 0) return;
+  pair_block_kernels[b->kind].laws[w->balance](w, b);
+  adem_pair_list *l = w->pp;
+  for (int q = 0; q < b->m; ++q) {
+    size_t k = b->k[q];
+    l->touching[k] = true;
+    l->hist[k] = b->hist[q];
+    l->res[k] = b->res[q];
+    if (w->balance) { /* the fields pair_records writes: a particle pair has no wall power */
+      l->bal[k].damping_a = b->bal[q].damping_a;
+      l->bal[k].damping_torque_a = b->bal[q].damping_torque_a;
+      l->bal[k].damping_torque_b = b->bal[q].damping_torque_b;
+      l->bal[k].dissipated = b->bal[q].dissipated;
+    }
+    note_overlap(w, b->res[q].overlap_ratio);
+  }
+  b->m = 0;
+}
+
+/* The particle pairs of chunk c: those apart forgotten, the touching ones of an interaction with
+ * a block kernel gathered into blocks, the rest one at a time. Each pair writes only its own
+ * records, so the order in which they are done changes nothing. */
+static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
+  adem_particles *p = w->p;
+  adem_pair_list *l = w->pp;
+  size_t k0 = c * PAIR_CHUNK, k1 = l->n - k0 < PAIR_CHUNK ? l->n : k0 + PAIR_CHUNK;
+  pair_block b;
+  b.m = 0;
+  b.kind = -1;
+  b.it = NULL;
+  for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
     adem_vec3 d = adem_periodic_min_image(w->periodic, v3_sub(p->pos[j], p->pos[i]));
-    double ri = p->radius[i], rj = p->radius[j];
-    double rsum = ri + rj;
+    double rsum = p->radius[i] + p->radius[j];
     double dist2 = v3_norm2(d);
     bool was = l->touching[k];
     if (dist2 >= rsum * rsum && !was) { /* apart now and at the last pass */
       forget_opened(l, k, w->balance);
-      return;
+      continue;
     }
     double dist = sqrt(dist2);
-    contact_geometry g;
-    g.n = v3_scale(d, 1.0 / dist);
-    g.delta = rsum - dist;
-    g.R = ri * rj / rsum;
-    g.mstar = 1.0 / (p->inv_mass[i] + p->inv_mass[j]);
-    /* contact points: i's at +r_i n, j's at -r_j n */
-    adem_vec3 spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
-    g.w = v3_add(v3_sub(p->vel[i], p->vel[j]), v3_cross(spin, g.n));
-    adem_vec3 om = v3_sub(p->omega[i], p->omega[j]);
-    g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
-    double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
-    adem_vec3 vpi = predicted_velocity(p, i, hp), vpj = predicted_velocity(p, j, hp);
-    adem_vec3 opi = predicted_spin(p, i, hp), opj = predicted_spin(p, j, hp);
-    g.w_pred = v3_add(v3_sub(vpi, vpj), v3_cross(v3_add(v3_scale(opi, ri), v3_scale(opj, rj)), g.n));
-    adem_vec3 omp = v3_sub(opi, opj);
-    g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
-    g.ri = ri;
-    g.rj = rj;
-    g.energy = w->energy;
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
-    /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
-    g.inertia_r = 0.0;
-    if (needs_rolling_inertia(it)) {
-      double Ici = 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i];
-      double Icj = 1.0 / p->inv_inertia[j] + rj * rj / p->inv_mass[j];
-      g.inertia_r = Ici * Icj / (Ici + Icj);
+    int kind = w->energy || !(rsum - dist > 0.0) ? -1 : pair_block_kind(it);
+    if (kind < 0) {
+      particle_pair(w, k, d, dist, was, it);
+      continue;
     }
-    if (g.delta <= 0.0) { /* it opened since the last pass */
-      open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
-      return;
-    }
-    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
-    store_pair(l, k, &g, &r, w->balance);
-    note_overlap(w, l->res[k].overlap_ratio);
+    if (b.m > 0 && (b.it != it || b.kind != kind)) pair_block_flush(w, &b);
+    int q = b.m++;
+    b.kind = kind;
+    b.it = it;
+    b.k[q] = k;
+    pair_kinematics kin = particle_kinematics(p, i, j, d, dist, w->second_order ? w->dt : 0.0);
+    pair_block_put(&b, q, &kin, &l->hist[k]);
+    b.fresh[q] = w->second_order && !was ? 1.0 : 0.0;
+    if (b.m == PAIR_BLOCK) pair_block_flush(w, &b);
   }
+  pair_block_flush(w, &b);
 }
 
 static inline void wall_pair(const adem_force_scope *w, size_t k) {
@@ -334,7 +564,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
       open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
       return;
     }
-    contact_result r = contact_force(it, &g, &l->hist[k], dt, w->second_order && !was);
+    contact_result r = contact_force(it, laws_of(it), &g, &l->hist[k], dt, w->second_order && !was);
     store_pair(l, k, &g, &r, w->balance);
     note_overlap(w, l->res[k].overlap_ratio);
     if (w->balance) store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
@@ -410,7 +640,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.energy = w->energy;
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
       g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
-      contact_result r = contact_force(it, &g, &h, dt, w->second_order && fresh);
+      contact_result r = contact_force(it, laws_of(it), &g, &h, dt, w->second_order && fresh);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
       l->hist[k] = h;
       pm->key[k] = c->key;
@@ -624,7 +854,7 @@ void adem_contacts_compute(const adem_force_scope *scope) {
   s.break_forces = &breaks;
   const adem_force_scope *w = &s;
   int nthreads = w->nthreads;
-  ADEM_FOR(nthreads, w->pp->n, particle_pair, w);
+  ADEM_FOR(nthreads, (w->pp->n + PAIR_CHUNK - 1) / PAIR_CHUNK, particle_pair_chunk, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);
   if (w->balance) ADEM_FOR(nthreads, w->p->n, sum_particle, w);
