@@ -277,8 +277,8 @@ typedef struct pair_kinematics {
   adem_vec3 dv_pred, spin_pred, om_pred; /* the same with the predicted velocities and spins */
 } pair_kinematics;
 
-static inline __attribute__((always_inline)) pair_kinematics particle_kinematics(const adem_particles *p, size_t i, size_t j,
-                                                  adem_vec3 d, double dist, double hp) {
+static inline __attribute__((always_inline)) pair_kinematics particle_kinematics(const adem_particles *p, const adem_vec3 *pred, size_t i,
+                                      size_t j, adem_vec3 d, double dist, double hp) {
   pair_kinematics k;
   double ri = p->radius[i], rj = p->radius[j];
   k.d = d;
@@ -290,8 +290,18 @@ static inline __attribute__((always_inline)) pair_kinematics particle_kinematics
   k.spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
   k.dv = v3_sub(p->vel[i], p->vel[j]);
   k.om = v3_sub(p->omega[i], p->omega[j]);
-  adem_vec3 vpi = predicted_velocity(p, i, hp), vpj = predicted_velocity(p, j, hp);
-  adem_vec3 opi = predicted_spin(p, i, hp), opj = predicted_spin(p, j, hp);
+  adem_vec3 vpi, vpj, opi, opj;
+  if (pred) {
+    vpi = pred[2 * i];
+    opi = pred[2 * i + 1];
+    vpj = pred[2 * j];
+    opj = pred[2 * j + 1];
+  } else {
+    vpi = predicted_velocity(p, i, hp);
+    vpj = predicted_velocity(p, j, hp);
+    opi = predicted_spin(p, i, hp);
+    opj = predicted_spin(p, j, hp);
+  }
   k.dv_pred = v3_sub(vpi, vpj);
   k.spin_pred = v3_add(v3_scale(opi, ri), v3_scale(opj, rj));
   k.om_pred = v3_sub(opi, opj);
@@ -327,7 +337,7 @@ static inline void particle_pair(const adem_force_scope *w, size_t k, adem_vec3 
   double dt = w->dt;
   size_t i = l->a[k], j = l->b[k];
   double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
-  pair_kinematics kin = particle_kinematics(p, i, j, d, dist, hp);
+  pair_kinematics kin = particle_kinematics(p, w->predicted, i, j, d, dist, hp);
   contact_geometry g = kinematic_geometry(&kin, w->energy);
   /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
   if (needs_rolling_inertia(it)) {
@@ -516,7 +526,8 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     b.kind = kind;
     b.it = it;
     b.k[q] = k;
-    pair_kinematics kin = particle_kinematics(p, i, j, d, dist, w->second_order ? w->dt : 0.0);
+    pair_kinematics kin =
+        particle_kinematics(p, w->predicted, i, j, d, dist, w->second_order ? w->dt : 0.0);
     pair_block_put(&b, q, &kin, &l->hist[k]);
     b.fresh[q] = w->second_order && !was ? 1.0 : 0.0;
     if (b.m == PAIR_BLOCK) pair_block_flush(w, &b);
@@ -848,12 +859,20 @@ static inline void sum_particle_loads(const adem_force_scope *w, size_t i) {
   sum_particle_as(w, i, false);
 }
 
+/* Particle i's predicted velocity and spin, read by each of its particle pairs. */
+static inline void predict_particle(const adem_force_scope *w, size_t i) {
+  double hp = w->second_order ? w->dt : 0.0;
+  w->predicted[2 * i] = predicted_velocity(w->p, i, hp);
+  w->predicted[2 * i + 1] = predicted_spin(w->p, i, hp);
+}
+
 void adem_contacts_compute(const adem_force_scope *scope) {
   adem_force_scope s = *scope;
   int breaks = 0;
   s.break_forces = &breaks;
   const adem_force_scope *w = &s;
   int nthreads = w->nthreads;
+  if (w->predicted) ADEM_FOR(nthreads, w->p->n, predict_particle, w);
   ADEM_FOR(nthreads, (w->pp->n + PAIR_CHUNK - 1) / PAIR_CHUNK, particle_pair_chunk, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);

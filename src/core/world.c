@@ -32,6 +32,7 @@ void adem_world_free(adem_world *w) {
   adem_pairs_free(&w->pp);
   adem_pairs_free(&w->pw);
   adem_mesh_pairs_free(&w->pm);
+  free(w->predicted);
   adem_walls_free(&w->walls);
   free(w->insert_rmin);
   adem_neighbors_free(&w->nb);
@@ -278,11 +279,17 @@ static void compute_forces(adem_world *w, bool energy) {
   /* the balance's terms need their records: adem_world_step and prepare report a failure to
    * allocate them before they get here */
   bool balance = w->energy_balance && sync_balance_records(w) == ADEM_OK;
+  if (w->predicted_cap < w->p.n) { /* without it the pass predicts per contact: the same bits */
+    free(w->predicted);
+    size_t cap = w->p.n + w->p.n / 8;
+    w->predicted = malloc(2 * cap * sizeof *w->predicted);
+    w->predicted_cap = w->predicted ? cap : 0;
+  }
   adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
-                        &w->overlap_exceeded, NULL};
+                        &w->overlap_exceeded, w->predicted, NULL};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }

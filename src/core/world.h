@@ -71,6 +71,10 @@ struct adem_world {
   adem_neighbors nb;
   adem_pair_list pp, pw;
   adem_mesh_pairs pm;
+  /* scratch of the force pass: each particle's predicted velocity and spin (contacts.c), 2 per
+   * particle for predicted_cap particles; not saved (every pass writes it before reading) */
+  adem_vec3 *predicted;
+  size_t predicted_cap;
 
   /* smallest radius per material of particles inserted while running (pours), INFINITY for
    * none; NULL when nothing is poured. The step estimate counts them as present. */
