@@ -265,64 +265,67 @@ static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
   l->res[k].force_a = v3_zero();
 }
 
-/* What the geometry of a particle pair takes of its two particles: their separation and the
- * differences of their motion, formed where the particles are read (one pair at a time), so that
- * the rest (kinematic_geometry) works on these numbers alone. hp is the step of the predicted
- * velocities (0: the half step's, first order). */
+/* What the geometry of a particle pair takes of its two particles, read where the particles are
+ * read (one pair at a time), so that the arithmetic (kinematic_geometry) works on these numbers
+ * alone. */
 typedef struct pair_kinematics {
-  adem_vec3 d;              /* x_j - x_i (minimum image) */
-  double dist;              /* |d|, below r_i + r_j */
-  double ri, rj, inv_mass;  /* radii and 1/m_i + 1/m_j */
-  adem_vec3 dv, spin, om;   /* v_i - v_j, r_i w_i + r_j w_j, w_i - w_j at the half step */
-  adem_vec3 dv_pred, spin_pred, om_pred; /* the same with the predicted velocities and spins */
+  adem_vec3 d;                  /* x_j - x_i (minimum image) */
+  double dist;                  /* |d|, below r_i + r_j */
+  double ri, rj, mi, mj;        /* radii and inverse masses */
+  adem_vec3 vi, vj, oi, oj;     /* velocities and spins at the half step */
+  adem_vec3 vpi, vpj, opi, opj; /* the same predicted at the full step */
 } pair_kinematics;
 
-static inline __attribute__((always_inline)) pair_kinematics particle_kinematics(const adem_particles *p, const adem_vec3 *pred, size_t i,
-                                      size_t j, adem_vec3 d, double dist, double hp) {
+/* pred: the pass's predicted velocities and spins, or NULL (predicted here, with step hp). */
+static inline __attribute__((always_inline)) pair_kinematics
+particle_kinematics(const adem_particles *p, const adem_vec3 *pred, size_t i, size_t j,
+                    adem_vec3 d, double dist, double hp) {
   pair_kinematics k;
-  double ri = p->radius[i], rj = p->radius[j];
   k.d = d;
   k.dist = dist;
-  k.ri = ri;
-  k.rj = rj;
-  k.inv_mass = p->inv_mass[i] + p->inv_mass[j];
-  /* contact points: i's at +r_i n, j's at -r_j n */
-  k.spin = v3_add(v3_scale(p->omega[i], ri), v3_scale(p->omega[j], rj));
-  k.dv = v3_sub(p->vel[i], p->vel[j]);
-  k.om = v3_sub(p->omega[i], p->omega[j]);
-  adem_vec3 vpi, vpj, opi, opj;
+  k.ri = p->radius[i];
+  k.rj = p->radius[j];
+  k.mi = p->inv_mass[i];
+  k.mj = p->inv_mass[j];
+  k.vi = p->vel[i];
+  k.vj = p->vel[j];
+  k.oi = p->omega[i];
+  k.oj = p->omega[j];
   if (pred) {
-    vpi = pred[2 * i];
-    opi = pred[2 * i + 1];
-    vpj = pred[2 * j];
-    opj = pred[2 * j + 1];
+    k.vpi = pred[2 * i];
+    k.opi = pred[2 * i + 1];
+    k.vpj = pred[2 * j];
+    k.opj = pred[2 * j + 1];
   } else {
-    vpi = predicted_velocity(p, i, hp);
-    vpj = predicted_velocity(p, j, hp);
-    opi = predicted_spin(p, i, hp);
-    opj = predicted_spin(p, j, hp);
+    k.vpi = predicted_velocity(p, i, hp);
+    k.vpj = predicted_velocity(p, j, hp);
+    k.opi = predicted_spin(p, i, hp);
+    k.opj = predicted_spin(p, j, hp);
   }
-  k.dv_pred = v3_sub(vpi, vpj);
-  k.spin_pred = v3_add(v3_scale(opi, ri), v3_scale(opj, rj));
-  k.om_pred = v3_sub(opi, opj);
   return k;
 }
 
 /* The contact as the laws see it. I_r is left 0: the caller sets it when a law needs it. */
 static inline __attribute__((always_inline)) contact_geometry
 kinematic_geometry(const pair_kinematics *k, bool energy) {
-  double rsum = k->ri + k->rj;
+  double ri = k->ri, rj = k->rj;
+  double rsum = ri + rj;
   contact_geometry g;
   g.n = v3_scale(k->d, 1.0 / k->dist);
   g.delta = rsum - k->dist;
-  g.R = k->ri * k->rj / rsum;
-  g.mstar = 1.0 / k->inv_mass;
-  g.w = v3_add(k->dv, v3_cross(k->spin, g.n));
-  g.omega_rel = v3_axpy(k->om, -v3_dot(k->om, g.n), g.n);
-  g.w_pred = v3_add(k->dv_pred, v3_cross(k->spin_pred, g.n));
-  g.omega_pred = v3_axpy(k->om_pred, -v3_dot(k->om_pred, g.n), g.n);
-  g.ri = k->ri;
-  g.rj = k->rj;
+  g.R = ri * rj / rsum;
+  g.mstar = 1.0 / (k->mi + k->mj);
+  /* contact points: i's at +r_i n, j's at -r_j n */
+  adem_vec3 spin = v3_add(v3_scale(k->oi, ri), v3_scale(k->oj, rj));
+  g.w = v3_add(v3_sub(k->vi, k->vj), v3_cross(spin, g.n));
+  adem_vec3 om = v3_sub(k->oi, k->oj);
+  g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
+  g.w_pred = v3_add(v3_sub(k->vpi, k->vpj),
+                    v3_cross(v3_add(v3_scale(k->opi, ri), v3_scale(k->opj, rj)), g.n));
+  adem_vec3 omp = v3_sub(k->opi, k->opj);
+  g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
+  g.ri = ri;
+  g.rj = rj;
   g.energy = energy;
   g.inertia_r = 0.0;
   return g;
@@ -330,7 +333,7 @@ kinematic_geometry(const pair_kinematics *k, bool energy) {
 
 /* A particle pair one contact at a time, through the laws of its interaction: every pair that
  * pair_block does not take (other laws, an opening pair, a pass that wants the energies). */
-static inline void particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, double dist,
+static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, double dist,
                                  bool was, const adem_interaction *it) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
@@ -368,11 +371,11 @@ enum { PAIR_BLOCK = 64, PAIR_CHUNK = 2048 };
 /* The block's inputs, a pair per lane: pair_kinematics and the history, one array per number
  * (contiguous lanes are what packed loads read). */
 #define PAIR_BLOCK_INPUTS(X)                                                                    \
-  X(dx, d.x) X(dy, d.y) X(dz, d.z) X(dist, dist) X(ri, ri) X(rj, rj) X(inv_mass, inv_mass)       \
-  X(dvx, dv.x) X(dvy, dv.y) X(dvz, dv.z) X(spinx, spin.x) X(spiny, spin.y) X(spinz, spin.z)      \
-  X(omx, om.x) X(omy, om.y) X(omz, om.z) X(dvpx, dv_pred.x) X(dvpy, dv_pred.y)                   \
-  X(dvpz, dv_pred.z) X(spinpx, spin_pred.x) X(spinpy, spin_pred.y) X(spinpz, spin_pred.z)        \
-  X(ompx, om_pred.x) X(ompy, om_pred.y) X(ompz, om_pred.z)
+  X(dx, d.x) X(dy, d.y) X(dz, d.z) X(dist, dist) X(ri, ri) X(rj, rj) X(mi, mi) X(mj, mj)         \
+  X(vix, vi.x) X(viy, vi.y) X(viz, vi.z) X(vjx, vj.x) X(vjy, vj.y) X(vjz, vj.z)                  \
+  X(oix, oi.x) X(oiy, oi.y) X(oiz, oi.z) X(ojx, oj.x) X(ojy, oj.y) X(ojz, oj.z)                  \
+  X(vpix, vpi.x) X(vpiy, vpi.y) X(vpiz, vpi.z) X(vpjx, vpj.x) X(vpjy, vpj.y) X(vpjz, vpj.z)      \
+  X(opix, opi.x) X(opiy, opi.y) X(opiz, opi.z) X(opjx, opj.x) X(opjy, opj.y) X(opjz, opj.z)
 #define PAIR_BLOCK_HISTORY(X)                                                                   \
   X(tx, tangential.x) X(ty, tangential.y) X(tz, tangential.z) X(rx, rolling.x)                  \
   X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(elastic, elastic)
