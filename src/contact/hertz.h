@@ -3,37 +3,39 @@
 #ifndef ADEM_CONTACT_HERTZ_H
 #define ADEM_CONTACT_HERTZ_H
 
+#include "law_inline.h"
+
 #include <math.h>
 #include "adem/vec3.h"
 
 /* Hertz contact radius a = sqrt(R delta); the laws below take it so it is computed once. */
-static inline double adem_hertz_radius(double R, double delta) { return sqrt(R * delta); }
+ADEM_LAW double adem_hertz_radius(double R, double delta) { return sqrt(R * delta); }
 
 /* Elastic force 4 E a^3 / (3 R) = (4/3) E a delta (H9 without adhesion). */
-static inline double adem_hertz_force(double E, double a, double delta) {
+ADEM_LAW double adem_hertz_force(double E, double a, double delta) {
   return (4.0 / 3.0) * E * a * delta;
 }
 
 /* Elastic energy stored at overlap delta, the integral of the force: (8/15) E a delta^2. */
-static inline double adem_hertz_energy(double E, double a, double delta) {
+ADEM_LAW double adem_hertz_energy(double E, double a, double delta) {
   return (8.0 / 15.0) * E * a * delta * delta;
 }
 
 /* Normal tangent stiffness S_n = 2 E sqrt(R delta) = 2 E a (H13). */
-static inline double adem_hertz_normal_stiffness(double E, double a) { return 2.0 * E * a; }
+ADEM_LAW double adem_hertz_normal_stiffness(double E, double a) { return 2.0 * E * a; }
 
 /* Tangential stiffness S_t = 8 G sqrt(R delta) = 8 G a (H14). */
-static inline double adem_hertz_tangential_stiffness(double G, double a) { return 8.0 * G * a; }
+ADEM_LAW double adem_hertz_tangential_stiffness(double G, double a) { return 8.0 * G * a; }
 
 /* beta = ln e / sqrt(ln^2 e + pi^2) (H12); 0 for e = 1, negative otherwise. */
-static inline double adem_damping_beta(double e) {
+ADEM_LAW double adem_damping_beta(double e) {
   double l = log(e);
   return l / sqrt(l * l + ADEM_PI * ADEM_PI);
 }
 
 /* Viscous coefficient c = -2 sqrt(5/6) beta sqrt(S m*) >= 0 (H11 with the square root that the
  * OCR lost, as in H16); the damping force is -c v. */
-static inline double adem_damping_coefficient(double beta, double stiffness, double mstar) {
+ADEM_LAW double adem_damping_coefficient(double beta, double stiffness, double mstar) {
   return -2.0 * sqrt(5.0 / 6.0) * beta * sqrt(stiffness * mstar);
 }
 

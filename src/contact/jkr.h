@@ -10,49 +10,65 @@
 #ifndef ADEM_CONTACT_JKR_H
 #define ADEM_CONTACT_JKR_H
 
+#include "law_inline.h"
+
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
 #include <string.h>
 #include "adem/vec3.h"
 
 /* Cube root of x within 3 ulp of libm's cbrt (7e-16 relative: tests/unit/test_jkr.c), without
- * the library call, whose frexp and scalbn made an eighth of a JKR bed's time. The exponent
- * divided by three in the bits starts within 3.2 %; two Halley steps (cubic: 3e-5, then 7e-15)
- * and a Newton step (quadratic) finish. Outside [2^-1000, 2^1000], x <= 0 and NaN: libm's. The
- * same operations in the same order everywhere: the same bits for any thread count. */
-static inline double adem_jkr_cbrt(double x) {
-  if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return cbrt(x);
+ * the library call, whose frexp and scalbn made an eighth of a JKR bed's time. The high word's
+ * exponent divided by three (fdlibm's first guess) starts within 3.2 %; two Halley steps (cubic:
+ * 3e-5, then 7e-15) and a Newton step (quadratic) finish. 32-bit integer arithmetic and no
+ * branch, so that a loop of it packs (the force pass's block kernels). Outside [2^-1000,
+ * 2^1000], x <= 0 and NaN: NaN, which the block kernels take as "do this contact one at a time",
+ * where adem_jkr_cbrt gives libm's. The same operations in the same order everywhere: the same
+ * bits for any thread count. */
+ADEM_LAW double adem_jkr_cbrt_packed(double x) {
   uint64_t bits;
   memcpy(&bits, &x, sizeof bits);
-  bits = bits / 3u + 0x2A9F7893782DA1CEull; /* exponent / 3, bias kept */
+  uint32_t hi = (uint32_t)(bits >> 32);
+  bits = (uint64_t)(hi / 3u + 715094163u) << 32; /* exponent / 3, bias kept */
   double y;
   memcpy(&y, &bits, sizeof y);
   for (int k = 0; k < 2; ++k) {
     double y3 = y * y * y;
     y = y * ((y3 + 2.0 * x) / (2.0 * y3 + x)); /* Halley; the ratio first: no overflow */
   }
-  return y - (y - x / (y * y)) * (1.0 / 3.0); /* Newton */
+  y = y - (y - x / (y * y)) * (1.0 / 3.0); /* Newton */
+  return x >= 0x1p-1000 && x <= 0x1p1000 ? y : NAN;
+}
+
+/* The same, and libm's cbrt outside [2^-1000, 2^1000]. */
+ADEM_LAW double adem_jkr_cbrt(double x) {
+  if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return cbrt(x);
+  return adem_jkr_cbrt_packed(x);
 }
 
 /* Critical force F_C = 3 pi gamma R (notes section 1). */
-static inline double adem_jkr_critical_force(double gamma, double R) {
+ADEM_LAW double adem_jkr_critical_force(double gamma, double R) {
   return 3.0 * ADEM_PI * gamma * R;
 }
 
 /* Equilibrium contact radius a0 = (9 pi gamma R^2 / E)^(1/3) (H7). */
-static inline double adem_jkr_a0(double gamma, double R, double E) {
+ADEM_LAW double adem_jkr_a0(double gamma, double R, double E) {
   return cbrt(9.0 * ADEM_PI * gamma * R * R / E);
 }
 
-/* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). */
-static inline double adem_jkr_contact_radius(double gamma, double R, double E, double delta) {
+/* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). packed: the
+ * cube root without the library (adem_jkr_cbrt_packed: NaN where it would be called). */
+ADEM_LAW double adem_jkr_contact_radius_as(double gamma, double R, double E, double delta,
+                                                bool packed) {
   double c2 = ADEM_PI * gamma / E; /* c^2 */
   double P = R * delta;
   double Q = -0.5 * c2 * R * R; /* < 0 */
   /* Cardano: m = A + B with A = cbrt(-Q/2 + sqrt(Q^2/4 + P^3/27)), A B = -P/3. The sum A + B
    * cancels badly for large P; m = -Q / (A^2 - AB + B^2) does not (all terms positive). */
   double disc = 0.25 * Q * Q + P * P * P / 27.0;
-  double A = adem_jkr_cbrt(-0.5 * Q + sqrt(disc > 0.0 ? disc : 0.0));
+  double x = -0.5 * Q + sqrt(disc > 0.0 ? disc : 0.0);
+  double A = packed ? adem_jkr_cbrt_packed(x) : adem_jkr_cbrt(x);
   double B = -P / (3.0 * A);
   double m = -Q / (A * A - A * B + B * B);
   double s = sqrt(2.0 * m);
@@ -61,9 +77,13 @@ static inline double adem_jkr_contact_radius(double gamma, double R, double E, d
   return u * u;
 }
 
+ADEM_LAW double adem_jkr_contact_radius(double gamma, double R, double E, double delta) {
+  return adem_jkr_contact_radius_as(gamma, R, E, delta, false);
+}
+
 /* Elastic normal force at contact radius a, positive repulsive: 4 E a^3/(3R) - 4 sqrt(pi gamma E
  * a^3) (H8 + H9). */
-static inline double adem_jkr_force(double gamma, double R, double E, double a) {
+ADEM_LAW double adem_jkr_force(double gamma, double R, double E, double a) {
   double a3 = a * a * a;
   return 4.0 * E * a3 / (3.0 * R) - 4.0 * sqrt(ADEM_PI * gamma * E * a3);
 }
@@ -71,12 +91,12 @@ static inline double adem_jkr_force(double gamma, double R, double E, double a) 
 /* Energy stored in the contact relative to the state at delta = 0 where it forms:
  * Phi(a) - Phi(a(0)) with Phi = 8 E a^5/(15 R^2) - (8/3) sqrt(pi gamma E) a^(7/2)/R + 2 pi gamma a^2,
  * the integral of the force over the overlap. */
-static inline double adem_jkr_potential(double gamma, double R, double E, double a) {
+ADEM_LAW double adem_jkr_potential(double gamma, double R, double E, double a) {
   double k = sqrt(ADEM_PI * gamma * E);
   return 8.0 * E * pow(a, 5.0) / (15.0 * R * R) - (8.0 / 3.0) * k * pow(a, 3.5) / R +
          2.0 * ADEM_PI * gamma * a * a;
 }
-static inline double adem_jkr_energy(double gamma, double R, double E, double a) {
+ADEM_LAW double adem_jkr_energy(double gamma, double R, double E, double a) {
   double a_form = cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
   return adem_jkr_potential(gamma, R, E, a) - adem_jkr_potential(gamma, R, E, a_form);
 }

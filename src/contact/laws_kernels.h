@@ -14,6 +14,7 @@
 #include "adem/vec3.h"
 #include "hertz.h"
 #include "jkr.h"
+#include "law_inline.h"
 #include "rolling.h"
 #include "tangential.h"
 
@@ -51,6 +52,9 @@ typedef struct adem_contact_geometry {
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
   bool energy;         /* the normal law's stored energy is wanted (else it may be left 0) */
+  bool packed;         /* in a loop the compiler packs (the force pass's block kernels): where a
+                        * law would call the library it gives NaN instead, and the pass does
+                        * that contact again one at a time */
 } adem_contact_geometry;
 
 /* ---------------------------------------------------------------- normal slot */
@@ -63,7 +67,7 @@ typedef struct adem_normal_result {
 } adem_normal_result;
 
 /* a_hertz = sqrt(R delta), computed once per contact. */
-static inline adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
+ADEM_LAW adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
                                                        const adem_contact_geometry *g,
                                                        double a_hertz) {
   adem_normal_result r;
@@ -74,12 +78,12 @@ static inline adem_normal_result adem_normal_hertz_law(const adem_pair_params *p
   return r;
 }
 
-static inline adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
+ADEM_LAW adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
                                                      const adem_contact_geometry *g,
                                                      double a_hertz) {
   (void)a_hertz;
   adem_normal_result r;
-  r.a = adem_jkr_contact_radius(pp->gamma, g->R, pp->E, g->delta); /* H10 */
+  r.a = adem_jkr_contact_radius_as(pp->gamma, g->R, pp->E, g->delta, g->packed); /* H10 */
   r.f_elastic = adem_jkr_force(pp->gamma, g->R, pp->E, r.a);       /* H8-H9 */
   r.e_elastic = g->energy ? adem_jkr_energy(pp->gamma, g->R, pp->E, r.a) : 0.0;
   r.f_critical = adem_jkr_critical_force(pp->gamma, g->R);
@@ -104,7 +108,7 @@ typedef struct adem_damping_output {
 
 /* H11-H13 with H16's square root: F_N = F_el + c_n v_n, c = -2 sqrt(5/6) beta sqrt(S m*). The
  * total is not clipped: near separation the dashpot pulls, which is what makes e_eff = e. */
-static inline void adem_damping_viscoelastic_law(const adem_pair_params *pp,
+ADEM_LAW void adem_damping_viscoelastic_law(const adem_pair_params *pp,
                                                  const adem_damping_input *in,
                                                  adem_damping_output *out) {
   double cn = adem_damping_coefficient(pp->beta, in->Sn, in->mstar);
@@ -116,7 +120,7 @@ static inline void adem_damping_viscoelastic_law(const adem_pair_params *pp,
  * The normal dashpot takes the beta that gives e_eff = e with the clamp (adem_damping_beta_
  * clamped, derived per pair); the tangential one keeps H12's beta. With adhesion (F_C > 0) the
  * force is not clamped: the JKR force pulls by design. */
-static inline void adem_damping_clamped_law(const adem_pair_params *pp,
+ADEM_LAW void adem_damping_clamped_law(const adem_pair_params *pp,
                                             const adem_damping_input *in,
                                             adem_damping_output *out) {
   double cn = adem_damping_coefficient(pp->beta_clamped, in->Sn, in->mstar);
@@ -129,12 +133,12 @@ static inline void adem_damping_clamped_law(const adem_pair_params *pp,
 
 /* Advances the history (three doubles and one more, aux) by one step and fills the tangential
  * force on i, its dashpot part, the stored and the dissipated energy (tangential.h). */
-static inline void adem_tangential_total_law(const adem_tangential_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_tangential_total_law(const adem_tangential_input *in, adem_vec3 *hist,
                                              double *aux, adem_tangential_output *out) {
   adem_tangential_total(in, hist, aux, out); /* H14-H17 */
 }
 
-static inline void adem_tangential_incremental_law(const adem_tangential_input *in,
+ADEM_LAW void adem_tangential_incremental_law(const adem_tangential_input *in,
                                                    adem_vec3 *hist, double *aux,
                                                    adem_tangential_output *out) {
   adem_tangential_incremental(in, hist, aux, out); /* H14, H16-H17, Mindlin-Deresiewicz */
@@ -162,12 +166,12 @@ typedef struct adem_rolling_output {
 
 /* Rolling radius R_r (wall: r_i) and the eta_r of models A and C: the mean of a particle pair's,
  * the particle's on a wall (notes section 4). */
-static inline double adem_rolling_radius(const adem_contact_geometry *g) {
+ADEM_LAW double adem_rolling_radius(const adem_contact_geometry *g) {
   return g->R; /* r_i r_j/(r_i + r_j), a wall's r_i: the effective radius, computed once */
 }
 /* (Both values are read whatever the branch: a load under a branch keeps the force pass's block
  * loops from packing, contacts.c.) */
-static inline double adem_rolling_eta(const adem_rolling_input *in) {
+ADEM_LAW double adem_rolling_eta(const adem_rolling_input *in) {
   int k = ADEM_PARAM_ROLLING_FRICTION;
   double eta_a = in->pp->param_a[k], eta_b = in->pp->param_b[k];
   return in->g->rj == 0.0 ? eta_a : 0.5 * (eta_a + eta_b);
@@ -175,20 +179,20 @@ static inline double adem_rolling_eta(const adem_rolling_input *in) {
 
 /* Model C's dashpot C_r = delta_r 2 sqrt(I_r k_r); without one (delta_r = 0) the square root is
  * skipped: the same 0. */
-static inline double adem_rolling_damping(const adem_pair_params *pp, const adem_contact_geometry *g,
+ADEM_LAW double adem_rolling_damping(const adem_pair_params *pp, const adem_contact_geometry *g,
                                           double k_r) {
   double d = pp->param[ADEM_PARAM_ROLLING_DAMPING];
   return d == 0.0 ? 0.0 : d * 2.0 * sqrt(g->inertia_r * k_r);
 }
 
-static inline void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
                                          adem_rolling_output *out) {
   (void)in;
   (void)hist;
   (void)out;
 }
 
-static inline void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist,
                                             adem_rolling_output *out) {
   (void)hist; /* I7-I8 */
   out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
@@ -196,7 +200,7 @@ static inline void adem_rolling_model_a_law(const adem_rolling_input *in, adem_v
   out->dashpot = out->torque; /* no spring: all its work is dissipation */
 }
 
-static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
                                             adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
@@ -209,7 +213,7 @@ static inline void adem_rolling_model_c_law(const adem_rolling_input *in, adem_v
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
 }
 
-static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
                                                    adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
@@ -222,7 +226,7 @@ static inline void adem_rolling_model_c_capped_law(const adem_rolling_input *in,
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;
 }
 
-static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
                                          adem_rolling_output *out) {
   (void)hist; /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
   const adem_contact_geometry *g = in->g;
@@ -234,7 +238,7 @@ static inline void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3
   out->capacity = e_c * in->f_load;
 }
 
-static inline void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist,
                                         adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   const adem_pair_params *pp = in->pp;

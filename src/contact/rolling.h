@@ -4,6 +4,8 @@
 #ifndef ADEM_CONTACT_ROLLING_H
 #define ADEM_CONTACT_ROLLING_H
 
+#include "law_inline.h"
+
 #include <math.h>
 #include <stdbool.h>
 #include "tangential.h"
@@ -11,7 +13,7 @@
 
 /* Model A, constant directional torque (I7-I8): -e_c |F_n| omega_rel/|omega_rel|, e_c = eta_r R_r.
  * It flips sign with omega_rel, so a sphere at rest sees it oscillate: that is the known flaw. */
-static inline adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, double f_normal) {
+ADEM_LAW adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, double f_normal) {
   double norm = v3_norm(omega_rel);
   if (norm == 0.0) return v3_zero();
   return v3_scale(omega_rel, -e_c * fabs(f_normal) / norm);
@@ -23,7 +25,7 @@ static inline adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, do
  * on omega_damp (the relative spin predicted at the full step; the spring turns by omega_rel dt).
  * *plastic: the energy the spring's limit took in the step, the mean spring torque times the
  * plastic turn (M_trial - M_new)/k_r (the trapezoid the integrator's work follows). */
-static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
+ADEM_LAW adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
                                              adem_vec3 omega_damp, double dt, double k_r,
                                              double limit, double c_r, double *plastic) {
   adem_vec3 m0 = adem_tangential_project(*spring, n);
@@ -44,7 +46,7 @@ static inline adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, ade
 /* Model C with the total torque bounded: spring + dashpot limited to eta_r R_r |F_n| (the cap
  * LIGGGHTS applies when the spring is fully mobilised, here applied to the sum as well), so that
  * no rolling torque exceeds the bound of models A and BROF. */
-static inline adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
+ADEM_LAW adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
                                                     adem_vec3 omega_rel, adem_vec3 omega_damp,
                                                     double dt, double k_r, double limit,
                                                     double c_r, double *plastic) {
@@ -58,7 +60,7 @@ static inline adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3
  * 1/2 (r_j - r_i)/(r_i + r_j) v_S (v_S the slip velocity; 1/2 v_S on a wall); adem leaves it out
  * because it lets the couple do positive work on a wall when the tangential spring is soft
  * (docs/models.md). */
-static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, double R) {
+ADEM_LAW adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, double R) {
   return v3_scale(v3_cross(omega_rel, n), -R);
 }
 
@@ -66,7 +68,7 @@ static inline adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3
  * k_r (n x xi) with k_r = 4 F_C (a/a0)^(3/2) (H20; a/a0 of the modified material, section 3.2).
  * The torque's work over a turn is -(k_r/R) xi . dxi, so the spring stores k_r |xi|^2/(2R) and
  * the truncation takes (k_r/R) (xi_old + xi_new)/2 . (xi_trial - xi_new) (*plastic). */
-static inline adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v_l, double dt,
+ADEM_LAW adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v_l, double dt,
                                          double k_r, double xi_crit, double R, double *plastic) {
   adem_vec3 x0 = adem_tangential_project(*xi, n);
   adem_vec3 x = v3_axpy(x0, dt, v_l);
@@ -85,7 +87,7 @@ static inline adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v
  * this step given every other torque on it; the resistance is t_stop itself when the available
  * resistance capacity (sum of e_c |F_n| over its BROF contacts) suffices, else the capacity along
  * t_stop. It never reverses the rotation and holds a particle at rest exactly. */
-static inline adem_vec3 adem_rolling_brof(adem_vec3 t_stop, double capacity) {
+ADEM_LAW adem_vec3 adem_rolling_brof(adem_vec3 t_stop, double capacity) {
   double mag = v3_norm(t_stop);
   if (mag <= capacity) return t_stop;
   return v3_scale(t_stop, capacity / mag);

@@ -12,12 +12,14 @@
 #ifndef ADEM_CONTACT_TANGENTIAL_H
 #define ADEM_CONTACT_TANGENTIAL_H
 
+#include "law_inline.h"
+
 #include <stdbool.h>
 #include "adem/vec3.h"
 
 /* Keeps the history xi in the tangent plane of the unit normal n, with its length unchanged, so a
  * rotating contact does not lose or gain stored spring energy. */
-static inline adem_vec3 adem_tangential_project(adem_vec3 xi, adem_vec3 n) {
+ADEM_LAW adem_vec3 adem_tangential_project(adem_vec3 xi, adem_vec3 n) {
   double len2 = v3_norm2(xi);
   if (len2 == 0.0) return xi;
   adem_vec3 p = v3_axpy(xi, -v3_dot(xi, n), n);
@@ -50,7 +52,7 @@ typedef struct adem_tangential_output {
  * f_limit (H17); when sliding xi is reset so that the spring alone carries the limit. The slip's
  * dissipation is the mean spring force times the slip, (1/2) S_t (xi_old + xi_new).(xi_trial -
  * xi_new), the same trapezoid the integrator's work follows. aux is not used. */
-static inline void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *xi,
+ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *xi,
                                          double *aux, adem_tangential_output *out) {
   (void)aux;
   double S = in->stiffness;
@@ -86,7 +88,7 @@ static inline void adem_tangential_total(const adem_tangential_input *in, adem_v
  * the change of the stored energy: the slip, the energy a change of S_t releases (both ways it
  * lowers |fs|^2/(2 S_t)), and nothing while it sticks (dF = -S_t ds is linear: the trapezoid is
  * exact). The dashpot's share is the integrator's (it is reported apart). */
-static inline void adem_tangential_incremental(const adem_tangential_input *in, adem_vec3 *fs,
+ADEM_LAW void adem_tangential_incremental(const adem_tangential_input *in, adem_vec3 *fs,
                                                double *aux, adem_tangential_output *out) {
   double S = in->stiffness, S_old = *aux, L = in->f_limit;
   adem_vec3 f_prev = *fs;

@@ -307,7 +307,7 @@ particle_kinematics(const adem_particles *p, const adem_vec3 *pred, size_t i, si
 
 /* The contact as the laws see it. I_r is left 0: the caller sets it when a law needs it. */
 static inline __attribute__((always_inline)) contact_geometry
-kinematic_geometry(const pair_kinematics *k, bool energy) {
+kinematic_geometry(const pair_kinematics *k, bool energy, bool packed) {
   double ri = k->ri, rj = k->rj;
   double rsum = ri + rj;
   contact_geometry g;
@@ -327,6 +327,7 @@ kinematic_geometry(const pair_kinematics *k, bool energy) {
   g.ri = ri;
   g.rj = rj;
   g.energy = energy;
+  g.packed = packed;
   g.inertia_r = 0.0;
   return g;
 }
@@ -341,7 +342,7 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
   size_t i = l->a[k], j = l->b[k];
   double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
   pair_kinematics kin = particle_kinematics(p, w->predicted, i, j, d, dist, hp);
-  contact_geometry g = kinematic_geometry(&kin, w->energy);
+  contact_geometry g = kinematic_geometry(&kin, w->energy, false);
   /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
   if (needs_rolling_inertia(it)) {
     double ri = g.ri, rj = g.rj;
@@ -423,7 +424,7 @@ static inline __attribute__((always_inline)) void pair_block_laws(const adem_for
     PAIR_BLOCK_HISTORY(PAIR_BLOCK_GET_HIST)
 #undef PAIR_BLOCK_GET_KIN
 #undef PAIR_BLOCK_GET_HIST
-    contact_geometry g = kinematic_geometry(&kin, false);
+    contact_geometry g = kinematic_geometry(&kin, false, true);
     contact_result r = contact_force(it, laws, &g, &h, dt, b->fresh[q] != 0.0);
     b->hist[q] = h;
     pair_records(&g, &r, balance, &b->res[q], &b->bal[q]);
@@ -436,42 +437,52 @@ static inline __attribute__((always_inline)) void pair_block_laws(const adem_for
 #define PAIR_BLOCK_CLONES __attribute__((flatten))
 #endif
 
-/* The rolling laws with a block kernel, in the order of pair_block_kernels' rows. */
-#define PAIR_BLOCK_ROLLING(X) \
-  X(none, ADEM_ROLLING_NONE) X(model_a, ADEM_ROLLING_A) X(model_c, ADEM_ROLLING_C) \
-  X(model_c_capped, ADEM_ROLLING_C_CAPPED) X(brof, ADEM_ROLLING_BROF)
-#define PAIR_BLOCK_KERNEL(name, rolling)                                                          \
+/* The laws with a block kernel: normal x rolling (with viscoelastic damping and the incremental
+ * tangential law), in the order of pair_block_kernels' rows. */
+#define PAIR_BLOCK_LAWS(X)                                                                       \
+  X(hertz_none, ADEM_NORMAL_HERTZ, ADEM_ROLLING_NONE)                                          \
+  X(hertz_model_a, ADEM_NORMAL_HERTZ, ADEM_ROLLING_A)                                          \
+  X(hertz_model_c, ADEM_NORMAL_HERTZ, ADEM_ROLLING_C)                                          \
+  X(hertz_model_c_capped, ADEM_NORMAL_HERTZ, ADEM_ROLLING_C_CAPPED)                            \
+  X(hertz_brof, ADEM_NORMAL_HERTZ, ADEM_ROLLING_BROF)                                          \
+  X(jkr_none, ADEM_NORMAL_JKR, ADEM_ROLLING_NONE)                                              \
+  X(jkr_model_a, ADEM_NORMAL_JKR, ADEM_ROLLING_A)                                              \
+  X(jkr_model_c, ADEM_NORMAL_JKR, ADEM_ROLLING_C)                                              \
+  X(jkr_model_c_capped, ADEM_NORMAL_JKR, ADEM_ROLLING_C_CAPPED)                                \
+  X(jkr_brof, ADEM_NORMAL_JKR, ADEM_ROLLING_BROF)
+#define PAIR_BLOCK_KERNEL(name, normal, rolling)                                                  \
   PAIR_BLOCK_CLONES static void pair_block_##name(const adem_force_scope *w, pair_block *b) {     \
-    law_set laws = {ADEM_NORMAL_HERTZ, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL,    \
-                    rolling};                                                                     \
+    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling};    \
     pair_block_laws(w, b, laws, false);                                                          \
   }                                                                                               \
   PAIR_BLOCK_CLONES static void pair_block_##name##_balance(const adem_force_scope *w,            \
                                                             pair_block *b) {                      \
-    law_set laws = {ADEM_NORMAL_HERTZ, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL,    \
-                    rolling};                                                                     \
+    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling};    \
     pair_block_laws(w, b, laws, true);                                                           \
   }
-PAIR_BLOCK_ROLLING(PAIR_BLOCK_KERNEL)
+PAIR_BLOCK_LAWS(PAIR_BLOCK_KERNEL)
 #undef PAIR_BLOCK_KERNEL
 
 typedef void (*pair_block_kernel)(const adem_force_scope *w, pair_block *b);
 static const struct {
-  int rolling;
+  int normal, rolling;
   pair_block_kernel laws[2]; /* without and with the energy balance */
 } pair_block_kernels[] = {
-#define PAIR_BLOCK_ROW(name, rolling) {rolling, {pair_block_##name, pair_block_##name##_balance}},
-    PAIR_BLOCK_ROLLING(PAIR_BLOCK_ROW)
+#define PAIR_BLOCK_ROW(name, normal, rolling) \
+  {normal, rolling, {pair_block_##name, pair_block_##name##_balance}},
+    PAIR_BLOCK_LAWS(PAIR_BLOCK_ROW)
 #undef PAIR_BLOCK_ROW
 };
 
 /* The block kernel for the interaction's laws, or -1. */
 static inline int pair_block_kind(const adem_interaction *it) {
-  if (it->normal != ADEM_NORMAL_HERTZ || it->damping != ADEM_DAMPING_VISCOELASTIC ||
-      it->tangential != ADEM_TANGENTIAL_INCREMENTAL || needs_rolling_inertia(it))
+  if (it->damping != ADEM_DAMPING_VISCOELASTIC || it->tangential != ADEM_TANGENTIAL_INCREMENTAL ||
+      needs_rolling_inertia(it))
     return -1;
   for (int r = 0; r < (int)(sizeof pair_block_kernels / sizeof pair_block_kernels[0]); ++r)
-    if (pair_block_kernels[r].rolling == (int)it->rolling) return r;
+    if (pair_block_kernels[r].normal == (int)it->normal &&
+        pair_block_kernels[r].rolling == (int)it->rolling)
+      return r;
   return -1;
 }
 
@@ -479,9 +490,18 @@ static inline int pair_block_kind(const adem_interaction *it) {
 static void pair_block_flush(const adem_force_scope *w, pair_block *b) {
   if (b->m == 0) return;
   pair_block_kernels[b->kind].laws[w->balance](w, b);
+#ifdef ADEM_HAVE_OPENMP
+#pragma omp atomic
+#endif
+  *w->block_pairs += (uint64_t)b->m;
   adem_pair_list *l = w->pp;
   for (int q = 0; q < b->m; ++q) {
     size_t k = b->k[q];
+    if (!v3_isfinite(b->res[q].force_a)) { /* a law's library call (packed), or a bad state */
+      particle_pair(w, k, v3(b->in.kin.dx[q], b->in.kin.dy[q], b->in.kin.dz[q]), b->in.kin.dist[q],
+                    b->fresh[q] == 0.0, b->it);
+      continue;
+    }
     l->touching[k] = true;
     l->hist[k] = b->hist[q];
     l->res[k] = b->res[q];
@@ -519,7 +539,9 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     }
     double dist = sqrt(dist2);
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
-    int kind = w->energy || !(rsum - dist > 0.0) ? -1 : pair_block_kind(it);
+    int kind = !w->pair_blocks || w->energy || !(rsum - dist > 0.0)
+                   ? -1
+                   : pair_block_kind(it);
     if (kind < 0) {
       particle_pair(w, k, d, dist, was, it);
       continue;
@@ -572,6 +594,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     g.ri = ri;
     g.rj = 0.0;
     g.energy = w->energy;
+    g.packed = false;
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
@@ -652,6 +675,8 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.ri = ri;
       g.rj = 0.0;
       g.energy = w->energy;
+      g.packed = false;
+    g.packed = false;
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
       g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
       contact_result r = contact_force(it, laws_of(it), &g, &h, dt, w->second_order && fresh);

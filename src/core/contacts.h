@@ -32,6 +32,8 @@ typedef struct adem_force_scope {
   int *overlap_exceeded;         /* ... this flag (the step's check then finds which) */
   adem_vec3 *predicted; /* 2 per particle, the pass's scratch for each particle's predicted
                          * velocity and spin; NULL: predicted per contact (the same bits) */
+  bool pair_blocks;        /* touching particle pairs of the common laws in block kernels */
+  uint64_t *block_pairs;   /* counts the pairs they took */
   int *break_forces; /* the pass sets it when a pair that opened carries a break correction;
                       * only then do the sums read the forces of pairs apart (contacts.c sets
                       * it up: callers leave it NULL) */

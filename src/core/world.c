@@ -23,6 +23,7 @@ adem_world *adem_world_create(void) {
   w->energy_balance = true;
   w->next_id = 0;
   adem_world_add_group(w, "default", v3_zero(), NULL, NULL);
+  w->pair_blocks = true;
   return w;
 }
 
@@ -289,7 +290,8 @@ static void compute_forces(adem_world *w, bool energy) {
                         &w->nb,    &w->mat,  w->groups,   w->gravity,
                         w->dt,     adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
-                        &w->overlap_exceeded, w->predicted, NULL};
+                        &w->overlap_exceeded, w->predicted, w->pair_blocks,
+                        &w->pair_block_pairs, NULL};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }

@@ -75,6 +75,10 @@ struct adem_world {
    * particle for predicted_cap particles; not saved (every pass writes it before reading) */
   adem_vec3 *predicted;
   size_t predicted_cap;
+  /* the force pass takes touching particle pairs of the common laws in block kernels (contacts.c);
+   * false: every pair one at a time, the same bits (tests/golden/test_pair_blocks.c compares) */
+  bool pair_blocks;
+  uint64_t pair_block_pairs; /* pairs the block kernels took, since the world was made (not saved) */
 
   /* smallest radius per material of particles inserted while running (pours), INFINITY for
    * none; NULL when nothing is poured. The step estimate counts them as present. */

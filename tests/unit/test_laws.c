@@ -68,6 +68,7 @@ static adem_contact_geometry geometry(const body *i, const body *j) {
   double Ici = i->inertia + i->m * i->r * i->r, Icj = j->inertia + j->m * j->r * j->r;
   g.inertia_r = Ici * Icj / (Ici + Icj);
   g.energy = true;
+  g.packed = false;
   return g;
 }
 
