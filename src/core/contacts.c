@@ -241,6 +241,7 @@ static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction
   adem_pairs_clear(l, k);
   if (balance) l->bal[k].dissipated = lost;
   l->res[k].force_a = v3_scale(g->n, -f);
+  l->opened[k] = true;
   if (f != 0.0) {
 #ifdef ADEM_HAVE_OPENMP
 #pragma omp atomic write
@@ -257,12 +258,15 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
 
 /* A candidate apart now and at the last pass. Every field of a pair that is not touching is
  * zero (the build clears new pairs, open_pair clears an opening one) except what open_pair left
- * for the pass in which it opened: its break correction, and with the balance on its lost spring
- * energy (a balance switched on starts from zeroed records: world.c, sync_balance_records).
- * Zeroing those is the same as clearing the pair, and touches one record instead of all. */
+ * for the pass in which it opened, and marked opened: its break correction, and with the balance
+ * on its lost spring energy (a balance switched on starts from zeroed records: world.c,
+ * sync_balance_records). Zeroing those is the same as clearing the pair; a pair apart for longer
+ * is not written at all (its records stay out of the cache). */
 static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
+  if (!l->opened[k]) return;
   if (balance) l->bal[k].dissipated = 0.0;
   l->res[k].force_a = v3_zero();
+  l->opened[k] = false;
 }
 
 /* What the geometry of a particle pair takes of its two particles, read where the particles are

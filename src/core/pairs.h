@@ -71,6 +71,7 @@ enum {
   X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
   X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
+  X(bool, opened, ADEM_PAIR_STATE, "opened at the last force pass: its results hold what the pass left (a break correction, the lost spring energy) for the next pass to clear") \
   X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")          \
   X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J, written by the passes after which the diagnostics can be read")
 
@@ -104,8 +105,9 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
 }
 
 /* Clears every pair out of contact except what the pass in which it opened left (its lost
- * spring energy and break correction): what the force pass expects of a pair it skips. A
- * checkpoint adem wrote already is so; one from elsewhere is made so. */
+ * spring energy and break correction), and marks it opened so that the next pass clears that
+ * too: what the force pass expects of a pair it skips. A checkpoint adem wrote already is so;
+ * one from elsewhere is made so. */
 static inline void adem_pairs_clear_apart(adem_pair_list *l) {
   for (size_t k = 0; k < l->n; ++k) {
     if (l->touching[k]) continue;
@@ -114,6 +116,7 @@ static inline void adem_pairs_clear_apart(adem_pair_list *l) {
     adem_pairs_clear(l, k);
     if (l->bal) l->bal[k].dissipated = lost;
     l->res[k].force_a = f;
+    l->opened[k] = true;
   }
 }
 
