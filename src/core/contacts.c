@@ -372,6 +372,8 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
  * rolling none, model A, model C without its dashpot, model C capped, BROF); the rest go one at a
  * time. */
 enum { PAIR_BLOCK = 64, PAIR_CHUNK = 2048 };
+/* The per-particle sums ask for a pair's records this many entries ahead (__builtin_prefetch). */
+enum { PREFETCH_AHEAD = 8 };
 
 /* The block's inputs, a pair per lane: pair_kinematics and the history, one array per number
  * (contiguous lanes are what packed loads read). */
@@ -765,6 +767,7 @@ static inline void account_energy(adem_particles *p, size_t i, const particle_en
  * pair's result was computed with the lower id as i: the sums are the same bits whatever the
  * storage order (docs/architecture.md, "Order independence"). */
 static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool balance) {
+  size_t n_all = w->p->n;
   adem_particles *p = w->p;
   const adem_neighbors *nb = w->nb;
   const adem_pair_list *pp = w->pp, *pw = w->pw, *pm = &w->pm->l;
@@ -782,6 +785,13 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
+      /* the entries a particle ahead: their records are scattered over the list, and a read
+       * that waits for memory is most of the sum's time on a large bed */
+      if (e + PREFETCH_AHEAD < nb->pp_start[n_all]) {
+        size_t ka = nb->pp_entries[e + PREFETCH_AHEAD] >> 1;
+        __builtin_prefetch(&pp->res[ka]);
+        __builtin_prefetch(&pp->touching[ka]);
+      }
       if (balance) en.dissipated += 0.5 * pp->bal[k].dissipated; /* also of one just opened */
       if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
         if (!breaks) continue;
