@@ -438,7 +438,7 @@ static inline __attribute__((always_inline)) void pair_block_laws(const adem_for
 }
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ADEM_NO_CLONES)
-#define PAIR_BLOCK_CLONES __attribute__((flatten, target_clones("avx2", "default")))
+#define PAIR_BLOCK_CLONES __attribute__((flatten, target_clones("avx512f", "avx2", "default")))
 #else
 #define PAIR_BLOCK_CLONES __attribute__((flatten))
 #endif
