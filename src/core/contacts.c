@@ -192,8 +192,9 @@ static inline void note_overlap(const adem_force_scope *w, double ratio) {
  * centre and at -r_b n from b's, so its moments are r_a n x F_t on a and r_b n x F_t on b: the
  * pair keeps n x F_t and the sums scale it by the particle's radius; the rolling couple is equal
  * and opposite. A wall takes no torque. bal: the energy balance's terms, written when balance. */
-static inline __attribute__((always_inline)) void pair_records(const contact_geometry *g, const contact_result *r, bool balance,
-                                adem_pair_result *res, adem_pair_balance *bal) {
+static inline __attribute__((always_inline)) void
+pair_records(const contact_geometry *g, const contact_result *r, bool balance, adem_pair_result *res,
+             adem_pair_balance *bal) {
   adem_vec3 ft = v3_axpy(r->force, -v3_dot(r->force, g->n), g->n);
   res->force_a = r->force;
   res->moment = v3_cross(g->n, ft);
@@ -337,9 +338,11 @@ kinematic_geometry(const pair_kinematics *k, bool energy, bool packed) {
 }
 
 /* A particle pair one contact at a time, through the laws of its interaction: every pair that
- * pair_block does not take (other laws, an opening pair, a pass that wants the energies). */
-static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, double dist,
-                                 bool was, const adem_interaction *it) {
+ * pair_block does not take (other laws, an opening pair, a pass that wants the energies). Out of
+ * line: the rare path, which inlined into the chunk loop made it spill registers. */
+static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, size_t k,
+                                                    adem_vec3 d, double dist, bool was,
+                                                    const adem_interaction *it) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
   double dt = w->dt;
@@ -365,13 +368,12 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
 
 /* Touching particle pairs of one interaction in blocks: the same geometry and laws as
  * particle_pair, lane by lane, in a loop the compiler turns into packed arithmetic (SSE2, and
- * AVX2 where the processor has it: the clones below). Lanes are independent and packed
- * instructions round each lane as the scalar ones do (no fused multiply-add: -ffp-contract=off),
- * so a pair's results are the same bits by either path and in either clone. The block kernels
- * exist for the laws most runs use (Hertz, viscoelastic damping, incremental tangential law;
- * rolling none, model A, model C without its dashpot, model C capped, BROF); the rest go one at a
- * time. */
-enum { PAIR_BLOCK = 64, PAIR_CHUNK = 2048 };
+ * AVX2 or AVX-512 where the processor has them: the clones below). Lanes are independent and
+ * packed instructions round each lane as the scalar ones do (no fused multiply-add:
+ * -ffp-contract=off), so a pair's results are the same bits by either path and in any clone
+ * (docs/architecture.md, "Block kernels"). The block kernels exist for the laws most runs use
+ * (PAIR_BLOCK_LAWS); the rest go one at a time. */
+enum { PAIR_BLOCK = 64 };
 /* The per-particle sums ask for a pair's records this many entries ahead (__builtin_prefetch). */
 enum { PREFETCH_AHEAD = 8 };
 
@@ -404,9 +406,9 @@ typedef struct pair_block {
   adem_pair_balance bal[PAIR_BLOCK];
 } pair_block;
 
-/* Puts pair k's kinematics and history in lane q. */
-static inline __attribute__((always_inline)) void pair_block_put(pair_block *b, int q, const pair_kinematics *kin,
-                                  const adem_contact_history *h) {
+/* Puts a pair's kinematics and history in lane q. */
+static inline __attribute__((always_inline)) void
+pair_block_put(pair_block *b, int q, const pair_kinematics *kin, const adem_contact_history *h) {
 #define PAIR_BLOCK_PUT_KIN(a, f) b->in.kin.a[q] = kin->f;
 #define PAIR_BLOCK_PUT_HIST(a, f) b->in.hist.a[q] = h->f;
   PAIR_BLOCK_INPUTS(PAIR_BLOCK_PUT_KIN)
@@ -415,9 +417,9 @@ static inline __attribute__((always_inline)) void pair_block_put(pair_block *b, 
 #undef PAIR_BLOCK_PUT_HIST
 }
 
-static inline __attribute__((always_inline)) void pair_block_laws(const adem_force_scope *w,
-                                                                  pair_block *restrict b,
-                                                                  law_set laws, bool balance) {
+/* The loop the compiler packs: laws and balance are constants of each kernel below. */
+static inline __attribute__((always_inline)) void
+pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws, bool balance) {
   const adem_interaction *it = b->it;
   double dt = w->dt;
   int m = b->m;
@@ -437,6 +439,8 @@ static inline __attribute__((always_inline)) void pair_block_laws(const adem_for
   }
 }
 
+/* flatten: every law inlined into the loop (a call keeps it from packing); the clones: one per
+ * instruction set, chosen when the program loads (GCC on x86-64; ADEM_NO_CLONES: SSE2 only) */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(ADEM_NO_CLONES)
 #define PAIR_BLOCK_CLONES __attribute__((flatten, target_clones("avx512f", "avx2", "default")))
 #else
@@ -482,8 +486,11 @@ static const struct {
 
 /* The block kernel for the interaction's laws, or -1. */
 static inline int pair_block_kind(const adem_interaction *it) {
+  /* the kernels leave I_r 0: of their rolling laws only model C's dashpot reads it */
+  bool dashpot = (it->rolling == ADEM_ROLLING_C || it->rolling == ADEM_ROLLING_C_CAPPED) &&
+                 needs_rolling_inertia(it);
   if (it->damping != ADEM_DAMPING_VISCOELASTIC || it->tangential != ADEM_TANGENTIAL_INCREMENTAL ||
-      needs_rolling_inertia(it))
+      dashpot)
     return -1;
   for (int r = 0; r < (int)(sizeof pair_block_kernels / sizeof pair_block_kernels[0]); ++r)
     if (pair_block_kernels[r].normal == (int)it->normal &&
@@ -528,7 +535,7 @@ static void pair_block_flush(const adem_force_scope *w, pair_block *b) {
 static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
-  size_t k0 = c * PAIR_CHUNK, k1 = l->n - k0 < PAIR_CHUNK ? l->n : k0 + PAIR_CHUNK;
+  size_t k0 = c * w->pair_chunk, k1 = l->n - k0 < w->pair_chunk ? l->n : k0 + w->pair_chunk;
   pair_block b;
   b.m = 0;
   b.kind = -1;
@@ -915,7 +922,11 @@ void adem_contacts_compute(const adem_force_scope *scope) {
   const adem_force_scope *w = &s;
   int nthreads = w->nthreads;
   if (w->predicted) ADEM_FOR(nthreads, w->p->n, predict_particle, w);
-  ADEM_FOR(nthreads, (w->pp->n + PAIR_CHUNK - 1) / PAIR_CHUNK, particle_pair_chunk, w);
+  /* chunks of the pair list: a few per thread even on a small system (the static split gives
+   * each thread whole chunks), at most 2048 pairs; their size changes no result */
+  size_t chunk = w->pp->n / (8 * (size_t)(nthreads > 1 ? nthreads : 1));
+  s.pair_chunk = chunk < 4 * PAIR_BLOCK ? 4 * PAIR_BLOCK : chunk > 2048 ? 2048 : chunk;
+  ADEM_FOR(nthreads, (w->pp->n + s.pair_chunk - 1) / s.pair_chunk, particle_pair_chunk, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);
   if (w->balance) ADEM_FOR(nthreads, w->p->n, sum_particle, w);

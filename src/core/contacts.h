@@ -34,6 +34,7 @@ typedef struct adem_force_scope {
                          * velocity and spin; NULL: predicted per contact (the same bits) */
   bool pair_blocks;        /* touching particle pairs of the common laws in block kernels */
   uint64_t *block_pairs;   /* counts the pairs they took */
+  size_t pair_chunk;       /* pairs per chunk of the pair pass (contacts.c sets it) */
   int *break_forces; /* the pass sets it when a pair that opened carries a break correction;
                       * only then do the sums read the forces of pairs apart (contacts.c sets
                       * it up: callers leave it NULL) */

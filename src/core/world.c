@@ -291,7 +291,7 @@ static void compute_forces(adem_world *w, bool energy) {
                         w->dt,     adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
                         &w->overlap_exceeded, w->predicted, w->pair_blocks,
-                        &w->pair_block_pairs, NULL};
+                        &w->pair_block_pairs, 0, NULL};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }

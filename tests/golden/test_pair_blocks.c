@@ -16,8 +16,8 @@
 #include "world.h"
 
 /* The settle case with glass-glass contacts under the given laws (and glass on the walls under
- * Hertz with the same rolling law). */
-static char *case_with_laws(const char *normal, const char *rolling) {
+ * Hertz with the same rolling law); damped: a rolling damping given (only model C reads it). */
+static char *case_with_laws(const char *normal, const char *rolling, bool damped) {
   static const char *const glass_friction = "    friction: 0.5\n";
   static const char *const particles = "particles:\n";
   const char *f = strstr(settle_case, glass_friction);
@@ -26,7 +26,8 @@ static char *case_with_laws(const char *normal, const char *rolling) {
   assert_non_null(p);
   char extra_material[128], interactions[256];
   snprintf(extra_material, sizeof extra_material,
-           "    rolling_friction: 0.1\n    surface_energy: 0.01\n");
+           "    rolling_friction: 0.1\n    surface_energy: 0.01\n%s",
+           damped ? "    rolling_damping: 0.3\n" : "");
   snprintf(interactions, sizeof interactions,
            "interactions:\n"
            "  - {materials: [glass, glass], normal: %s, rolling: %s}\n"
@@ -55,8 +56,8 @@ static adem_case *run_laws(const char *text, bool blocks, int nthreads) {
   return c;
 }
 
-static void compare(const char *normal, const char *rolling) {
-  char *text = case_with_laws(normal, rolling);
+static void compare_as(const char *normal, const char *rolling, bool damped) {
+  char *text = case_with_laws(normal, rolling, damped);
   adem_case *one = run_laws(text, false, 1);
   adem_case *blocks = run_laws(text, true, 1);
   adem_case *blocks2 = run_laws(text, true, 2);
@@ -75,6 +76,8 @@ static void compare(const char *normal, const char *rolling) {
   adem_case_free(blocks2);
   free(text);
 }
+
+static void compare(const char *normal, const char *rolling) { compare_as(normal, rolling, false); }
 
 static void test_hertz_none(void **state) {
   (void)state;
@@ -96,6 +99,10 @@ static void test_hertz_brof(void **state) {
   (void)state;
   compare("hertz", "brof");
 }
+static void test_hertz_brof_damped(void **state) { /* BROF ignores the rolling damping */
+  (void)state;
+  compare_as("hertz", "brof", true);
+}
 static void test_jkr_none(void **state) {
   (void)state;
   compare("jkr", "none");
@@ -113,7 +120,8 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_hertz_none),     cmocka_unit_test(test_hertz_model_a),
       cmocka_unit_test(test_hertz_model_c),  cmocka_unit_test(test_hertz_model_c_capped),
-      cmocka_unit_test(test_hertz_brof),     cmocka_unit_test(test_jkr_none),
+      cmocka_unit_test(test_hertz_brof),     cmocka_unit_test(test_hertz_brof_damped),
+      cmocka_unit_test(test_jkr_none),
       cmocka_unit_test(test_jkr_model_c),    cmocka_unit_test(test_jkr_brof),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
