@@ -103,6 +103,14 @@ static void test_cube_root(void **state) {
   double odd[] = {0.0, -8.0, INFINITY, 0x1p-1070, 0x1p1020};
   for (int k = 0; k < 5; ++k) assert_true(adem_jkr_cbrt(odd[k]) == cbrt(odd[k]));
   assert_true(isnan(adem_jkr_cbrt(NAN)));
+  /* the block kernels' variant: the same bits inside the range, NaN (do the contact again one at
+   * a time) where adem_jkr_cbrt calls libm */
+  for (int e = -1000; e <= 999; e += 37) {
+    double x = ldexp(1.2345, e);
+    assert_true(adem_jkr_cbrt_packed(x) == adem_jkr_cbrt(x));
+  }
+  for (int k = 0; k < 5; ++k) assert_true(isnan(adem_jkr_cbrt_packed(odd[k])));
+  assert_true(isnan(adem_jkr_cbrt_packed(NAN)));
 }
 
 int main(void) {
