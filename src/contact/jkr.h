@@ -60,7 +60,7 @@ ADEM_LAW double adem_jkr_a0(double gamma, double R, double E) {
 /* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). packed: the
  * cube root without the library (adem_jkr_cbrt_packed: NaN where it would be called). */
 ADEM_LAW double adem_jkr_contact_radius_as(double gamma, double R, double E, double delta,
-                                                bool packed) {
+                                           bool packed) {
   double c2 = ADEM_PI * gamma / E; /* c^2 */
   double P = R * delta;
   double Q = -0.5 * c2 * R * R; /* < 0 */

@@ -68,8 +68,8 @@ typedef struct adem_normal_result {
 
 /* a_hertz = sqrt(R delta), computed once per contact. */
 ADEM_LAW adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
-                                                       const adem_contact_geometry *g,
-                                                       double a_hertz) {
+                                                  const adem_contact_geometry *g,
+                                                  double a_hertz) {
   adem_normal_result r;
   r.f_elastic = adem_hertz_force(pp->E, a_hertz, g->delta);  /* H9 without adhesion */
   r.e_elastic = g->energy ? adem_hertz_energy(pp->E, a_hertz, g->delta) : 0.0;
@@ -79,8 +79,8 @@ ADEM_LAW adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
 }
 
 ADEM_LAW adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
-                                                     const adem_contact_geometry *g,
-                                                     double a_hertz) {
+                                                const adem_contact_geometry *g,
+                                                double a_hertz) {
   (void)a_hertz;
   adem_normal_result r;
   r.a = adem_jkr_contact_radius_as(pp->gamma, g->R, pp->E, g->delta, g->packed); /* H10 */
@@ -109,8 +109,8 @@ typedef struct adem_damping_output {
 /* H11-H13 with H16's square root: F_N = F_el + c_n v_n, c = -2 sqrt(5/6) beta sqrt(S m*). The
  * total is not clipped: near separation the dashpot pulls, which is what makes e_eff = e. */
 ADEM_LAW void adem_damping_viscoelastic_law(const adem_pair_params *pp,
-                                                 const adem_damping_input *in,
-                                                 adem_damping_output *out) {
+                                            const adem_damping_input *in,
+                                            adem_damping_output *out) {
   double cn = adem_damping_coefficient(pp->beta, in->Sn, in->mstar);
   out->f_normal = in->f_elastic + cn * in->vn;
   out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
@@ -121,8 +121,8 @@ ADEM_LAW void adem_damping_viscoelastic_law(const adem_pair_params *pp,
  * clamped, derived per pair); the tangential one keeps H12's beta. With adhesion (F_C > 0) the
  * force is not clamped: the JKR force pulls by design. */
 ADEM_LAW void adem_damping_clamped_law(const adem_pair_params *pp,
-                                            const adem_damping_input *in,
-                                            adem_damping_output *out) {
+                                       const adem_damping_input *in,
+                                       adem_damping_output *out) {
   double cn = adem_damping_coefficient(pp->beta_clamped, in->Sn, in->mstar);
   double f = in->f_elastic + cn * in->vn;
   out->f_normal = in->f_critical == 0.0 && f < 0.0 ? 0.0 : f;
@@ -134,13 +134,13 @@ ADEM_LAW void adem_damping_clamped_law(const adem_pair_params *pp,
 /* Advances the history (three doubles and one more, aux) by one step and fills the tangential
  * force on i, its dashpot part, the stored and the dissipated energy (tangential.h). */
 ADEM_LAW void adem_tangential_total_law(const adem_tangential_input *in, adem_vec3 *hist,
-                                             double *aux, adem_tangential_output *out) {
+                                        double *aux, adem_tangential_output *out) {
   adem_tangential_total(in, hist, aux, out); /* H14-H17 */
 }
 
 ADEM_LAW void adem_tangential_incremental_law(const adem_tangential_input *in,
-                                                   adem_vec3 *hist, double *aux,
-                                                   adem_tangential_output *out) {
+                                              adem_vec3 *hist, double *aux,
+                                              adem_tangential_output *out) {
   adem_tangential_incremental(in, hist, aux, out); /* H14, H16-H17, Mindlin-Deresiewicz */
 }
 
@@ -180,20 +180,20 @@ ADEM_LAW double adem_rolling_eta(const adem_rolling_input *in) {
 /* Model C's dashpot C_r = delta_r 2 sqrt(I_r k_r); without one (delta_r = 0) the square root is
  * skipped: the same 0. */
 ADEM_LAW double adem_rolling_damping(const adem_pair_params *pp, const adem_contact_geometry *g,
-                                          double k_r) {
+                                     double k_r) {
   double d = pp->param[ADEM_PARAM_ROLLING_DAMPING];
   return d == 0.0 ? 0.0 : d * 2.0 * sqrt(g->inertia_r * k_r);
 }
 
 ADEM_LAW void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                         adem_rolling_output *out) {
+                                    adem_rolling_output *out) {
   (void)in;
   (void)hist;
   (void)out;
 }
 
 ADEM_LAW void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                            adem_rolling_output *out) {
+                                       adem_rolling_output *out) {
   (void)hist; /* I7-I8 */
   out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
                                      in->f_load);
@@ -201,7 +201,7 @@ ADEM_LAW void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *
 }
 
 ADEM_LAW void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                            adem_rolling_output *out) {
+                                       adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
@@ -214,7 +214,7 @@ ADEM_LAW void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *
 }
 
 ADEM_LAW void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                                   adem_rolling_output *out) {
+                                              adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
@@ -227,7 +227,7 @@ ADEM_LAW void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem
 }
 
 ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                         adem_rolling_output *out) {
+                                    adem_rolling_output *out) {
   (void)hist; /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
   const adem_contact_geometry *g = in->g;
   int k = ADEM_PARAM_ROLLING_FRICTION;
@@ -239,7 +239,7 @@ ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *his
 }
 
 ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist,
-                                        adem_rolling_output *out) {
+                                   adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   const adem_pair_params *pp = in->pp;
   /* Real F_C, a0 and xi_crit; only a/a0 from the modified material (H section 3.2). Without that

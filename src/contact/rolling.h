@@ -26,8 +26,8 @@ ADEM_LAW adem_vec3 adem_rolling_model_a(adem_vec3 omega_rel, double e_c, double 
  * *plastic: the energy the spring's limit took in the step, the mean spring torque times the
  * plastic turn (M_trial - M_new)/k_r (the trapezoid the integrator's work follows). */
 ADEM_LAW adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec3 omega_rel,
-                                             adem_vec3 omega_damp, double dt, double k_r,
-                                             double limit, double c_r, double *plastic) {
+                                        adem_vec3 omega_damp, double dt, double k_r,
+                                        double limit, double c_r, double *plastic) {
   adem_vec3 m0 = adem_tangential_project(*spring, n);
   adem_vec3 m = v3_axpy(m0, -k_r * dt, omega_rel);
   double mag2 = v3_norm2(m);
@@ -47,9 +47,9 @@ ADEM_LAW adem_vec3 adem_rolling_model_c(adem_vec3 *spring, adem_vec3 n, adem_vec
  * LIGGGHTS applies when the spring is fully mobilised, here applied to the sum as well), so that
  * no rolling torque exceeds the bound of models A and BROF. */
 ADEM_LAW adem_vec3 adem_rolling_model_c_capped(adem_vec3 *spring, adem_vec3 n,
-                                                    adem_vec3 omega_rel, adem_vec3 omega_damp,
-                                                    double dt, double k_r, double limit,
-                                                    double c_r, double *plastic) {
+                                               adem_vec3 omega_rel, adem_vec3 omega_damp,
+                                               double dt, double k_r, double limit,
+                                               double c_r, double *plastic) {
   adem_vec3 m = adem_rolling_model_c(spring, n, omega_rel, omega_damp, dt, k_r, limit, c_r, plastic);
   double mag2 = v3_norm2(m);
   if (mag2 > limit * limit) m = v3_scale(m, limit / sqrt(mag2));
@@ -69,7 +69,7 @@ ADEM_LAW adem_vec3 adem_rolling_dtk_velocity(adem_vec3 omega_rel, adem_vec3 n, d
  * The torque's work over a turn is -(k_r/R) xi . dxi, so the spring stores k_r |xi|^2/(2R) and
  * the truncation takes (k_r/R) (xi_old + xi_new)/2 . (xi_trial - xi_new) (*plastic). */
 ADEM_LAW adem_vec3 adem_rolling_dtk(adem_vec3 *xi, adem_vec3 n, adem_vec3 v_l, double dt,
-                                         double k_r, double xi_crit, double R, double *plastic) {
+                                    double k_r, double xi_crit, double R, double *plastic) {
   adem_vec3 x0 = adem_tangential_project(*xi, n);
   adem_vec3 x = v3_axpy(x0, dt, v_l);
   double mag2 = v3_norm2(x);

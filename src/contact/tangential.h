@@ -53,7 +53,7 @@ typedef struct adem_tangential_output {
  * dissipation is the mean spring force times the slip, (1/2) S_t (xi_old + xi_new).(xi_trial -
  * xi_new), the same trapezoid the integrator's work follows. aux is not used. */
 ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *xi,
-                                         double *aux, adem_tangential_output *out) {
+                                    double *aux, adem_tangential_output *out) {
   (void)aux;
   double S = in->stiffness;
   adem_vec3 x0 = adem_tangential_project(*xi, in->n);
@@ -89,7 +89,7 @@ ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *
  * lowers |fs|^2/(2 S_t)), and nothing while it sticks (dF = -S_t ds is linear: the trapezoid is
  * exact). The dashpot's share is the integrator's (it is reported apart). */
 ADEM_LAW void adem_tangential_incremental(const adem_tangential_input *in, adem_vec3 *fs,
-                                               double *aux, adem_tangential_output *out) {
+                                          double *aux, adem_tangential_output *out) {
   double S = in->stiffness, S_old = *aux, L = in->f_limit;
   adem_vec3 f_prev = *fs;
   double u_prev = S_old > 0.0 ? 0.5 * v3_norm2(f_prev) / S_old : 0.0;
