@@ -540,6 +540,8 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   b.m = 0;
   b.kind = -1;
   b.it = NULL;
+  const adem_interaction *last_it = NULL; /* the last interaction looked up, and its kernel */
+  int last_kind = -1;
   for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
     adem_vec3 d = adem_periodic_min_image(w->periodic, v3_sub(p->pos[j], p->pos[i]));
@@ -552,9 +554,11 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     }
     double dist = sqrt(dist2);
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
-    int kind = !w->pair_blocks || w->energy || !(rsum - dist > 0.0)
-                   ? -1
-                   : pair_block_kind(it);
+    if (it != last_it) { /* neighbours mostly share an interaction: look its kernel up once */
+      last_it = it;
+      last_kind = pair_block_kind(it);
+    }
+    int kind = !w->pair_blocks || w->energy || !(rsum - dist > 0.0) ? -1 : last_kind;
     if (kind < 0) {
       particle_pair(w, k, d, dist, was, it);
       continue;
