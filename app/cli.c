@@ -108,9 +108,10 @@ void on_progress(const adem_progress *p, void *user) {
   else
     snprintf(eta_text, sizeof eta_text, "ETA %s%s", eta, most);
   int dec = time_decimals(p->end_time);
-  char line[256];
-  snprintf(line, sizeof line, "t=%.*f/%.*f s  %5.1f%%  %.0f steps/s  %zu contacts  %s", dec,
-           p->time, dec, p->end_time, pct, p->steps_per_second, p->contacts, eta_text);
+  char line[448];
+  snprintf(line, sizeof line, "t=%.*f/%.*f s  %5.1f%%  %.0f steps/s  %zu contacts  %s%s%s", dec,
+           p->time, dec, p->end_time, pct, p->steps_per_second, p->contacts, eta_text,
+           p->until[0] ? "  " : "", p->until);
   if (stderr_tty) {
     /* \033[K clears what a longer previous line left. */
     fprintf(stderr, "\r %s\033[K", line);

@@ -22,6 +22,8 @@ typedef struct adem_progress {
   int may_end_early;       /* 1: a run-until condition may end the run before end_time (the ETA
                               is then to end_time: at most) */
   int final;               /* 1: the run's last step (its end time, or a condition met) */
+  char until[160];         /* the run-until condition against its threshold at its last check
+                              ("until: E_k 4.1e-10 > 1e-10 J/particle"); "" without one */
 } adem_progress;
 typedef void adem_progress_fn(const adem_progress *p, void *user);
 

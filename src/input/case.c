@@ -1350,6 +1350,16 @@ static adem_status read_until(case_ctx *ctx, const map_cursor *parent, adem_unti
   if ((st = adem_yaml_get_number(ctx, &u, "kinetic_energy_per_particle", &def->kinetic, &ke_node)))
     return st;
   if (!ke_node) def->kinetic = 0.0;
+  yaml_node_t *ratio_node;
+  if ((st = adem_yaml_get_number(ctx, &u, "kinetic_energy_ratio", &def->kinetic_ratio, &ratio_node)))
+    return st;
+  if (!ratio_node) def->kinetic_ratio = 0.0;
+  else if (!(v3_norm(ctx->w->gravity) > 0.0)) {
+    char rpath[KEY_PATH_MAX];
+    adem_yaml_join(rpath, sizeof rpath, u.path, "kinetic_energy_ratio");
+    return adem_yaml_fail(ctx, ratio_node, rpath, "is relative to sum m |g| d and gravity is zero: "
+                          "give `kinetic_energy_per_particle` instead");
+  }
   if ((st = adem_yaml_get_map(ctx, &u, "wall_load", &wl))) return st;
   if (wl.node) {
     const adem_world *w = ctx->w;
@@ -1405,9 +1415,10 @@ static adem_status read_until(case_ctx *ctx, const map_cursor *parent, adem_unti
     }
     def->direction = v3_scale(def->direction, 1.0 / len);
   }
-  if (!ke_node && !wl.node)
+  if (!ke_node && !ratio_node && !wl.node)
     return adem_yaml_fail(ctx, u.node, u.path,
-                          "give a condition: `kinetic_energy_per_particle`, `wall_load` or both");
+                          "give a condition: `kinetic_energy_per_particle`, "
+                          "`kinetic_energy_ratio`, `wall_load` or more than one");
   if ((st = adem_yaml_get_number(ctx, &u, "for", &def->hold, &for_node))) return st;
   if ((st = adem_yaml_get_number(ctx, &u, "interval", &def->interval, &interval_node))) return st;
   if (!interval_node) def->interval = def->hold > 0.0 ? def->hold / 10.0 : 0.0; /* 0: every step */

@@ -280,6 +280,16 @@ bool adem_stages_ended(const adem_case *c, char *msg, size_t n) {
   return true;
 }
 
+void adem_stages_until_status(const adem_case *c, char *buf, size_t n) {
+  const adem_until *u = stage_until(c);
+  if (!u) u = c->until;
+  if (!u) {
+    if (n) buf[0] = '\0';
+    return;
+  }
+  adem_until_status(u, c->world->dt, c->world->step, buf, n);
+}
+
 void adem_stages_save(adem_writer *wr, const adem_case *c) {
   const adem_stages *s = c->stages;
   adem_put_u32(wr, s ? (uint32_t)s->nrecorded : 0u);

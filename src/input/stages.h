@@ -114,6 +114,9 @@ uint64_t adem_stages_until_next(const adem_case *c, uint64_t step);
 adem_until_outcome adem_stages_until(adem_case *c, char *msg, size_t n);
 /* Whether the run has ended on a condition (a checkpoint of a finished run); msg says when. */
 bool adem_stages_ended(const adem_case *c, char *msg, size_t n);
+/* The run-until condition that can end the run or the current stage against its threshold, for
+ * the progress line (adem_until_status); "" when there is none. */
+void adem_stages_until_status(const adem_case *c, char *buf, size_t n);
 /* The start steps and the conditions' state, for checkpoints. */
 void adem_stages_save(adem_writer *wr, const adem_case *c);
 adem_status adem_stages_load(adem_reader *rd, adem_case *c, adem_error *err);

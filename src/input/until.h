@@ -27,6 +27,7 @@ typedef enum adem_until_wall_kind {
 
 typedef struct adem_until_def {
   double kinetic;              /* J per particle; <= 0: no such condition */
+  double kinetic_ratio;        /* kinetic energy over sum m |g| d; <= 0: no such condition */
   bool load;                   /* a wall-load condition is given */
   char wall[ADEM_NAME_MAX];
   adem_until_wall_kind wall_kind;
@@ -44,6 +45,8 @@ typedef struct adem_until {
   uint64_t load_since;         /* first check of the current steady streak */
   double load_lo, load_hi;     /* the load's range over that streak */
   double kinetic_now, load_now;/* at the last check (for messages) */
+  double ratio_now;            /* kinetic energy over sum m |g| d at the last check */
+  bool checked;                /* a check has run since the condition (or its stage) began */
   uint64_t met_step;           /* step it was met at; UINT64_MAX: not (yet) */
 } adem_until;
 
@@ -64,6 +67,9 @@ bool adem_until_check(adem_until *u, const adem_world *w, bool waiting);
 /* "kinetic energy per particle 8.1e-08 J < 1e-07 J and the load on `floor` steady within 1 %
  * (2.48 N), for 0.2 s" */
 void adem_until_describe(const adem_until *u, char *buf, size_t n);
+/* The conditions against their thresholds at the last check, short, for the progress line:
+ * "until: E_k 4.1e-10 > 1e-10 J/particle" or "... held 0.05/0.2 s". */
+void adem_until_status(const adem_until *u, double dt, uint64_t step, char *buf, size_t n);
 /* The conditions in words for `adem check`. */
 void adem_until_summary(const adem_until *u, char *buf, size_t n);
 

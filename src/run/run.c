@@ -80,6 +80,7 @@ static void report(const adem_run_options *opt, const adem_case *c, uint64_t tot
   for (size_t k = 0; k < w->pw.n; ++k) p.contacts += w->pw.touching[k];
   for (size_t k = 0; k < w->pm.l.n; ++k) p.contacts += w->pm.l.touching[k];
   p.particles = w->p.n;
+  adem_stages_until_status(c, p.until, sizeof p.until);
   adem_eta_add(eta, p.wall_seconds, w->step, p.contacts, p.particles);
   p.steps_per_second = adem_eta_rate(eta);
   p.eta_seconds = adem_eta_seconds(eta, total, &p.eta_rough);

@@ -101,6 +101,8 @@ static void test_valid_case(void **state) {
                         "--set 'time.until={kinetic_energy_per_particle: 1.0e-3, for: 0.001}'",
                         path, tmpdir), 0);
   assert_mentions(out, "fewer if time.until is met");
+  assert_mentions(out, "until: E_k "); /* the last progress line: the value against the threshold */
+  assert_mentions(out, "J/particle");
   assert_mentions(out, "time.until met: kinetic energy per particle");
   assert_mentions(out, "the run ends");
   free(path);

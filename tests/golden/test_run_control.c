@@ -297,24 +297,61 @@ static void test_until_stage(void **state) {
   adem_case_free(c);
 }
 
+/* Claim: time.until's relative form ends the run at rest where the total kinetic energy,
+ * recomputed here from the particles (sum 1/2 m v^2 + 1/2 I w^2 over sum m |g| 2r), is below the
+ * ratio: the library's ratio equals it to round-off (a diameter taken as the radius gives twice
+ * it, a ratio without the spins less), and the progress status names it against the threshold. */
+static void test_until_ratio(void **state) {
+  (void)state;
+  adem_error err;
+  const char *sets[] = {BROF_SETS, "time.end=1",
+                        "time.until={kinetic_energy_ratio: 1.0e-9, for: 0.01}"};
+  adem_run_options opt = adem_default_run_options();
+  adem_case *a = load_settle("until_ratio", sets, 4);
+  if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
+  const adem_world *w = a->world;
+  double e = 0.0, lift = 0.0;
+  for (size_t i = 0; i < w->p.n; ++i) {
+    e += 0.5 * v3_norm2(w->p.vel[i]) / w->p.inv_mass[i] +
+         0.5 * v3_norm2(w->p.omega[i]) / w->p.inv_inertia[i];
+    lift += v3_norm(w->gravity) * 2.0 * w->p.radius[i] / w->p.inv_mass[i];
+  }
+  printf("# ended at step %llu of %llu: ratio %.6g (recomputed %.6g) < 1e-9\n",
+         (unsigned long long)w->step, (unsigned long long)adem_case_total_steps(a),
+         a->until->ratio_now, e / lift);
+  assert_true(w->step < adem_case_total_steps(a) / 4);
+  assert_true(a->until->met_step == w->step);
+  assert_true(fabs(a->until->ratio_now - e / lift) <= 1e-12 * (e / lift));
+  assert_true(a->until->ratio_now < 1.0e-9);
+  char status[200];
+  adem_stages_until_status(a, status, sizeof status);
+  printf("# %s\n", status);
+  assert_non_null(strstr(status, "E_k/mgd"));
+  assert_non_null(strstr(status, "< 1e-09"));
+  assert_non_null(strstr(status, "held"));
+  adem_case_free(a);
+}
+
 /* Claim: bad conditions are refused naming the key: none given, an unknown wall (with the
  * nearest name), a zero direction. */
 static void test_until_errors(void **state) {
   (void)state;
   const struct {
-    const char *set, *word;
+    const char *set, *word, *also;
   } bad[] = {
-      {"time.until={for: 1}", "give a condition"},
-      {"time.until={wall_load: {wall: box.zmn}}", "did you mean `box.zmin`"},
-      {"time.until={wall_load: {wall: box.zmin, direction: [0, 0, 0]}}", "non-zero"},
-      {"time.until={kinetic_energy_per_particle: 0}", "out of range"},
-      {"time.until={kinetic_energy: 1}", "did you mean `kinetic_energy_per_particle`"},
+      {"time.until={for: 1}", "give a condition", NULL},
+      {"time.until={wall_load: {wall: box.zmn}}", "did you mean `box.zmin`", NULL},
+      {"time.until={wall_load: {wall: box.zmin, direction: [0, 0, 0]}}", "non-zero", NULL},
+      {"time.until={kinetic_energy_per_particle: 0}", "out of range", NULL},
+      {"time.until={kinetic_energy: 1}", "did you mean `kinetic_energy_", NULL},
+      {"time.until={kinetic_energy_ratio: -1}", "out of range", NULL},
+      {"time.until={kinetic_energy_ratio: 1e-4}", "gravity is zero", "gravity=[0, 0, 0]"},
   };
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
     adem_case *c = NULL;
     adem_error err;
-    const char *sets[] = {bad[k].set};
-    assert_int_equal(adem_case_load_string(settle_case, "settle.yaml", sets, 1, &c, &err),
+    const char *sets[] = {bad[k].also ? bad[k].also : bad[k].set, bad[k].set};
+    assert_int_equal(adem_case_load_string(settle_case, "settle.yaml", sets, 2, &c, &err),
                      ADEM_ERR_INPUT);
     printf("# %s\n", err.message);
     assert_non_null(strstr(err.message, "time.until"));
@@ -329,6 +366,7 @@ int main(void) {
       cmocka_unit_test(test_resume_sets_refused),
       cmocka_unit_test(test_until_at_rest),
       cmocka_unit_test(test_until_stage),
+      cmocka_unit_test(test_until_ratio),
       cmocka_unit_test(test_until_errors),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
