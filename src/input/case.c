@@ -15,6 +15,7 @@
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
+#include "schedule.h"
 #include "insert.h"
 #include "case_yaml.h"
 #include "schema.h"
@@ -2197,6 +2198,7 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
   if (!sets) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   int nsets = 0;
   for (int j = 0; j < c->nsets; ++j) sets[nsets++] = c->sets[j];
+  double proposed = s->base.dt_proposed > 0.0 ? s->base.dt_proposed : INFINITY;
   for (int k = 0; k < s->n && !st; ++k) {
     adem_stage *g = &s->s[k];
     for (int j = 0; j < g->nsets; ++j) sets[nsets++] = g->sets[j];
@@ -2216,9 +2218,13 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
     adem_case_free(sc);
     if (st) break;
     double ratio = adem_world_dt(c->world) / g->config.dt_proposed;
+    /* warned once: by the case itself, or by the first stage that proposes a smaller step */
+    bool stricter = g->config.dt_proposed < proposed * (1.0 - 1e-12);
+    if (g->config.dt_proposed > 0.0 && g->config.dt_proposed < proposed)
+      proposed = g->config.dt_proposed;
     if (c->dt_auto && ratio > 1.0 && g->config.dt_proposed > 0.0) { /* the smallest of all */
       adem_world_set_dt(c->world, g->config.dt_proposed);
-    } else if (ratio > 1.0 + 1e-12 && isfinite(ratio))
+    } else if (stricter && ratio > 1.0 + 1e-12 && isfinite(ratio))
       adem_log(ADEM_LOG_WARN,
                "%s: stage `%s`: the time step %g s is %.2fx the step its materials propose (%g s)",
                g->where, g->name, adem_world_dt(c->world), ratio, g->config.dt_proposed);
@@ -2236,9 +2242,12 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
                             "stage but the last needs one%s)",
                             g->where, k, g->name, g->until ? "; with `until` it is the most the "
                             "stage lasts" : "");
-    if (t >= c->end_time * (1.0 - 1e-12) && k > 0 && !earlier)
+    /* the step it begins on, as adem_stages_start_step plans it, against the run's last step */
+    double dt = adem_world_dt(c->world);
+    if (k > 0 && !earlier && llround(t / dt) >= (long long)adem_schedule_total_steps(c->end_time, dt))
       adem_log(ADEM_LOG_WARN, "%s: stage `%s` begins at t = %g s, at or after time.end = %g s: it "
-               "will not run", g->where, g->name, t, c->end_time);
+               "will not run (unless the run goes on to a later end: adem run --resume DIR --set "
+               "time.end=T)", g->where, g->name, t, c->end_time);
     if (g->until) earlier = true;
     if (g->duration >= 0.0) t += g->duration;
   }

@@ -171,8 +171,13 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err) {
   if (s->s[k].until) adem_until_reset(s->s[k].until); /* its streaks count from its start */
   /* Work done by the change (gravity, group forces) is not dissipation: shift the balance. */
   adem_world_add_external_work(w, total_energy(w) - before);
-  adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
-           (unsigned long long)w->step, s->s[k].name);
+  if (w->step >= adem_schedule_total_steps(c->end_time, w->dt)) /* as the load warned: no step */
+    adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` is set up at the end time; it runs "
+             "only if the run goes on to a later end", w->time, (unsigned long long)w->step,
+             s->s[k].name);
+  else
+    adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
+             (unsigned long long)w->step, s->s[k].name);
   /* Walls on or off, moved or with a new motion: the lists must see them from now on. */
   if ((st = adem_world_build_neighbors(w, err))) return st;
   return ADEM_OK;

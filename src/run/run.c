@@ -449,6 +449,19 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   uint64_t k_ckpt = adem_schedule_period(c->output.checkpoint_interval, dt);
   uint64_t periods[3] = {k_frame, k_csv, k_ckpt};
   const uint64_t step0 = w->step;
+  if (rs->writer && !resume) { /* outputs fall on whole steps: say where, when not on the interval */
+    const struct {
+      const char *what;
+      double interval;
+      uint64_t k;
+    } every[] = {{"frames", c->output.frame_interval, k_frame}, {"CSV rows", c->output.csv_interval, k_csv}};
+    for (int j = 0; j < 2; ++j)
+      if (every[j].k && fabs((double)every[j].k * dt - every[j].interval) > 1e-9 * every[j].interval)
+        adem_log(ADEM_LOG_INFO, "%s every %llu steps = %.9g s (the interval %g s in whole steps of "
+                 "dt = %.9g s): at t = %.9g, %.9g, ... s", every[j].what,
+                 (unsigned long long)every[j].k, (double)every[j].k * dt, every[j].interval, dt,
+                 (double)every[j].k * dt, 2.0 * (double)every[j].k * dt);
+  }
   char why[ADEM_MSG_MAX];
   if (resume && adem_stages_ended(c, why, sizeof why)) {
     adem_log(ADEM_LOG_INFO, "%s", why);

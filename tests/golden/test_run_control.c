@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "golden/settle_case.h"
+#include "log_capture.h"
 #include "restart_run.h"
 #include "stages.h"
 #include "until.h"
@@ -332,6 +333,38 @@ static void test_until_ratio(void **state) {
   adem_case_free(a);
 }
 
+/* Claim: the messages of a staged run agree with each other and are not repeated: the step
+ * warning comes once for two stages with the same stricter proposal (gravity 30 m/s^2 twice),
+ * none for a stage that changes only friction; a stage that starts on the run's last step (572:
+ * t = 0.004004 s for time.end 0.004 s and dt 7e-6 s) is announced as
+ * not running and then set up at the end time, never as beginning; frames whose interval is not
+ * a whole number of steps say where they land. */
+static void test_stage_messages(void **state) {
+  (void)state;
+  adem_error err;
+  const char *sets[] = {"time.end=0.004", "output.frame_interval=0.0011",
+                        "stages=[{name: a, duration: 0.001, set: {materials.glass.friction: 0.2}}, "
+                        "{name: heavy, duration: 0.001, set: {gravity: [0, 0, -30]}}, "
+                        "{name: heavier, duration: 0.002004, set: {materials.glass.friction: 0.3}}, "
+                        "{name: late, set: {materials.glass.friction: 0.4}}]"};
+  capture_setup(NULL);
+  adem_case *c = load_settle("messages", sets, 3);
+  adem_run_options opt = adem_default_run_options();
+  if (adem_run(c, &opt, &err)) fail_msg("%s", err.message);
+  capture_teardown(NULL);
+  printf("%s", logged);
+  const char *w = strstr(logged, "the step its materials propose");
+  assert_non_null(w);
+  assert_non_null(strstr(logged, "stage `heavy`: the time step"));
+  assert_null(strstr(w + 1, "the step its materials propose")); /* once */
+  assert_non_null(strstr(logged, "stage `late` begins at t = 0.004004 s, at or after time.end"));
+  assert_non_null(strstr(logged, "stage `late` is set up at the end time"));
+  assert_null(strstr(logged, "stage `late` begins\n"));
+  assert_non_null(strstr(logged, "stage `heavier` begins"));
+  assert_non_null(strstr(logged, "frames every 157 steps = 0.001099 s"));
+  adem_case_free(c);
+}
+
 /* Claim: bad conditions are refused naming the key: none given, an unknown wall (with the
  * nearest name), a zero direction. */
 static void test_until_errors(void **state) {
@@ -367,6 +400,7 @@ int main(void) {
       cmocka_unit_test(test_until_at_rest),
       cmocka_unit_test(test_until_stage),
       cmocka_unit_test(test_until_ratio),
+      cmocka_unit_test(test_stage_messages),
       cmocka_unit_test(test_until_errors),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
