@@ -218,6 +218,90 @@ static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem
   return ADEM_OK;
 }
 
+/* An interaction's optional `name` (so that `--set interactions.NAME.friction=0.3` and a stage's
+ * `set` find it however the list is ordered): unique among the interactions. */
+static adem_status interaction_name(case_ctx *ctx, const list_cursor *l, size_t i,
+                                    const map_cursor *m) {
+  char name[ADEM_NAME_MAX], other[ADEM_NAME_MAX], path[KEY_PATH_MAX];
+  yaml_node_t *node, *other_node;
+  adem_status st = adem_yaml_get_string(ctx, m, "name", name, sizeof name, &node);
+  if (st || !node) return st;
+  for (size_t k = 0; k < i; ++k) {
+    map_cursor e;
+    if ((st = adem_yaml_list_item(ctx, l, k, &e))) return st;
+    if ((st = adem_yaml_get_string(ctx, &e, "name", other, sizeof other, &other_node))) return st;
+    if (other_node && !strcmp(other, name)) {
+      char first[LOC_MAX];
+      adem_yaml_where_short(ctx, other_node, first, sizeof first);
+      adem_yaml_join(path, sizeof path, m->path, "name");
+      return adem_yaml_fail(ctx, node, path, "duplicate interaction name `%s` (first at %s)", name,
+                            first);
+    }
+  }
+  return ADEM_OK;
+}
+
+/* Whether law row `params` (space separated keys) reads key. */
+static bool params_name(const char *params, const char *key) {
+  size_t klen = strlen(key);
+  for (const char *f = strstr(params, key); f; f = strstr(f + 1, key))
+    if ((f == params || f[-1] == ' ') && (f[klen] == '\0' || f[klen] == ' ')) return true;
+  return false;
+}
+
+/* Whether every pair of material a (with any of the nmat materials, given the interaction
+ * entries defs; a pair without one takes the default laws) leaves law parameter k unread with
+ * the default law in each slot where some law would read it: a value set for a law nobody
+ * chose. A pair that chose another law of that slot (BROF without model C's rolling_damping)
+ * is a choice, not an oversight, and silences it. */
+static bool law_param_forgotten(const adem_interaction_def *defs, int ndefs, int nmat, int a, int k) {
+  const char *key = adem_law_param_get((adem_law_param_id)k)->key;
+  for (int b = 0; b < nmat; ++b) {
+    adem_interaction_def d = adem_default_interaction_def();
+    for (int j = 0; j < ndefs; ++j)
+      if ((defs[j].material_a == a && defs[j].material_b == b) ||
+          (defs[j].material_a == b && defs[j].material_b == a))
+        d = defs[j];
+    const int law[4] = {(int)d.normal, (int)d.damping, (int)d.tangential, (int)d.rolling};
+    for (int sl = 0; sl < 4; ++sl) {
+      bool slot_reads = false;
+      for (size_t r = 0; r < adem_law_count((adem_law_slot)sl) && !slot_reads; ++r)
+        slot_reads = params_name(adem_law_get((adem_law_slot)sl, (int)r)->params, key);
+      if (slot_reads && law[sl] != 0) return false; /* chosen: read, or deliberately not */
+    }
+  }
+  return true;
+}
+
+/* A material's law parameter that no pair of it can read, in the case or in any stage, because
+ * every pair keeps the default law of that slot: say so, as users of other codes expect a
+ * rolling friction to act once it is set (the default rolling law is `none`). where: the
+ * parameter's location or the case file; stages: their configurations (NULL: none). */
+static void warn_unused_law_params(case_ctx *ctx, const char *where, const adem_materials *mt,
+                                   const adem_stages *stages) {
+  for (int a = 0; a < mt->n; ++a)
+    for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
+      const adem_law_param *prm = adem_law_param_get((adem_law_param_id)k);
+      double v = mt->m[a].def.param[k];
+      if (v == prm->def || !law_param_forgotten(mt->defs, mt->ndefs, mt->n, a, k)) continue;
+      bool later = false;
+      for (int j = 0; stages && j < stages->n && !later; ++j) {
+        const adem_stage_config *g = &stages->s[j].config;
+        later = !law_param_forgotten(g->interactions, g->ninteractions, g->nmaterials, a, k);
+      }
+      if (later) continue;
+      char loc[LOC_MAX];
+      snprintf(loc, sizeof loc, "%s", where);
+      yaml_node_t *node = ctx ? adem_yaml_map_get(ctx, ctx->mat_node[a], prm->key) : NULL;
+      if (node) adem_yaml_where(ctx, node, loc, sizeof loc);
+      adem_log(ADEM_LOG_WARN, "%s: materials.%s.%s = %g has no effect: every pair of `%s` has the "
+               "default law that does not read it (rolling: none, normal: hertz)%s; choose a law "
+               "that does in an interaction entry (`adem reference` lists the laws and their "
+               "parameters)", loc, mt->m[a].def.name, prm->key, v, mt->m[a].def.name,
+               stages ? ", in every stage" : "");
+    }
+}
+
 static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, root, "interactions", &l);
@@ -238,6 +322,7 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
     yaml_node_t *e_node, *mu_node;
     double e, mu;
     if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
+    if ((st = interaction_name(ctx, &l, i, &m))) break;
     if ((st = adem_yaml_get_pair(ctx, &m, "materials", names, name_nodes, paths))) break;
     if ((st = find_material(ctx, names[0], name_nodes[0], paths[0], &d.material_a))) break;
     if ((st = find_material(ctx, names[1], name_nodes[1], paths[1], &d.material_b))) break;
@@ -1970,6 +2055,8 @@ static adem_status build(case_ctx *ctx) {
   if ((st = adem_yaml_get_number(ctx, &time, "end", &c->end_time, NULL))) return st;
   if ((st = build_materials(ctx, &root))) return st;
   if ((st = build_interactions(ctx, &root))) return st;
+  if (!adem_yaml_map_get(ctx, root.node, "stages")) /* with stages: once they are known */
+    warn_unused_law_params(ctx, ctx->file, &ctx->w->mat, NULL);
   if ((st = build_groups(ctx, &root))) return st;
   if ((st = build_walls(ctx, &root))) return st;
   /* Limits first: an explicit list may overlap by what limits.initial_overlap accepts. */
@@ -2231,6 +2318,7 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
   }
   free(sets);
   if (st) return st;
+  warn_unused_law_params(NULL, c->path[0] ? c->path : c->name, &c->world->mat, s);
   /* Durations: every stage but the last needs one; the last may run until time.end. */
   double t = 0.0;
   bool earlier = false; /* a stage before may end early (its `until`) */

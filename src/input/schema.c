@@ -62,6 +62,7 @@ static const adem_schema_entry base_schema[] = {
     {"materials[].rigid", NULL, BOOL, "", "false", NULL, .doc = "`true`: infinite Young's modulus; for wall materials only."},
 
     {"interactions", NULL, LIST, "", NULL, NULL, .doc = "Per-pair overrides of how two materials interact; pairs not listed use the defaults."},
+    {"interactions[].name", NULL, NAME, "", NULL, NULL, .doc = "Optional unique name, so that `--set interactions.NAME.friction=0.3` and a stage's `set` find the entry however the list is ordered (an index works too)."},
     {"interactions[].materials", NULL, PAIR, "", NULL, NULL, REQ, .doc = "The two materials (may be the same one twice). Each pair may appear once."},
     {"interactions[].restitution", NULL, NUM, "", NULL, "derived from the two materials", GT_LE(0, 1), .doc = "Coefficient of restitution of this pair."},
     {"interactions[].friction", NULL, NUM, "", NULL, "derived from the two materials", GE(0), .doc = "Sliding friction coefficient of this pair."},

@@ -456,6 +456,66 @@ static void test_set_overrides(void **state) {
   adem_case_free(c);
 }
 
+/* Claim: an interaction found by its name takes a --set however the list is ordered, and a
+ * second interaction of the same name is refused naming the first. */
+static void test_interaction_names(void **state) {
+  (void)state;
+  char text[2048];
+  snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: glass-glass, materials: [glass, glass]}\n"
+           "  - {name: glass-floor, materials: [glass, steel], friction: 0.2}\ntime:\n  end: 0.5\n",
+           (int)(strstr(base, "time:") - base), base);
+  const char *sets[] = {"interactions.glass-floor.friction=0.35"};
+  adem_case *c = load_ok(text, sets, 1);
+  const adem_interaction_def *d = &c->world->mat.defs[1];
+  assert_true(d->material_a + d->material_b == 1); /* glass (0) and steel (1) */
+  assert_float_equal(d->friction, 0.35, 0);
+  assert_true(c->world->mat.defs[0].friction < 0); /* glass-glass untouched: derived */
+  adem_case_free(c);
+  expect_error_sets(text, WORDS("interactions.glass-flor.friction=0.35"), 1,
+                    WORDS("`glass-flor`", "glass-glass, glass-floor"));
+  snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: a, materials: [glass, glass]}\n"
+           "  - {name: a, materials: [glass, steel]}\ntime:\n  end: 0.5\n",
+           (int)(strstr(base, "time:") - base), base);
+  expect_error_sets(text, NULL, 0, WORDS("interactions[1].name", "duplicate interaction name `a`", "first at line 22:12"));
+}
+
+/* Claim: a material's rolling friction that no pair can read (every pair keeps rolling: none)
+ * is warned about, naming the key; an interaction or a later stage that chooses a rolling law
+ * silences it, and so does a pair that chose another law of the slot (BROF leaves model C's
+ * rolling_damping unread on purpose). */
+static void test_unused_law_params_warned(void **state) {
+  (void)state;
+  char text[2048];
+  const char *mat = strstr(base, "    restitution: 0.5\n");
+  size_t head = (size_t)(mat - base) + strlen("    restitution: 0.5\n");
+  const char *tail_at = strstr(base, "time:");
+  const struct {
+    const char *extra, *more;
+    bool warned;
+  } cases[] = {
+      {"", "", true},
+      {"interactions:\n  - {materials: [glass, steel], rolling: brof}\n", "", false},
+      {"interactions:\n  - {materials: [glass, glass], rolling: model_a}\n", "", false},
+      {"interactions:\n  - {name: gs, materials: [glass, steel]}\n",
+       "stages:\n  - {name: a, duration: 0.1}\n  - {name: b, set: {interactions.gs.rolling: brof}}\n",
+       false},
+      {"interactions:\n  - {name: gs, materials: [glass, steel]}\n",
+       "stages:\n  - {name: a, duration: 0.1}\n  - {name: b, set: {interactions.gs.friction: 0.1}}\n",
+       true},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    snprintf(text, sizeof text, "%.*s    rolling_friction: 0.2\n%.*s%s%s%s", (int)head, base,
+             (int)(tail_at - (base + head)), base + head, cases[k].extra, tail_at, cases[k].more);
+    logged[0] = '\0';
+    adem_case *c = load_ok(text, NULL, 0);
+    printf("# case %zu: %s", k, logged[0] ? logged : "(nothing logged)\n");
+    const char *w = strstr(logged, "materials.glass.rolling_friction = 0.2 has no effect");
+    assert_true((w != NULL) == cases[k].warned);
+    if (w && !strstr(cases[k].more, "stages")) assert_non_null(strstr(logged, "test.yaml:7:23"));
+    adem_case_free(c);
+  }
+}
+
 /* Claim: an override is validated like the file (messages name the --set), and a path that does
  * not resolve is refused naming the failing segment. */
 static void test_set_errors(void **state) {
@@ -650,6 +710,8 @@ int main(void) {
       cmocka_unit_test_setup_teardown(test_load_file, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_set_overrides, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_set_errors, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_interaction_names, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_unused_law_params_warned, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill_fast, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill_gives_up, capture_setup, capture_teardown),
