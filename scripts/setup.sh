@@ -4,6 +4,8 @@
 #   scripts/setup.sh test   install what is missing, build (Release), run the whole test suite
 #   scripts/setup.sh mpi-test   the same with Open MPI: the MPI build (build-mpi, ADEM_MPI=ON)
 #                               and its tests under mpirun (ctest -L mpi; docs/parallel.md)
+# Settings (environment): JOBS=N compiles and tests N at a time (default: every core);
+# THREADS=N runs the flagship example on N threads (default: OMP_NUM_THREADS or every core).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,7 +25,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-jobs=$(nproc 2>/dev/null || echo 2)
+jobs=${JOBS:-$(nproc 2>/dev/null || echo 2)}
+case "$jobs" in '' | *[!0-9]* | 0) echo "adem setup: JOBS must be a positive whole number, not '$jobs'" >&2; exit 2 ;; esac
+threads=()
+if [ -n "${THREADS:-}" ]; then
+  case "$THREADS" in *[!0-9]* | 0) echo "adem setup: THREADS must be a positive whole number, not '$THREADS'" >&2; exit 2 ;; esac
+  threads=(--threads "$THREADS")
+fi
 if [ "$what" = mpi-test ]; then
   cmake -S . -B build-mpi -DCMAKE_BUILD_TYPE=Release -DADEM_MPI=ON >/dev/null
   cmake --build build-mpi -j"$jobs"
@@ -35,7 +43,7 @@ cmake --build build -j"$jobs"
 
 case "$what" in
   demo)
-    ./build/adem run cases/hopper.yaml --out out/hopper
+    ./build/adem run cases/hopper.yaml --out out/hopper "${threads[@]}"
     echo "adem setup: frames in out/hopper/particles.pvd and out/hopper/mesh.pvd (open in ParaView), plot in out/hopper/loads.png"
     ;;
   test)
