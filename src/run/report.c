@@ -247,7 +247,20 @@ static void print_wall_path(FILE *f, const adem_case *c, bool mesh, int k, adem_
     print_vec(f, xp[q]);
     fprintf(f, " at %.6g s%s", tp[q], q == np - 1 ? " (end)" : "");
   }
-  if (cur.omega != 0.0) fprintf(f, "; it turns at %g rad/s", cur.omega);
+  /* the rate of every stage that changes it, not only the last one's */
+  double rate = m0->omega;
+  bool turns = false;
+  for (int j = -1; j < nst; ++j) {
+    const adem_motion *mj = j < 0 ? m0 : wall_motion(c, mesh, k, j, &inactive, &p0);
+    double ws = j < 0 ? 0.0 : (double)adem_stages_start_step(c, j) * w->dt;
+    if (ws >= t_end || (j >= 0 && mj->omega == rate && (turns || rate == 0.0))) continue;
+    if (j < 0 && rate == 0.0) continue;
+    if (j >= 0 && j == 0 && nst && ws == 0.0 && turns && mj->omega == rate) continue;
+    fprintf(f, "%s%g rad/s", turns ? ", then " : "; it turns at ", mj->omega);
+    if (j >= 0 && ws > 0.0) fprintf(f, " from t = %.6g s (stage `%s`)", ws, c->stages->s[j].name);
+    rate = mj->omega;
+    turns = true;
+  }
   fputc('\n', f);
   bool was = inactive0;
   if (inactive0) fprintf(f, "      switched off at the start\n");
@@ -495,8 +508,14 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   }
   print_geometry(f, c);
   fprintf(f, "gravity     (%g, %g, %g) m/s^2\n", w->gravity.x, w->gravity.y, w->gravity.z);
-  fprintf(f, "contacts    %zu particle pairs and %zu wall pairs within reach at the start\n",
-         w->pp.n, w->pw.n);
+  if (w->has_domain)
+    fprintf(f, "domain      (%g, %g, %g) .. (%g, %g, %g) m: a particle that leaves it stops the run\n",
+            w->domain_lo.x, w->domain_lo.y, w->domain_lo.z, w->domain_hi.x, w->domain_hi.y,
+            w->domain_hi.z);
+  else
+    fprintf(f, "domain      none: particles may go anywhere (`domain` bounds them)\n");
+  fprintf(f, "contacts    %zu particle pairs, %zu plane pairs and %zu mesh pairs within reach at the "
+          "start\n", w->pp.n, w->pw.n, w->pm.l.n);
 
   fprintf(f, "\nmaterial pairs (effective values: E*, G* from H2 and H15, R* = r_i r_j/(r_i+r_j), "
          "beta from H12)\n");

@@ -208,6 +208,29 @@ static void test_bad_motion(void **state) {
   free(text);
 }
 
+/* Claim: `adem check` counts the mesh pairs in reach (a sphere 0.2 mm above the box's floor: 2,
+ * the floor's two triangles), prints the domain particles must stay in, and gives a rotating
+ * wall's rate in each stage that changes it, not only the last one's. */
+static void test_check_mesh_pairs_rates_domain(void **state) {
+  (void)state;
+  char *t1 = replaced(base_case, "[0.05, 0.05, 0.05], radius: 0.005", "[0.05, 0.05, 0.0052], radius: 0.005");
+  char *t2 = replaced(t1, "motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}",
+                      "motion: {rotation: {axis: [0, 0, 1], center: [0.05, 0.05, 0.09], speed: 1}}");
+  char *t3 = replaced(t2, "time:\n", "stages:\n  - {name: slow, duration: 0.002}\n"
+                      "  - {name: fast, set: {walls.lid.motion: {rotation: {axis: [0, 0, 1], "
+                      "center: [0.05, 0.05, 0.09], speed: 2}}}}\ntime:\n");
+  char *path = write_case("pairs.yaml", t3);
+  char *out;
+  assert_int_equal(adem(&out, "check '%s'", path), 0);
+  assert_mentions(out, "0 particle pairs, 0 plane pairs and 2 mesh pairs within reach");
+  assert_mentions(out, "it turns at 1 rad/s, then 2 rad/s from t = 0.002008 s (stage `fast`)");
+  assert_mentions(out, "domain      (");
+  free(path);
+  free(t1);
+  free(t2);
+  free(t3);
+}
+
 /* Claim: `adem check` shows the geometry: each mesh group's box, where the moving lid is at the
  * start, at its table's knot and at the end (the integral of its velocity table: -1 mm at
  * 2 ms), and warns about fill regions that cross a mesh or a plane or lie outside
@@ -310,7 +333,7 @@ int main(void) {
       cmocka_unit_test(test_valid_mesh_case),  cmocka_unit_test(test_bad_ascii_stl),
       cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
       cmocka_unit_test(test_bad_motion),      cmocka_unit_test(test_positions_motion),
-      cmocka_unit_test(test_check_geometry),       cmocka_unit_test(test_particle_in_mesh),
+      cmocka_unit_test(test_check_geometry),       cmocka_unit_test(test_check_mesh_pairs_rates_domain),       cmocka_unit_test(test_particle_in_mesh),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }
