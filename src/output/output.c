@@ -431,26 +431,71 @@ static void motion_csv_header(strbuf *b, const adem_world *w) {
     if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
     sb_printf(b, ",%s_ux_m,%s_uy_m,%s_uz_m", name, name, name);
     if (csv & ADEM_WALL_CSV_SERVO) sb_printf(b, ",%s_servo_u_m,%s_servo_F_N", name, name);
+    sb_printf(b, ",%s_drive_power_W", name);
+    if (k >= np) sb_printf(b, ",%s_axis_torque_Nm", name);
+  }
+}
+
+/* What driving a moving wall costs: the power its motion puts into the particles,
+ * -(F . v_ref + T_ref . omega), F and T_ref the particles' force and torque on it (a mesh wall:
+ * summed over its groups, each about its reference point), and the particles' torque about its
+ * rotation axis through the axis's point now (0 while it does not turn); a drive holds the wall
+ * on its path against them. A plane's torque is not summed: its power is that of its
+ * translation, and NaN while it turns. */
+static void drive_load(const adem_world *w, int k, const adem_vec3 *gf, const adem_vec3 *gt,
+                       const adem_vec3 *pf, double *power, double *axis_torque) {
+  const adem_walls *wl = &w->walls;
+  int np = wl->nplanes;
+  *power = *axis_torque = 0.0;
+  if (k < np) {
+    const adem_motion *m = &wl->planes[k].motion;
+    *power = m->omega != 0.0 ? NAN : -v3_dot(pf[k], adem_motion_velocity(m, wl->time));
+    return;
+  }
+  const adem_mesh_wall *mw = &wl->mesh_walls[k - np];
+  for (int g = mw->first; g < mw->first + mw->count; ++g) {
+    const adem_motion *m = &wl->mesh_motion[g];
+    adem_vec3 spin = v3_scale(m->axis, m->omega);
+    *power -= v3_dot(gf[g], adem_motion_point_velocity(m, wl->time, wl->mesh_ref[g])) +
+              v3_dot(gt[g], spin);
+    if (m->omega == 0.0) continue;
+    adem_vec3 c = v3_add(m->center, adem_motion_displacement(m, wl->time));
+    *axis_torque += v3_dot(v3_add(gt[g], v3_cross(v3_sub(wl->mesh_ref[g], c), gf[g])), m->axis);
   }
 }
 
 static void motion_csv_row(strbuf *b, const adem_world *w) {
   int np = w->walls.nplanes;
+  size_t ng = (size_t)w->walls.mesh.ngroups;
+  adem_vec3 *gf = malloc((2 * ng + (size_t)np + 1) * sizeof *gf);
+  if (!gf) {
+    b->failed = 1;
+    return;
+  }
+  adem_vec3 *gt = gf + ng, *pf = gf + 2 * ng;
+  if (ng) adem_world_mesh_loads(w, gf, gt, NULL, NULL);
+  if (np) adem_world_plane_forces(w, pf);
   for (int k = 0; k < np + w->walls.nmesh_walls; ++k) {
     uint8_t csv = k < np ? w->walls.planes[k].csv : w->walls.mesh_walls[k - np].csv;
     if (!csv) continue;
     adem_vec3 u = k < np ? adem_walls_plane_displacement(&w->walls, k)
                          : adem_walls_mesh_wall_displacement(&w->walls, k - np);
     sb_printf(b, ",%.17g,%.17g,%.17g", u.x, u.y, u.z);
-    if (!(csv & ADEM_WALL_CSV_SERVO)) continue;
-    const adem_motion *m = k < np ? adem_walls_plane_servo(&w->walls, k)
-                                  : adem_walls_mesh_wall_servo(&w->walls, k - np);
-    /* a stage without the servo: no servo displacement, no measurement */
-    if (m)
-      sb_printf(b, ",%.17g,%.17g", m->servo_u, m->servo_force);
-    else
-      sb_printf(b, ",0,nan");
+    if (csv & ADEM_WALL_CSV_SERVO) {
+      const adem_motion *m = k < np ? adem_walls_plane_servo(&w->walls, k)
+                                    : adem_walls_mesh_wall_servo(&w->walls, k - np);
+      /* a stage without the servo: no servo displacement, no measurement */
+      if (m)
+        sb_printf(b, ",%.17g,%.17g", m->servo_u, m->servo_force);
+      else
+        sb_printf(b, ",0,nan");
+    }
+    double power, torque;
+    drive_load(w, k, gf, gt, pf, &power, &torque);
+    sb_printf(b, ",%.17g", power);
+    if (k >= np) sb_printf(b, ",%.17g", torque);
   }
+  free(gf);
 }
 
 char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,

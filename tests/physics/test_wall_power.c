@@ -1,0 +1,119 @@
+/* Claim: the CSV's drive columns of a moving mesh wall account for its work: a sphere dragged by
+ * friction on a turntable (a mesh plate turning at 20 rad/s about z under a sphere 1 cm off the
+ * axis) takes from it, step by step, the power -(F . v_ref + T_ref . omega) the CSV reports,
+ * whose time integral (trapezoid over every step's row) equals the energy balance's wall work
+ * (wall_work_J); and for a wall that only turns, the power is -T_axis omega at every row, the
+ * torque about the axis taken through the axis's point (T_ref + (ref - c) x F), the power
+ * through the reference point's velocity: a sign or a lever arm wrong in either column fails. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "adem/adem.h"
+#include "cli_run.h"
+#include "plate_stl.h"
+
+static const char *const turntable_case =
+    "name: turntable\n"
+    "materials:\n"
+    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3,\n"
+    "     restitution: 0.5, friction: 0.3}\n"
+    "  - {name: steel, rigid: true, friction: 0.3}\n"
+    "particles:\n"
+    "  - type: list\n"
+    "    material: glass\n"
+    "    spheres:\n"
+    "      - {position: [0.01, 0, 0.0009998], radius: 0.001}\n"
+    "walls:\n"
+    "  - type: mesh\n"
+    "    name: table\n"
+    "    material: steel\n"
+    "    file: plate.stl\n"
+    "    translate: [0.005, 0, 0]   # the torque point off the axis\n"
+    "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 20}}\n"
+    "gravity: [0, 0, -9.81]\n"
+    "limits: {initial_overlap: 0.01}\n"
+    "time:\n"
+    "  end: 0.05\n"
+    "  step: 2.0e-6\n"
+    "output:\n"
+    "  frame_interval: 0\n"
+    "  csv_interval: 2.0e-6\n"
+    "  checkpoint_interval: 0\n";
+
+static void test_turntable_drive_columns(void **state) {
+  (void)state;
+  assert_int_equal(tmpdir_make("adem_wallpower"), 0);
+  char path[600];
+  snprintf(path, sizeof path, "%s/plate.stl", tmpdir);
+  write_plate(path, 4, 0.0078125); /* 3.1 cm square plate centred on the axis */
+  snprintf(path, sizeof path, "%s/turntable.yaml", tmpdir);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(turntable_case, f);
+  fclose(f);
+  char *out;
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out'", path, tmpdir), 0);
+  char csv[700];
+  snprintf(csv, sizeof csv, "%s/out/timeseries.csv", tmpdir);
+  /* read the columns by name once */
+  FILE *g = fopen(csv, "r");
+  assert_non_null(g);
+  static char line[1 << 14];
+  assert_non_null(fgets(line, sizeof line, g));
+  int c_t = -1, c_work = -1, c_p = -1, c_tq = -1, k = 0;
+  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
+    if (!strcmp(tok, "time_s")) c_t = k;
+    if (!strcmp(tok, "wall_work_J")) c_work = k;
+    if (!strcmp(tok, "table_drive_power_W")) c_p = k;
+    if (!strcmp(tok, "table_axis_torque_Nm")) c_tq = k;
+  }
+  assert_true(c_t >= 0 && c_work >= 0 && c_p >= 0 && c_tq >= 0);
+  double t0 = NAN, p0 = 0.0, w0 = 0.0, integral = 0.0, work = 0.0, torque_integral = 0.0, q0 = 0.0;
+  double worst = 0.0; /* largest |P + omega T_axis| / |P| */
+  int rows = 0;
+  while (fgets(line, sizeof line, g)) {
+    double v[4] = {0};
+    k = 0;
+    for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
+      if (k == c_t) v[0] = strtod(tok, NULL);
+      if (k == c_work) v[1] = strtod(tok, NULL);
+      if (k == c_p) v[2] = strtod(tok, NULL);
+      if (k == c_tq) v[3] = strtod(tok, NULL);
+    }
+    if (rows == 0) w0 = v[1];
+    else {
+      integral += 0.5 * (p0 + v[2]) * (v[0] - t0);
+      torque_integral += 0.5 * (q0 + v[3]) * (v[0] - t0);
+    }
+    if (v[2] != 0.0) worst = fmax(worst, fabs(v[2] + 20.0 * v[3]) / fabs(v[2]));
+    work = v[1] - w0;
+    t0 = v[0];
+    p0 = v[2];
+    q0 = v[3];
+    rows++;
+  }
+  fclose(g);
+  printf("# %d rows: integral of the drive power %.9g J, wall work %.9g J (ratio %.6f); integral "
+         "of the axis torque %.6g N m s; |P + omega T_axis| / |P| at most %.2e\n", rows, integral, work,
+         integral / work, torque_integral, worst);
+  assert_true(work > 0.0);
+  /* the balance adds each contact's F . v_wall dt at the kicks: the same forces and velocities
+   * the rows give, so the trapezoid sum matches it to round-off over 25,000 rows */
+  assert_true(fabs(integral / work - 1.0) < 1e-6);
+  assert_true(worst < 1e-9);
+  /* the drag speeds the sphere up about the axis: the particles' torque on the table about z
+   * is against its turning (negative) while it drives them */
+  assert_true(torque_integral < 0.0);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {cmocka_unit_test(test_turntable_drive_columns)};
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
