@@ -626,13 +626,18 @@ adem_status adem_output_plot_energy(const char *csv_path, const char *png_path, 
   sb_printf(&b, "set title %s\nset xlabel 'time (s)'\nset ylabel 'energy (J)'\n"
                 "set key outside right\nset grid\nf = %s\n",
             adem_plot_quote(title, qtitle, qn), adem_plot_quote(csv_path, qcsv, qn));
-  /* The total is what the energy balance checks: it should only go down. */
+  /* The total goes down by what is dissipated and up by what moving walls give: the total plus
+   * the dissipated energy less the wall work is the balance, flat but for the integration
+   * error (and the work of a stage's change of gravity or group forces). */
   sb_printf(&b, "plot f skip 1 using 1:2 with lines title 'kinetic', \\\n"
                 "     f skip 1 using 1:3 with lines title 'rotational', \\\n"
                 "     f skip 1 using 1:4 with lines title 'potential', \\\n"
                 "     f skip 1 using 1:5 with lines title 'elastic', \\\n"
                 "     f skip 1 using 1:6 with lines title 'dissipated', \\\n"
-                "     f skip 1 using 1:($2+$3+$4+$5) with lines lw 2 title 'total'\n");
+                "     f skip 1 using 1:7 with lines title 'wall work', \\\n"
+                "     f skip 1 using 1:($2+$3+$4+$5) with lines lw 2 title 'total', \\\n"
+                "     f skip 1 using 1:($2+$3+$4+$5+$6-$7) with lines lw 2 dt 2 "
+                "title 'total + dissipated - wall work'\n");
   free(qcsv);
   free(qtitle);
   char *body = sb_finish(&b);
@@ -673,6 +678,30 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
                 down.x, col, down.y, col + 1, down.z, col + 2, adem_plot_quote(name, qname, qn));
     }
     sb_printf(&b, "\n");
+    /* Moving walls: a second panel with the power their drives put into the particles. */
+    char *head = adem_output_csv_header(w, NULL, NULL);
+    int nmoving = 0;
+    for (char *tok = head ? strstr(head, "_drive_power_W") : NULL; tok; tok = strstr(tok + 1, "_drive_power_W"))
+      ++nmoving;
+    if (nmoving > 0) {
+      char *body0 = sb_finish(&b);
+      memset(&b, 0, sizeof b);
+      sb_printf(&b, "set multiplot layout 2,1\n%s", body0 ? body0 : "");
+      free(body0);
+      sb_printf(&b, "set ylabel 'drive power (W)'\nset title 'power the moving walls put into the "
+                    "particles (integral: wall work)'\nplot 0 with lines lc rgb 'black' notitle");
+      int col = 0;
+      for (char *tok = strtok(head, ",\n"); tok; tok = strtok(NULL, ",\n")) {
+        ++col;
+        size_t n = strlen(tok), sfx = strlen("_drive_power_W");
+        if (n <= sfx || strcmp(tok + n - sfx, "_drive_power_W")) continue;
+        tok[n - sfx] = '\0';
+        sb_printf(&b, ", \\\n     f skip 1 using 1:%d with lines lw 2 title %s", col,
+                  adem_plot_quote(tok, qname, qn));
+      }
+      sb_printf(&b, "\nunset multiplot\n");
+    }
+    free(head);
   }
   free(qcsv);
   free(qname);
