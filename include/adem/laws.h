@@ -47,7 +47,8 @@ extern "C" {
     "Rolling friction coefficient eta_r. Particle pair: models A and C take the mean of the two "  \
     "materials' values with R_r = r_i r_j/(r_i + r_j); BROF takes min(eta_i r_i, eta_j r_j). "     \
     "Particle on a wall: the particle's material's value (the wall's is not used) with R_r = r_i. " \
-    "An interaction entry's value replaces both sides'.")                                          \
+    "An interaction entry's value replaces both sides'. At the same eta_r, BROF's lever arm "      \
+    "between two spheres of radius r is eta_r r, twice model C's eta_r r/2.")                      \
   P(ADEM_PARAM_ROLLING_DAMPING, "rolling_damping", "", 0.0, 0.0, ADEM_MIX_MEAN,                    \
     "Rolling damping ratio delta_r of model C: C_r = delta_r 2 sqrt(I_r k_r).")                     \
   ADEM_EXTRA_LAW_PARAMS(P)

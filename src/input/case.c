@@ -302,6 +302,52 @@ static void warn_unused_law_params(case_ctx *ctx, const char *where, const adem_
     }
 }
 
+/* The rolling law of materials a and b under the interaction entries defs. */
+static adem_rolling_model pair_rolling(const adem_interaction_def *defs, int ndefs, int a, int b) {
+  for (int j = 0; j < ndefs; ++j)
+    if ((defs[j].material_a == a && defs[j].material_b == b) ||
+        (defs[j].material_a == b && defs[j].material_b == a))
+      return defs[j].rolling;
+  return adem_default_interaction_def().rolling;
+}
+
+/* Whether a configuration lets BROF meet a turning wall: a wall whose motion turns, of a
+ * material that has BROF with some material of the particles (any material: a pour may bring it). */
+static bool brof_meets_turning_wall(const adem_interaction_def *defs, int ndefs, int nmat,
+                                    const adem_walls *wl, const adem_plane_setting *planes,
+                                    const adem_mesh_setting *meshes) {
+  for (int k = 0; k < wl->nplanes + wl->mesh.ngroups; ++k) {
+    bool plane = k < wl->nplanes;
+    int g = k - wl->nplanes;
+    double omega = plane ? (planes ? planes[k].motion.omega : wl->planes[k].motion.omega)
+                         : (meshes ? meshes[g].motion.omega : wl->mesh_motion[g].omega);
+    int mat = plane ? (planes ? planes[k].def.material : wl->planes[k].def.material)
+                    : (meshes ? meshes[g].material : wl->mesh.groups[g].material);
+    if (omega == 0.0) continue;
+    for (int b = 0; b < nmat; ++b)
+      if (pair_rolling(defs, ndefs, mat, b) == ADEM_ROLLING_BROF) return true;
+  }
+  return false;
+}
+
+/* BROF (I9-I10) resists each particle's spin relative to its contacts' capacity-weighted target:
+ * the particle contacts' share targets zero, so a bed turning with a drum is braked and part of
+ * the drive torque goes into BROF, not into the wall. Say so where it happens. */
+static void warn_brof_turning(const char *where, const adem_world *w, const adem_stages *stages) {
+  const adem_materials *mt = &w->mat;
+  bool meets = brof_meets_turning_wall(mt->defs, mt->ndefs, mt->n, &w->walls, NULL, NULL);
+  for (int j = 0; stages && j < stages->n && !meets; ++j) {
+    const adem_stage_config *g = &stages->s[j].config;
+    meets = brof_meets_turning_wall(g->interactions, g->ninteractions, g->nmaterials, &w->walls,
+                                    g->planes, g->meshes);
+  }
+  if (meets)
+    adem_log(ADEM_LOG_WARN, "%s: BROF meets a turning wall: between particles it resists their "
+             "absolute spin (I9-I10 act per particle), so a bed turning with the wall is braked "
+             "and part of the drive torque goes into BROF, not into the wall's load; the CSV's "
+             "brof_impulse_*_Nms columns give the angular impulse it adds (docs/models.md)", where);
+}
+
 static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, root, "interactions", &l);
@@ -2059,6 +2105,8 @@ static adem_status build(case_ctx *ctx) {
     warn_unused_law_params(ctx, ctx->file, &ctx->w->mat, NULL);
   if ((st = build_groups(ctx, &root))) return st;
   if ((st = build_walls(ctx, &root))) return st;
+  if (!adem_yaml_map_get(ctx, root.node, "stages")) /* with stages: once they are known */
+    warn_brof_turning(ctx->file, ctx->w, NULL);
   /* Limits first: an explicit list may overlap by what limits.initial_overlap accepts. */
   double skin, overlap, initial = 0.0;
   if ((st = adem_yaml_get_map(ctx, &root, "limits", &limits))) return st;
@@ -2319,6 +2367,7 @@ static adem_status stages_prepare(adem_case *c, adem_error *err) {
   free(sets);
   if (st) return st;
   warn_unused_law_params(NULL, c->path[0] ? c->path : c->name, &c->world->mat, s);
+  warn_brof_turning(c->path[0] ? c->path : c->name, c->world, s);
   /* Durations: every stage but the last needs one; the last may run until time.end. */
   double t = 0.0;
   bool earlier = false; /* a stage before may end early (its `until`) */

@@ -169,14 +169,27 @@ static void region_columns_free(region_columns *rc) {
   memset(rc, 0, sizeof *rc);
 }
 
-static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
+/* Whether some configuration of the case (its own, or a stage's) gives a pair BROF. */
+static bool case_uses_brof(const adem_case *c) {
+  const adem_materials *mt = &c->world->mat;
+  for (int j = 0; j < mt->ndefs; ++j)
+    if (mt->defs[j].rolling == ADEM_ROLLING_BROF) return true;
+  for (int k = 0; c->stages && k < c->stages->n; ++k)
+    for (int j = 0; j < c->stages->s[k].config.ninteractions; ++j)
+      if (c->stages->s[k].config.interactions[j].rolling == ADEM_ROLLING_BROF) return true;
+  return false;
+}
+
+/* The regions' columns, then, when the case has BROF, the angular impulse BROF's particle
+ * contacts have added (brof_impulse_x_Nms ...: no partner takes it back, I9-I10). */
+static bool region_columns_make(region_columns *rc, const adem_regions *rs, bool brof) {
   memset(rc, 0, sizeof *rc);
   int nr = rs ? rs->n : 0;
-  rc->n = 2 * nr;
+  rc->n = 2 * nr + (brof ? 3 : 0);
   size_t m = (size_t)(nr > 0 ? nr : 1);
-  rc->names = calloc(2 * m, sizeof *rc->names);
-  rc->name = calloc(2 * m, sizeof *rc->name);
-  rc->value = calloc(2 * m, sizeof *rc->value);
+  rc->names = calloc(2 * m + 3, sizeof *rc->names);
+  rc->name = calloc(2 * m + 3, sizeof *rc->name);
+  rc->value = calloc(2 * m + 3, sizeof *rc->value);
   rc->count = calloc(m, sizeof *rc->count);
   rc->mass = calloc(m, sizeof *rc->mass);
   if (!rc->names || !rc->name || !rc->value || !rc->count || !rc->mass) {
@@ -189,18 +202,29 @@ static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
     rc->name[2 * k] = rc->names[2 * k];
     rc->name[2 * k + 1] = rc->names[2 * k + 1];
   }
+  for (int a = 0; brof && a < 3; ++a) {
+    snprintf(rc->names[2 * nr + a], sizeof rc->names[0], "brof_impulse_%c_Nms", "xyz"[a]);
+    rc->name[2 * nr + a] = rc->names[2 * nr + a];
+  }
   return true;
 }
 
 /* A CSV row with the regions' counts and masses now. */
 static adem_status csv_row(adem_output *out, const adem_case *c, region_columns *rc,
                            adem_error *err) {
-  if (rc->n > 0) {
+  int nr = c->regions ? c->regions->n : 0;
+  if (nr > 0) {
     adem_regions_count(c->regions, c->world, rc->count, rc->mass);
-    for (int k = 0; k < rc->n / 2; ++k) {
+    for (int k = 0; k < nr; ++k) {
       rc->value[2 * k] = rc->count[k];
       rc->value[2 * k + 1] = rc->mass[k];
     }
+  }
+  if (rc->n > 2 * nr) { /* BROF's columns */
+    adem_vec3 b = adem_world_diagnostics(c->world).brof_impulse;
+    rc->value[2 * nr] = b.x;
+    rc->value[2 * nr + 1] = b.y;
+    rc->value[2 * nr + 2] = b.z;
   }
   return adem_output_csv_append(out, c->world, err);
 }
@@ -481,7 +505,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   memset(&out, 0, sizeof out);
   adem_output_track track = {c->output.ntrack, c->output.track};
   region_columns rc;
-  if (!region_columns_make(&rc, c->regions))
+  if (!region_columns_make(&rc, c->regions, case_uses_brof(c)))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
   if (rs->writer)
