@@ -516,6 +516,33 @@ static void test_unused_law_params_warned(void **state) {
   }
 }
 
+/* Claim: BROF meeting a turning wall is warned about (in the case, or from a stage that starts
+ * the turning), and a wall that does not turn, or a turning wall without BROF, is not. */
+static void test_brof_turning_wall_warned(void **state) {
+  (void)state;
+  char text[2048];
+  const char *walls_at = strstr(base, "time:");
+  const struct {
+    const char *rolling, *motion, *more;
+    bool warned;
+  } cases[] = {
+      {"brof", "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}\n", "", true},
+      {"brof", "", "", false},
+      {"model_a", "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}\n", "", false},
+      {"brof", "", "stages:\n  - {name: a, duration: 0.1}\n  - {name: b, set: {walls.floor.motion: "
+       "{rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}}}\n", true},
+  };
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+    snprintf(text, sizeof text, "%.*s%sinteractions:\n  - {materials: [glass, steel], rolling: %s}\n%s%s",
+             (int)(walls_at - base), base, cases[k].motion, cases[k].rolling, walls_at, cases[k].more);
+    logged[0] = '\0';
+    adem_case *c = load_ok(text, NULL, 0);
+    printf("# case %zu: %s", k, logged[0] ? logged : "(nothing logged)\n");
+    assert_true((strstr(logged, "BROF meets a turning wall") != NULL) == cases[k].warned);
+    adem_case_free(c);
+  }
+}
+
 /* Claim: an override is validated like the file (messages name the --set), and a path that does
  * not resolve is refused naming the failing segment. */
 static void test_set_errors(void **state) {
@@ -712,6 +739,7 @@ int main(void) {
       cmocka_unit_test_setup_teardown(test_set_errors, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_interaction_names, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_unused_law_params_warned, capture_setup, capture_teardown),
+      cmocka_unit_test_setup_teardown(test_brof_turning_wall_warned, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill_fast, capture_setup, capture_teardown),
       cmocka_unit_test_setup_teardown(test_random_fill_gives_up, capture_setup, capture_teardown),
