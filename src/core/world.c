@@ -585,9 +585,14 @@ static adem_status check_initial_mesh(const adem_world *w, adem_error *err) {
       if (overlap > fmax(1e-9, w->initial_overlap) * p->radius[i])
         return adem_error_set(err, ADEM_ERR_INPUT,
                               "particle id %llu at (%g, %g, %g) overlaps mesh group '%s' (triangle "
-                              "%u) by %g m at the start; move it off the wall or shrink it",
+                              "%u) by %g m (%.3g of its radius, allowed %.3g by "
+                              "limits.initial_overlap) at the start; move it off the wall or shrink "
+                              "it. Particles from another run's checkpoint (`type: state`) keep "
+                              "their places but the walls start where this case puts them: a wall "
+                              "that moved or turned in that run is back at its file placement",
                               (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
-                              w->walls.mesh.groups[w->walls.mesh.group[t]].name, t, overlap);
+                              w->walls.mesh.groups[w->walls.mesh.group[t]].name, t, overlap,
+                              overlap / p->radius[i], w->initial_overlap);
     }
   return ADEM_OK;
 }

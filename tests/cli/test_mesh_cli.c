@@ -324,6 +324,8 @@ static void test_particle_in_mesh(void **state) {
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_bad'", path, tmpdir), 2);
   assert_mentions(out, "particle id 0");
   assert_mentions(out, "mesh group 'box'");
+  assert_mentions(out, "allowed 0 by limits.initial_overlap"); /* the key that allows it */
+  assert_mentions(out, "back at its file placement"); /* why a state import may overlap */
   free(path);
   free(text);
 }
