@@ -82,11 +82,13 @@ static inline adem_normal_result normal_law(const adem_interaction *it, int norm
  * the overlap: the pass after the contact forms adds F (phi - 1/2), phi = delta_{n+1}/(v_n dt) the
  * fraction of the step in contact (t_{n+1/2} - t* = (phi - 1/2) dt); the pass after it breaks
  * adds F(delta_n) (psi - 1/2), psi = delta_n/(delta_n - delta_{n+1}) the fraction still in
- * contact. Then the impulse is right to second order, and so is the collision. */
+ * contact. Then the impulse is right to second order, and so is the collision. Only a contact
+ * whose overlap crossed zero in the step has phi <= 1: a new contact that was already
+ * overlapping (a mesh contact that moved to another region of the mesh, an overlap at the start)
+ * gets nothing. */
 static inline double onset_correction(double f_elastic, double delta, double vn, double dt) {
   double phi = vn > 0.0 ? delta / (vn * dt) : 0.5;
-  if (!(phi < 1.0)) phi = 1.0; /* fmin(1, phi), without a library call */
-  return f_elastic * (phi - 0.5);
+  return phi <= 1.0 ? f_elastic * (phi - 0.5) : 0.0; /* a select: block loops stay packed */
 }
 
 static inline double break_correction(const adem_interaction *it, const contact_geometry *g,
