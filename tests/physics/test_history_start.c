@@ -10,9 +10,10 @@
 #include "helpers.h"
 #include "world.h"
 
-/* A sphere (radius 1 mm, E 1e7 Pa, mu 1) pressed 1 um into a plane, launched along x at 0.1 m/s
- * without spin or gravity: it sticks for the first steps. */
-static adem_world *launched(adem_tangential_model tangential, adem_rolling_model rolling) {
+/* A sphere (radius 1 mm, E 1e7 Pa, mu 1) pressed 1 um into a plane, launched along x at v
+ * without spin or gravity. */
+static adem_world *launched(adem_tangential_model tangential, adem_rolling_model rolling,
+                            double v) {
   adem_world *w = adem_world_create();
   adem_world_set_gravity(w, v3(0, 0, 0));
   int glass = test_material(w, "glass", 1e7, 0.3, 0.5, 1.0);
@@ -35,7 +36,7 @@ static adem_world *launched(adem_tangential_model tangential, adem_rolling_model
   snprintf(pl.name, sizeof pl.name, "floor");
   pl.material = steel;
   assert_int_equal(adem_world_add_plane(w, &pl, NULL, &err), ADEM_OK);
-  test_particle(w, glass, v3(0, 0, 1e-3 - 1e-6), v3(0.1, 0, 0), 1e-3);
+  test_particle(w, glass, v3(0, 0, 1e-3 - 1e-6), v3(v, 0, 0), 1e-3);
   adem_world_set_dt(w, 1e-6);
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   return w;
@@ -54,7 +55,7 @@ static adem_contact_info the_contact(const adem_world *w) {
  * increments (ratio 2.0). A second call of adem_world_compute_forces changes no history. */
 static void test_spring_empty_after_prepare(void **state) {
   (void)state;
-  adem_world *w = launched(ADEM_TANGENTIAL_INCREMENTAL, ADEM_ROLLING_NONE);
+  adem_world *w = launched(ADEM_TANGENTIAL_INCREMENTAL, ADEM_ROLLING_NONE, 0.1);
   adem_particles *p = &w->p;
   adem_contact_info c0 = the_contact(w);
   printf("# after prepare: spring force (%.3e, %.3e, %.3e) N\n", c0.tangential_history.x,
@@ -88,10 +89,12 @@ static void test_spring_empty_after_prepare(void **state) {
 
 /* Claim (issue 25, item 7): the same for the other histories: the total-displacement spring and
  * model C's rolling spring are empty after prepare, and after step 1 the total law's holds one
- * step of slip, w_t dt (to 1e-12). */
+ * step of slip, w_t dt (to 1e-12; launched at 1 mm/s, so that the dashpot, which the total law's
+ * Coulomb limit counts, leaves it sticking). Before: xi held one step of the launch speed after
+ * prepare. */
 static void test_other_springs_empty_after_prepare(void **state) {
   (void)state;
-  adem_world *w = launched(ADEM_TANGENTIAL_TOTAL, ADEM_ROLLING_C);
+  adem_world *w = launched(ADEM_TANGENTIAL_TOTAL, ADEM_ROLLING_C, 1e-3);
   adem_particles *p = &w->p;
   adem_contact_info c0 = the_contact(w);
   printf("# after prepare: total-law xi %.3e m, model C torque %.3e N m\n",
