@@ -8,6 +8,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
+#include "staged_run.h"
 #include "world.h"
 
 static const double PI = 3.14159265358979323846;
@@ -132,10 +133,56 @@ static void test_rolling_switch_clears(void **state) {
   adem_world_free(w);
 }
 
+/* The resting sphere as a case file whose second stage, from t = 0.04 s (step 20000), sets the
+ * interaction's tangential law. */
+static adem_case *staged(const char *tangential) {
+  char text[2048];
+  snprintf(text, sizeof text,
+           "materials:\n"
+           "  - {name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.3, "
+           "restitution: 0.5, friction: 1.0, rolling_friction: 0.5}\n"
+           "  - {name: steel, rigid: true, friction: 1.0, rolling_friction: 0.5}\n"
+           "interactions:\n"
+           "  - {materials: [glass, steel], rolling: model_c}\n"
+           "particles:\n"
+           "  - {type: list, material: glass, spheres: [{position: [0, 0, 0.0009968], radius: 0.001}]}\n"
+           "walls:\n"
+           "  - {type: plane, name: floor, material: steel, point: [0, 0, 0], normal: [0, 0, 1]}\n"
+           "gravity: [%.17g, 0, %.17g]\n"
+           "time: {end: 0.05, step: 2e-6}\n"
+           "stages:\n"
+           "  - {name: settle, duration: 0.04}\n"
+           "  - {name: switch, set: {interactions.0.tangential: %s}}\n",
+           9.81 * sin(10.0 * PI / 180.0), -9.81 * cos(10.0 * PI / 180.0), tangential);
+  adem_case *c = NULL;
+  adem_error err;
+  if (adem_case_load_string(text, "stage.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
+  if (staged_start(c, &err)) fail_msg("%s", err.message);
+  if (staged_advance(c, 20001, 5000, &err)) fail_msg("%s", err.message);
+  return c;
+}
+
+/* Claim (issue 25, item 8): the same through a case file's stages: a stage that sets
+ * `tangential: total` on the live contact gives the tangential force of a run whose stage keeps
+ * `incremental`, to 1e-9, one step after the stage begins. */
+static void test_stage_switch_case(void **state) {
+  (void)state;
+  adem_case *a = staged("total"), *b = staged("incremental");
+  assert_int_equal(adem_stages_current(a), 1);
+  adem_vec3 fa = tangential_force(a->world), fb = tangential_force(b->world);
+  double d = v3_norm(v3_sub(fa, fb)) / v3_norm(fb);
+  printf("# stage switch to total: tangential force %.9e N, kept incremental %.9e N (%.2e)\n",
+         v3_norm(fa), v3_norm(fb), d);
+  assert_true(d < 1e-9);
+  adem_case_free(a);
+  adem_case_free(b);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_tangential_switch_converts),
       cmocka_unit_test(test_rolling_switch_clears),
+      cmocka_unit_test(test_stage_switch_case),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
