@@ -287,8 +287,12 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err);
 adem_status adem_world_step(adem_world *w, uint64_t n, adem_error *err);
 
 /* One force pass at the current positions and velocities, without moving anything (the world
- * must be prepared): forces, torques and contacts can then be read. */
+ * must be prepared): forces, torques and contacts can then be read. Contact histories (the
+ * springs) are left as they are: only a step advances them. */
 void adem_world_compute_forces(adem_world *w);
+/* The same pass, but every contact history advances by one step of the current relative
+ * velocities, as in a step (studies that drive a spring directly: adem_collide_dtk_torque). */
+void adem_world_advance_histories(adem_world *w);
 
 /* ---- reading the state ---- */
 double adem_world_time(const adem_world *w);

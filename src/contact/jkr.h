@@ -57,7 +57,8 @@ ADEM_LAW double adem_jkr_a0(double gamma, double R, double E) {
   return cbrt(9.0 * ADEM_PI * gamma * R * R / E);
 }
 
-/* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). packed: the
+/* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration; sqrt(R delta)
+ * without surface energy). packed: the
  * cube root without the library (adem_jkr_cbrt_packed: NaN where it would be called). */
 ADEM_LAW double adem_jkr_contact_radius_as(double gamma, double R, double E, double delta,
                                            bool packed) {
@@ -74,7 +75,9 @@ ADEM_LAW double adem_jkr_contact_radius_as(double gamma, double R, double E, dou
   double s = sqrt(2.0 * m);
   double root = 4.0 * sqrt(c2) * R / s - s * s;
   double u = 0.5 * (s + sqrt(root > 0.0 ? root : 0.0));
-  return u * u;
+  /* gamma = 0: m = 0 and 4 c R / s is 0/0; the quartic is then u^4 = R delta, Hertz's a (a
+   * select, not a branch: the block kernels' loops stay packed) */
+  return c2 > 0.0 ? u * u : sqrt(P);
 }
 
 ADEM_LAW double adem_jkr_contact_radius(double gamma, double R, double E, double delta) {

@@ -116,16 +116,20 @@ ADEM_LAW void adem_damping_viscoelastic_law(const adem_pair_params *pp,
   out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
 }
 
-/* The same dashpots, but a contact without adhesion never pulls: F_N = max(0, F_el + c_n v_n).
- * The normal dashpot takes the beta that gives e_eff = e with the clamp (adem_damping_beta_
- * clamped, derived per pair); the tangential one keeps H12's beta. With adhesion (F_C > 0) the
- * force is not clamped: the JKR force pulls by design. */
+/* The same dashpots, but the dashpot never pulls the contact below the least force of its
+ * elastic law: F_N = max(F_min, F_el + c_n v_n), F_min = 0 without adhesion and the simplified
+ * JKR's force where the contact forms and breaks, -(8/9) F_C (H8-H10 at delta = 0), with it: the
+ * JKR force pulls by design, the dashpot does not add to the pull beyond it, and as gamma -> 0
+ * the law becomes Hertz's clamped one (docs/models.md). The normal dashpot takes the beta that
+ * gives e_eff = e with the clamp (adem_damping_beta_clamped, derived per pair); the tangential
+ * one keeps H12's beta. */
 ADEM_LAW void adem_damping_clamped_law(const adem_pair_params *pp,
                                        const adem_damping_input *in,
                                        adem_damping_output *out) {
   double cn = adem_damping_coefficient(pp->beta_clamped, in->Sn, in->mstar);
   double f = in->f_elastic + cn * in->vn;
-  out->f_normal = in->f_critical == 0.0 && f < 0.0 ? 0.0 : f;
+  double f_min = 0.0 - (8.0 / 9.0) * in->f_critical; /* +0 without adhesion */
+  out->f_normal = f < f_min ? f_min : f;
   out->ct = adem_damping_coefficient(pp->beta, in->St, in->mstar);
 }
 

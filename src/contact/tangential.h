@@ -51,10 +51,10 @@ typedef struct adem_tangential_output {
 /* H14 with the total displacement: xi <- project(xi) + vt dt, F = -S_t xi - c_t vt, limited to
  * f_limit (H17); when sliding xi is reset so that the spring alone carries the limit. The slip's
  * dissipation is the mean spring force times the slip, (1/2) S_t (xi_old + xi_new).(xi_trial -
- * xi_new), the same trapezoid the integrator's work follows. aux is not used. */
+ * xi_new), the same trapezoid the integrator's work follows. aux: the S_t of the pass (read only
+ * when a stage switches the law: F_s = -S_t xi is then exact). */
 ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *xi,
                                     double *aux, adem_tangential_output *out) {
-  (void)aux;
   double S = in->stiffness;
   adem_vec3 x0 = adem_tangential_project(*xi, in->n);
   adem_vec3 x = v3_axpy(x0, in->dt, in->vt);
@@ -72,6 +72,7 @@ ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *
     out->sliding = true;
   }
   *xi = x;
+  *aux = S;
   out->force = f;
   out->dashpot = dash;
   out->elastic = 0.5 * S * v3_norm2(x);

@@ -35,6 +35,14 @@ static inline adem_vec3 predicted_spin(const adem_particles *p, size_t i, double
 /* The spin of a wall's motion (constant rotation about its axis), rad/s. */
 static inline adem_vec3 motion_spin(const adem_motion *m) { return v3_scale(m->axis, m->omega); }
 
+/* The step the laws advance the histories by: the pass's, or 0 in a pass that must leave them
+ * as they are (the springs then give the force they hold, and no contact is new: the onset
+ * correction is a step's). The predicted velocities and BROF keep the pass's step. */
+static inline double law_step(const adem_force_scope *w) { return w->hold_history ? 0.0 : w->dt; }
+static inline bool onset_pass(const adem_force_scope *w) {
+  return w->second_order && !w->hold_history;
+}
+
 typedef struct contact_result {
   adem_vec3 force;    /* on i */
   adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
@@ -82,11 +90,13 @@ static inline adem_normal_result normal_law(const adem_interaction *it, int norm
  * the overlap: the pass after the contact forms adds F (phi - 1/2), phi = delta_{n+1}/(v_n dt) the
  * fraction of the step in contact (t_{n+1/2} - t* = (phi - 1/2) dt); the pass after it breaks
  * adds F(delta_n) (psi - 1/2), psi = delta_n/(delta_n - delta_{n+1}) the fraction still in
- * contact. Then the impulse is right to second order, and so is the collision. */
+ * contact. Then the impulse is right to second order, and so is the collision. Only a contact
+ * whose overlap crossed zero in the step has phi <= 1: a new contact that was already
+ * overlapping (a mesh contact that moved to another region of the mesh, an overlap at the start)
+ * gets nothing. */
 static inline double onset_correction(double f_elastic, double delta, double vn, double dt) {
   double phi = vn > 0.0 ? delta / (vn * dt) : 0.5;
-  if (!(phi < 1.0)) phi = 1.0; /* fmin(1, phi), without a library call */
-  return f_elastic * (phi - 0.5);
+  return phi <= 1.0 ? f_elastic * (phi - 0.5) : 0.0; /* a select: block loops stay packed */
 }
 
 static inline double break_correction(const adem_interaction *it, const contact_geometry *g,
@@ -358,10 +368,12 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
     g.inertia_r = Ici * Icj / (Ici + Icj);
   }
   if (g.delta <= 0.0) { /* it opened since the last pass */
-    open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
+    open_pair(l, k, it, &g, onset_pass(w), dt, w->balance, w->break_forces);
     return;
   }
-  contact_result r = contact_force(it, laws_of(it), &g, &l->hist[k], dt, w->second_order && !was);
+  adem_contact_history h = l->hist[k];
+  contact_result r = contact_force(it, laws_of(it), &g, &h, law_step(w), onset_pass(w) && !was);
+  if (!w->hold_history) l->hist[k] = h;
   store_pair(l, k, &g, &r, w->balance);
   note_overlap(w, l->res[k].overlap_ratio);
 }
@@ -421,7 +433,7 @@ pair_block_put(pair_block *b, int q, const pair_kinematics *kin, const adem_cont
 static inline __attribute__((always_inline)) void
 pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws, bool balance) {
   const adem_interaction *it = b->it;
-  double dt = w->dt;
+  double dt = law_step(w);
   int m = b->m;
   for (int q = 0; q < m; ++q) {
     pair_kinematics kin;
@@ -516,7 +528,7 @@ static void pair_block_flush(const adem_force_scope *w, pair_block *b) {
       continue;
     }
     l->touching[k] = true;
-    l->hist[k] = b->hist[q];
+    if (!w->hold_history) l->hist[k] = b->hist[q];
     l->res[k] = b->res[q];
     if (w->balance) { /* the fields pair_records writes: a particle pair has no wall power */
       l->bal[k].damping_a = b->bal[q].damping_a;
@@ -571,7 +583,7 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     pair_kinematics kin =
         particle_kinematics(p, w->predicted, i, j, d, dist, w->second_order ? w->dt : 0.0);
     pair_block_put(&b, q, &kin, &l->hist[k]);
-    b.fresh[q] = w->second_order && !was ? 1.0 : 0.0;
+    b.fresh[q] = onset_pass(w) && !was ? 1.0 : 0.0;
     if (b.m == PAIR_BLOCK) pair_block_flush(w, &b);
   }
   pair_block_flush(w, &b);
@@ -615,10 +627,12 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
-      open_pair(l, k, it, &g, w->second_order, dt, w->balance, w->break_forces);
+      open_pair(l, k, it, &g, onset_pass(w), dt, w->balance, w->break_forces);
       return;
     }
-    contact_result r = contact_force(it, laws_of(it), &g, &l->hist[k], dt, w->second_order && !was);
+    adem_contact_history h = l->hist[k];
+    contact_result r = contact_force(it, laws_of(it), &g, &h, law_step(w), onset_pass(w) && !was);
+    if (!w->hold_history) l->hist[k] = h;
     store_pair(l, k, &g, &r, w->balance);
     note_overlap(w, l->res[k].overlap_ratio);
     if (w->balance) store_wall_power(l, k, &r, v_wall, motion_spin(&w->walls->planes[l->b[k]].motion));
@@ -696,9 +710,10 @@ static void mesh_pairs(const adem_force_scope *w) {
     g.packed = false;
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
       g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
-      contact_result r = contact_force(it, laws_of(it), &g, &h, dt, w->second_order && fresh);
+      adem_contact_history h_held = h;
+      contact_result r = contact_force(it, laws_of(it), &g, &h, law_step(w), onset_pass(w) && fresh);
       adem_vec3 ft = v3_axpy(r.force, -v3_dot(r.force, g.n), g.n);
-      l->hist[k] = h;
+      l->hist[k] = w->hold_history ? h_held : h;
       pm->key[k] = c->key;
       pm->owner[k] = c->tri;
       l->touching[k] = true;

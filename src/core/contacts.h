@@ -38,6 +38,8 @@ typedef struct adem_force_scope {
   int *break_forces; /* the pass sets it when a pair that opened carries a break correction;
                       * only then do the sums read the forces of pairs apart (contacts.c sets
                       * it up: callers leave it NULL) */
+  bool hold_history; /* a pass that advances no history (prepare, adem_world_compute_forces):
+                      * the laws see a step of length 0, the forces of the state as it is */
 } adem_force_scope;
 
 void adem_contacts_compute(const adem_force_scope *s);

@@ -118,6 +118,29 @@ static const char *laws_conflict(const adem_interaction_def *d, char *buf, size_
   return NULL;
 }
 
+/* Whether a pair's laws have the surface energy they need; NULL if so, else why not. A `jkr` pair
+ * whose materials lack one (the pair's is their geometric mean, so one side without makes it 0)
+ * and whose interaction sets none is refused: typically a wall material left without it. An
+ * interaction's own surface energy is the pair's, 0 included (simplified JKR without adhesion is
+ * Hertz). DTK's stiffness and limit come from F_C and a0 (H18-H22): it needs gamma > 0. */
+static const char *surface_energy_conflict(const adem_materials *mt, const adem_interaction *it,
+                                           const adem_interaction_def *d, char *buf, size_t n) {
+  int k = ADEM_PARAM_SURFACE_ENERGY;
+  if (it->pp.gamma_real > 0.0) return NULL;
+  if (it->rolling == ADEM_ROLLING_DTK) {
+    snprintf(buf, n, "`dtk` rolling needs a surface energy > 0 (its stiffness and limit come from "
+             "F_C and a0), but the pair's is 0");
+    return buf;
+  }
+  if (it->normal != ADEM_NORMAL_JKR || it->set_param[k]) return NULL;
+  const adem_material *ma = &mt->m[d->material_a], *mb = &mt->m[d->material_b];
+  const char *none = !(ma->def.param[k] > 0.0) ? ma->def.name : mb->def.name;
+  snprintf(buf, n, "`jkr` needs a surface energy, but '%s' has surface_energy 0 (the pair's is "
+           "the geometric mean of the two materials'); give both materials, or the interaction, a "
+           "`surface_energy` > 0, or use `normal: hertz`", none);
+  return buf;
+}
+
 adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
   int nm = mt->n;
   for (int k = 0; k < nm; ++k) {
@@ -165,6 +188,14 @@ adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
     }
   }
   for (size_t k = 0; k < (size_t)nm * nm; ++k) finish_pair(&mt->pairs[k]);
+  for (int k = 0; k < mt->ndefs; ++k) { /* the pair's surface energy, whoever gave it */
+    const adem_interaction_def *d = &mt->defs[k];
+    char why[320];
+    if (surface_energy_conflict(mt, &mt->pairs[(size_t)d->material_a * nm + d->material_b], d, why,
+                                sizeof why))
+      return adem_error_set(err, ADEM_ERR_INPUT, "interaction of materials '%s' and '%s': %s",
+                            mt->m[d->material_a].def.name, mt->m[d->material_b].def.name, why);
+  }
   return ADEM_OK;
 }
 

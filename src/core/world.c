@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "hertz.h"
+#include "history_switch.h"
 #include "jkr.h"
 #include "log.h"
 #include "parallel.h"
@@ -276,7 +277,7 @@ static adem_status sync_balance_records(adem_world *w) {
 /* energy: the pass computes the normal laws' stored energies, which only the diagnostics read
  * (a JKR contact's costs a cbrt and four pow): the last pass of a call to adem_world_step and
  * the pass of prepare, after which the diagnostics can be read. */
-static void compute_forces(adem_world *w, bool energy) {
+static void compute_forces(adem_world *w, bool energy, bool hold_history) {
   /* the balance's terms need their records: adem_world_step and prepare report a failure to
    * allocate them before they get here */
   bool balance = w->energy_balance && sync_balance_records(w) == ADEM_OK;
@@ -291,12 +292,15 @@ static void compute_forces(adem_world *w, bool energy) {
                         w->dt,     adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
                         &w->overlap_exceeded, w->predicted, w->pair_blocks,
-                        &w->pair_block_pairs, 0, NULL};
+                        &w->pair_block_pairs, 0, NULL, hold_history};
   w->overlap_exceeded = 0;
   adem_contacts_compute(&s);
 }
 
-void adem_world_compute_forces(adem_world *w) { compute_forces(w, true); }
+/* The pass of prepare and of the public call: the forces of the state as it is, every history
+ * left as it was (a step advances them). */
+void adem_world_compute_forces(adem_world *w) { compute_forces(w, true, true); }
+void adem_world_advance_histories(adem_world *w) { compute_forces(w, true, false); }
 
 adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
                                    const adem_plane_setting *next_planes,
@@ -311,13 +315,25 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
                                         adem_error *err) {
   adem_materials *mt = &w->mat;
   adem_interaction_def *d = malloc(((size_t)ninteractions + 1) * sizeof *d);
-  if (!d) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  int *old = adem_history_laws(mt); /* live contacts' histories follow a change of laws */
+  if (!d || !old) {
+    free(d);
+    free(old);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
   memcpy(d, interactions, (size_t)ninteractions * sizeof *d);
   for (int j = 0; j < mt->n; ++j) mt->m[j].def = defs[j];
   free(mt->defs);
   mt->defs = d;
   mt->ndefs = ninteractions;
-  return adem_materials_derive(mt, err);
+  adem_status st = adem_materials_derive(mt, err);
+  size_t cleared = st ? 0 : adem_history_switch_all(mt, old, &w->p, &w->pp, &w->pw, &w->pm,
+                                                     &w->walls, w->energy_balance);
+  free(old);
+  if (cleared > 0)
+    adem_log(ADEM_LOG_INFO, "t = %.9g s: %zu contact histories cleared (their tangential or "
+             "rolling law changed, with no exact conversion; docs/models.md)", w->time, cleared);
+  return st;
 }
 
 void adem_world_set_group_force(adem_world *w, int group, adem_vec3 force) {
@@ -979,7 +995,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       adem_status st = sp ? sp->build(sp->ctx, w, err) : adem_world_build_neighbors(w, err);
       if (st) return st;
     }
-    compute_forces(w, s + 1 == nsteps);
+    compute_forces(w, s + 1 == nsteps, false);
     if (sp && w->walls.mesh.ntris > 0 && adem_walls_has_servo(&w->walls)) {
       adem_status st = sp->mesh_loads(sp->ctx, w, err); /* the servos' next measure */
       if (st) return st;

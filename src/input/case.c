@@ -421,7 +421,10 @@ static adem_status build_interactions(case_ctx *ctx, const map_cursor *root) {
                           lw->requires, slot_key[s], others);
     }
     if (st) break;
-    if (d.normal == ADEM_NORMAL_JKR && (st = check_jkr_pair(ctx, &m, &d, names))) break;
+    /* (an interaction's own surface energy is the pair's, whatever the materials') */
+    if (d.normal == ADEM_NORMAL_JKR && isnan(d.param[ADEM_PARAM_SURFACE_ENERGY]) &&
+        (st = check_jkr_pair(ctx, &m, &d, names)))
+      break;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_set_interaction(ctx->w, &d, &werr))
       st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);

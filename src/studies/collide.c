@@ -604,12 +604,13 @@ adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, 
   if (!w) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_status st = build_world(&s, &p, dt, w, err);
   if (!st) {
-    /* Rolling without slip along x at v = xi/dt: one force pass adds xi to the empty history. */
+    /* Rolling without slip along x at v = xi/dt: one advancing force pass adds xi to the empty
+     * history. */
     double v = xi / dt;
     adem_vec3 vel = v3(v, 0.0, 0.0), spin = v3(0.0, v / s.radius, 0.0);
     st = adem_world_set_particle(w, 0, NULL, &vel, &spin, err);
     adem_world_clear_history(w);
-    adem_world_compute_forces(w);
+    adem_world_advance_histories(w);
     bodies b;
     read_bodies(w, &b);
     *torque = v3_norm(b.roll[0]);

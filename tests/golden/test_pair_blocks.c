@@ -88,6 +88,8 @@ static const laws combinations[] = {
     {"hertz", "none", false},           {"hertz", "model_a", false}, {"hertz", "model_c", false},
     {"hertz", "model_c_capped", false}, {"hertz", "brof", false}, {"hertz", "brof", true},
     {"jkr", "none", false},             {"jkr", "model_c", false},   {"jkr", "brof", false},
+    /* jkr without surface energy (the interaction's own 0): Hertz's radius by a select */
+    {"jkr, surface_energy: 0", "none", false},
 };
 
 static void test_combination(void **state) {

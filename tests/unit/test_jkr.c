@@ -113,12 +113,35 @@ static void test_cube_root(void **state) {
   assert_true(isnan(adem_jkr_cbrt_packed(NAN)));
 }
 
+/* Claim (issue 25, item 2): without surface energy the closed form is Hertz's contact radius
+ * sqrt(R delta), to 1 ulp-ish (4e-16 relative), for the scalar and the packed cube root, so that
+ * `jkr` with gamma = 0 is Hertz and not 0/0 (which gave a = 0: no force at all). The force is
+ * then Hertz's 4 E a^3/(3R). */
+static void test_zero_surface_energy(void **state) {
+  (void)state;
+  double worst = 0.0, worst_f = 0.0;
+  for (int k = 1; k <= 100; ++k) {
+    double d = 1e-9 * k * k; /* overlaps 1 nm .. 10 um on R = 0.635 um .. */
+    double ah = sqrt(R * d);
+    double a = adem_jkr_contact_radius(0.0, R, E, d);
+    double ap = adem_jkr_contact_radius_as(0.0, R, E, d, true);
+    worst = fmax(worst, fmax(fabs(a - ah), fabs(ap - ah)) / ah);
+    double f = adem_jkr_force(0.0, R, E, a), fh = 4.0 * E * ah * ah * ah / (3.0 * R);
+    worst_f = fmax(worst_f, fabs(f - fh) / fh);
+  }
+  printf("# gamma = 0: largest |a - sqrt(R delta)|/sqrt(R delta) = %.2e, |F - F_hertz|/F_hertz = "
+         "%.2e\n", worst, worst_f);
+  assert_true(worst <= 4e-16);
+  assert_true(worst_f <= 1e-15);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_cube_root),
       cmocka_unit_test(test_quartic_residual),
       cmocka_unit_test(test_reference_values),
       cmocka_unit_test(test_energy_is_work),
+      cmocka_unit_test(test_zero_surface_energy),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
