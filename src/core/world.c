@@ -736,9 +736,10 @@ static inline bool particle_ok(const adem_world *w, size_t i) {
   if (ok && w->has_domain) {
     adem_vec3 x = p->pos[i];
     unsigned per = w->periodic.axes; /* crossing a periodic face is no escape */
-    ok = ((per & 1u) || (x.x >= w->domain_lo.x && x.x <= w->domain_hi.x)) &&
-         ((per & 2u) || (x.y >= w->domain_lo.y && x.y <= w->domain_hi.y)) &&
-         ((per & 4u) || (x.z >= w->domain_lo.z && x.z <= w->domain_hi.z));
+    unsigned o = w->open_faces; /* an outlet face: leaving through it is no escape either */
+    ok = ((per & 1u) || (((o & 1u) || x.x >= w->domain_lo.x) && ((o & 2u) || x.x <= w->domain_hi.x))) &&
+         ((per & 2u) || (((o & 4u) || x.y >= w->domain_lo.y) && ((o & 8u) || x.y <= w->domain_hi.y))) &&
+         ((per & 4u) || (((o & 16u) || x.z >= w->domain_lo.z) && ((o & 32u) || x.z <= w->domain_hi.z)));
   }
   return ok;
 }
@@ -1095,6 +1096,7 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
     adem_put_f64(wr, w->periodic.lo[d]);
     adem_put_f64(wr, w->periodic.len[d]);
   }
+  adem_put_u32(wr, w->open_faces);
   adem_put_f64(wr, w->nb.skin);
   adem_put_f64(wr, w->nb.skin_fraction);
   adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
@@ -1144,6 +1146,7 @@ adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
   (void)adem_get_vec(rd);
   (void)adem_get_u32(rd); /* periodic axes, then lo and length per axis */
   for (int d = 0; d < 6; ++d) (void)adem_get_f64(rd);
+  (void)adem_get_u32(rd); /* open faces */
   (void)adem_get_f64(rd); /* skin */
   (void)adem_get_f64(rd);
   (void)adem_get_u8(rd);
@@ -1206,6 +1209,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     w->periodic.lo[d] = adem_get_f64(rd);
     w->periodic.len[d] = adem_get_f64(rd);
   }
+  w->open_faces = adem_get_u32(rd);
   w->nb.skin = adem_get_f64(rd);
   w->nb.skin_fraction = adem_get_f64(rd);
   w->nb.brute_force = adem_get_u8(rd) != 0;
@@ -1317,8 +1321,14 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
     if (!count) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     count_contacts(w, count);
   }
-  for (size_t i = 0; i < n; ++i) {
-    uint64_t id = p->id[i]; /* ids are 0 .. n-1: particles are never removed */
+  /* the k-th smallest id at k: the id itself while no particle has been removed */
+  uint32_t *order = adem_world_id_order(w);
+  if (!order) {
+    free(count);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  for (size_t id = 0; id < n; ++id) {
+    size_t i = order[id];
     const adem_vec3 *v = NULL;
     double s = 0.0;
     switch (field) {
@@ -1344,6 +1354,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
       out[id] = s;
     }
   }
+  free(order);
   free(count);
   return ADEM_OK;
 }

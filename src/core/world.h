@@ -92,6 +92,9 @@ struct adem_world {
   adem_vec3 domain_lo, domain_hi;
   /* periodic axes of the domain box (periodic.h); axes 0: none */
   adem_periodic periodic;
+  /* faces of the domain box a particle may leave through (an outlet removes it later): bit 2d
+   * the face at domain_lo along axis d, bit 2d + 1 the one at domain_hi */
+  unsigned open_faces;
 
   /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
    * interpolated crossing time; the default) or first order (as before) */
@@ -166,6 +169,14 @@ void adem_world_add_external_work(adem_world *w, double work);
 
 /* Takes particles first..n-1, added to a prepared world while it runs (pours), into the run. */
 adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *err);
+
+/* Removes the particles i with gone[i] != 0 (storage order) between steps, with their pairs and
+ * mesh slots, and builds the neighbour lists again (the others keep their contacts' history).
+ * The energy they carried leaves the balance's initial energy, so that balance_error does not
+ * jump. The others' forces stay those of the last force pass (a removed particle's push on a
+ * neighbour acts for that half kick). *removed: how many went. src/core/remove.c. */
+adem_status adem_world_remove_particles(adem_world *w, const uint8_t *gone, size_t *removed,
+                                        adem_error *err);
 
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);

@@ -16,6 +16,7 @@
 #include "log.h"
 #include "rng.h"
 #include "insert.h"
+#include "outlets.h"
 #include "case_yaml.h"
 #include "schema.h"
 #include "stages.h"
@@ -1592,19 +1593,19 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
     if ((st = check_box(ctx, keep_lo, keep_hi, hi_node, &km))) goto done;
   }
   if ((st = check_memory(ctx, (double)p.n, m->node, m->path))) goto done;
-  /* ids are 0 .. n-1 (particles are never removed): sort by id */
+  /* by id (an outlet may have removed some: not always 0 .. n-1) */
   order = malloc((p.n + 1) * sizeof *order);
-  if (!order) {
+  uint32_t *by_id = malloc((p.n + 1) * sizeof *by_id);
+  if (!order || !by_id || adem_particles_id_order(&p, by_id)) {
+    free(by_id);
     st = adem_yaml_nomem(ctx);
     goto done;
   }
-  for (size_t i = 0; i < p.n; ++i) order[i] = SIZE_MAX;
-  for (size_t i = 0; i < p.n && !st; ++i) {
-    if (p.id[i] >= p.n || order[p.id[i]] != SIZE_MAX)
-      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: its particle ids are not 0 .. %zu", resolved, p.n - 1);
-    else
-      order[p.id[i]] = i;
-  }
+  for (size_t k = 0; k < p.n; ++k) order[k] = by_id[k];
+  for (size_t k = 1; k < p.n && !st; ++k)
+    if (p.id[order[k]] == p.id[order[k - 1]])
+      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: particle id %llu is there twice", resolved, (unsigned long long)p.id[order[k]]);
+  free(by_id);
   for (size_t k = 0; k < p.n && !st; ++k) {
     size_t i = order[k];
     adem_vec3 x = p.pos[i];
@@ -2043,6 +2044,7 @@ static adem_status build(case_ctx *ctx) {
     adem_world_set_domain(ctx->w, v3_sub(ctx->box_lo, v3(margin, margin, margin)),
                           v3_add(ctx->box_hi, v3(margin, margin, margin)));
   }
+  if ((st = adem_outlets_read(ctx, &root, &out))) return st; /* regions and domain known */
   if ((st = choose_step(ctx, &time, g))) return st;
   return warn_pulling_forces(ctx);
 }
@@ -2357,6 +2359,7 @@ void adem_case_free(adem_case *c) {
   adem_stages_free(c->stages);
   adem_regions_free(c->regions);
   adem_regions_free(c->fills);
+  adem_outlets_free(c->outlets);
   free(c->until);
   free(c->source);
   if (c->sets)

@@ -16,6 +16,7 @@
 #include "fileio.h"
 #include "insert.h"
 #include "log.h"
+#include "outlets.h"
 #include "output.h"
 #include "schedule.h"
 #include "stages.h"
@@ -168,14 +169,15 @@ static void region_columns_free(region_columns *rc) {
   memset(rc, 0, sizeof *rc);
 }
 
-static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
+/* ... then the outlets' and mass flows' columns (outlets.h). */
+static bool region_columns_make(region_columns *rc, const adem_regions *rs, const adem_outlets *o) {
   memset(rc, 0, sizeof *rc);
-  int nr = rs ? rs->n : 0;
-  rc->n = 2 * nr;
-  size_t m = (size_t)(nr > 0 ? nr : 1);
-  rc->names = calloc(2 * m, sizeof *rc->names);
-  rc->name = calloc(2 * m, sizeof *rc->name);
-  rc->value = calloc(2 * m, sizeof *rc->value);
+  int nr = rs ? rs->n : 0, no = adem_outlets_columns(o);
+  rc->n = 2 * nr + no;
+  size_t m = (size_t)(nr > 0 ? nr : 1), mc = 2 * m + (size_t)no;
+  rc->names = calloc(mc, sizeof *rc->names);
+  rc->name = calloc(mc, sizeof *rc->name);
+  rc->value = calloc(mc, sizeof *rc->value);
   rc->count = calloc(m, sizeof *rc->count);
   rc->mass = calloc(m, sizeof *rc->mass);
   if (!rc->names || !rc->name || !rc->value || !rc->count || !rc->mass) {
@@ -188,20 +190,26 @@ static bool region_columns_make(region_columns *rc, const adem_regions *rs) {
     rc->name[2 * k] = rc->names[2 * k];
     rc->name[2 * k + 1] = rc->names[2 * k + 1];
   }
+  for (int k = 0; k < no; ++k) {
+    adem_outlets_column_name(o, k, rc->names[2 * nr + k], sizeof rc->names[0]);
+    rc->name[2 * nr + k] = rc->names[2 * nr + k];
+  }
   return true;
 }
 
 /* A CSV row with the regions' counts and masses now. */
-static adem_status csv_row(adem_output *out, const adem_case *c, region_columns *rc,
+static adem_status csv_row(adem_output *out, adem_case *c, region_columns *rc,
                            adem_error *err) {
-  if (rc->n > 0) {
+  int nr = c->regions ? c->regions->n : 0;
+  if (nr > 0) {
     adem_regions_count(c->regions, c->world, rc->count, rc->mass);
-    for (int k = 0; k < rc->n / 2; ++k) {
+    for (int k = 0; k < nr; ++k) {
       rc->value[2 * k] = rc->count[k];
       rc->value[2 * k + 1] = rc->mass[k];
     }
   }
-  return adem_output_csv_append(out, c->world, err);
+  adem_status st = adem_outlets_sample(c, rc->value + 2 * nr, err);
+  return st ? st : adem_output_csv_append(out, c->world, err);
 }
 
 /* The run's processes (src/mpi): one, or a system split over several, each stepping its own
@@ -467,7 +475,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   memset(&out, 0, sizeof out);
   adem_output_track track = {c->output.ntrack, c->output.track};
   region_columns rc;
-  if (!region_columns_make(&rc, c->regions))
+  if (!region_columns_make(&rc, c->regions, c->outlets))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
   if (rs->writer)
@@ -616,6 +624,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   }
   if (rs->writer) adem_output_close(&out);
   region_columns_free(&rc);
+  if (rs->writer && (!st || st == ADEM_INTERRUPTED)) adem_outlets_log(c);
   /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
    * failed (they show how it went wrong). A plot that fails then is a warning only. */
   if (rs->writer && (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME)) {
