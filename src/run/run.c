@@ -14,6 +14,7 @@
 #include "adem/adem.h"
 #include "files.h"
 #include "fileio.h"
+#include "flow_plot.h"
 #include "insert.h"
 #include "log.h"
 #include "outlets.h"
@@ -149,6 +150,13 @@ static adem_status write_plots(const adem_case *c, const char *dir, adem_error *
     }
   }
   if (!st && c->output.plot_loads) st = plot_loads(c, dir, have_csv, err);
+  if (!st && c->output.plot && have_csv && adem_outlets_columns(c->outlets) > 0) {
+    char *csv = adem_file_join(dir, "timeseries.csv"), *png = adem_file_join(dir, "flow.png");
+    st = csv && png ? adem_run_plot_flow(c, csv, png, err)
+                    : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    free(csv);
+    free(png);
+  }
   return st;
 }
 
