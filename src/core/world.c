@@ -163,6 +163,7 @@ adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 
 void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
                            adem_vec3 *wall_force, adem_vec3 *wall_torque) {
   adem_walls_mesh_loads(&w->walls, group_force, group_torque, wall_force, wall_torque);
+  adem_world_frozen_mesh_loads(w, group_force, group_torque, wall_force, wall_torque);
 }
 
 adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
@@ -303,7 +304,10 @@ adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *pre
                                    const adem_mesh_setting *prev_meshes,
                                    const adem_mesh_setting *next_meshes, double t_s,
                                    adem_error *err) {
-  return adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
+  adem_status st =
+      adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
+  if (!st) adem_world_restart_anchors(w, t_s);
+  return st;
 }
 
 adem_status adem_world_change_materials(adem_world *w, const adem_material_def *defs,
@@ -613,7 +617,7 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
   for (size_t i = 0; i < p->n; ++i)
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
-      if (w->walls.planes[k].inactive) continue;
+      if (w->walls.planes[k].inactive || p->frozen[i]) continue; /* a frozen one is wall */
       double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -708,6 +712,7 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
     w->dt = isfinite(est.dt) ? est.dt : 1e-6;
   }
   adem_world_place_walls(w, w->time);
+  adem_world_place_frozen(w, w->time);
   st = check_periodic(w, err);
   if (st) return st;
   st = adem_world_build_neighbors(w, err);
@@ -969,6 +974,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
+    adem_world_place_frozen(w, (double)(w->step + 1) * dt);
     bool rebuild = adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads);
     if (sp) rebuild = sp->any(sp->ctx, rebuild); /* the largest displacement of all processes */
     if (rebuild) {
@@ -1457,6 +1463,7 @@ void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
       if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->res[k].force_a);
     }
   }
+  adem_world_frozen_plane_forces(w, out);
 }
 
 uint64_t adem_world_neighbor_builds(const adem_world *w) { return w->nb.rebuilds; }

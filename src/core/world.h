@@ -178,6 +178,25 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
 adem_status adem_world_remove_particles(adem_world *w, const uint8_t *gone, size_t *removed,
                                         adem_error *err);
 
+/* Frozen particles (src/core/frozen.c): particle id becomes part of a wall, attach 0 (fixed in
+ * space), k + 1 (mesh group k) or -(k + 1) (plane k), moving with the wall's prescribed motion
+ * from where it is now; not a servo wall. */
+adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attach,
+                                       adem_error *err);
+/* Puts the frozen particles where their walls' motions have them at t, with their walls'
+ * velocity and spin. */
+void adem_world_place_frozen(adem_world *w, double t);
+/* After a stage changed motions at t_s: the anchors of the frozen particles whose wall's motion
+ * begins there are where they are. */
+void adem_world_restart_anchors(adem_world *w, double t_s);
+/* Adds the contact forces on the frozen particles (by id) to their planes' forces, and forces
+ * and torques to their mesh groups' and mesh walls' loads (any pointer may be NULL). */
+void adem_world_frozen_plane_forces(const adem_world *w, adem_vec3 *out);
+void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
+                                  adem_vec3 *group_torque, adem_vec3 *wall_force,
+                                  adem_vec3 *wall_torque);
+bool adem_world_has_frozen(const adem_world *w);
+
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 /* The gather lists after a checkpoint load. */

@@ -1640,6 +1640,34 @@ done:
   return st;
 }
 
+/* particles[].frozen / attach: the set's spheres (from index n0) become part of a wall
+ * (src/core/frozen.c), a plane or a mesh group by name, or are fixed in space. */
+static adem_status freeze_set(case_ctx *ctx, const map_cursor *m, size_t n0) {
+  bool frozen = false;
+  char name[ADEM_NAME_MAX] = "", path[KEY_PATH_MAX];
+  yaml_node_t *node;
+  adem_status st = adem_yaml_get_bool(ctx, m, "frozen", &frozen);
+  if (!st) st = adem_yaml_get_string(ctx, m, "attach", name, sizeof name, &node);
+  if (st || (!frozen && !node)) return st;
+  int32_t attach = 0;
+  if (node) {
+    adem_yaml_join(path, sizeof path, m->path, "attach");
+    int g = adem_world_find_mesh_group(ctx->w, name);
+    for (int k = 0; g < 0 && k < adem_world_plane_count(ctx->w) && !attach; ++k)
+      if (!strcmp(adem_world_plane(ctx->w, k)->name, name)) attach = -(k + 1);
+    if (g >= 0) attach = g + 1;
+    if (!attach)
+      return adem_yaml_fail(ctx, node, path, "no plane or mesh group named `%s` to attach to "
+                            "(a box's planes are NAME.xmin ...)", name);
+  }
+  for (size_t i = n0; i < ctx->w->p.n; ++i) {
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_world_freeze_particle(ctx->w, ctx->w->p.id[i], attach, &werr))
+      return adem_yaml_fail(ctx, node ? node : m->node, node ? path : m->path, "%s", werr.message);
+  }
+  return ADEM_OK;
+}
+
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
   list_cursor l;
   adem_status st = adem_yaml_get_list(ctx, root, "particles", &l);
@@ -1677,12 +1705,14 @@ static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
     if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
     adem_yaml_join(path, sizeof path, m.path, "group");
     if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &group))) return st;
+    size_t n0 = ctx->w->p.n;
     if (!strcmp(m.variant, "list"))
       st = build_list(ctx, &m, mat, group);
     else if (!strcmp(m.variant, "lattice"))
       st = build_lattice(ctx, &m, mat, group);
     else
       st = build_random(ctx, &m, i, mat, group);
+    if (!st) st = freeze_set(ctx, &m, n0);
     if (st) return st;
   }
   return ADEM_OK;

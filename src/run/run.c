@@ -261,6 +261,10 @@ static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error
   /* nothing to split yet (every particle comes from a pour): every process steps the same
    * empty world until the first batch, then splits */
   if (w->p.n == 0 && !w->admit_pending) return ADEM_OK;
+  if (adem_world_has_frozen(w)) /* their loads are summed on one process (frozen.c) */
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "frozen particles (particles[].frozen, attach) are not supported split "
+                          "over MPI processes yet: run with one process");
   if (w->admit_pending) { /* what the serial run's next step begins with */
     w->admit_pending = false;
     adem_status st = adem_world_admit_particles(w, w->admit_from, err);
