@@ -196,6 +196,10 @@ void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
                                   adem_vec3 *group_torque, adem_vec3 *wall_force,
                                   adem_vec3 *wall_torque);
 bool adem_world_has_frozen(const adem_world *w);
+/* The wall layer's slip (src/core/slip.c): per plane and per mesh group, the mean over the
+ * particles touching it (or a frozen particle attached to it) of the tangential speed of their
+ * centre relative to the wall's material there, m/s; NaN when none touches. Either may be NULL. */
+void adem_world_wall_slip(const adem_world *w, double *plane_slip, double *group_slip);
 
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);

@@ -177,12 +177,27 @@ static void region_columns_free(region_columns *rc) {
   memset(rc, 0, sizeof *rc);
 }
 
-/* ... then the outlets' and mass flows' columns (outlets.h). */
-static bool region_columns_make(region_columns *rc, const adem_regions *rs, const adem_outlets *o) {
+/* Whether the CSV has a slip column for plane k (k < nplanes) or mesh group k - nplanes: the
+ * walls that move (their CSV flag, any stage's motion). */
+static bool slip_column(const adem_walls *wl, int k) {
+  if (k < wl->nplanes) return (wl->planes[k].csv & ADEM_WALL_CSV_MOVES) != 0;
+  int g = k - wl->nplanes;
+  for (int j = 0; j < wl->nmesh_walls; ++j)
+    if (g >= wl->mesh_walls[j].first && g < wl->mesh_walls[j].first + wl->mesh_walls[j].count)
+      return (wl->mesh_walls[j].csv & ADEM_WALL_CSV_MOVES) != 0;
+  return false;
+}
+
+/* ... then the outlets' and mass flows' columns (outlets.h), then NAME_slip_m_s of each moving
+ * wall (adem_world_wall_slip). */
+static bool region_columns_make(region_columns *rc, const adem_regions *rs, const adem_outlets *o,
+                                const adem_world *w) {
   memset(rc, 0, sizeof *rc);
-  int nr = rs ? rs->n : 0, no = adem_outlets_columns(o);
-  rc->n = 2 * nr + no;
-  size_t m = (size_t)(nr > 0 ? nr : 1), mc = 2 * m + (size_t)no;
+  int nr = rs ? rs->n : 0, no = adem_outlets_columns(o), ns = 0;
+  int nw = w->walls.nplanes + w->walls.mesh.ngroups;
+  for (int k = 0; k < nw; ++k) ns += slip_column(&w->walls, k);
+  rc->n = 2 * nr + no + ns;
+  size_t m = (size_t)(nr > 0 ? nr : 1), mc = 2 * m + (size_t)no + (size_t)ns;
   rc->names = calloc(mc, sizeof *rc->names);
   rc->name = calloc(mc, sizeof *rc->name);
   rc->value = calloc(mc, sizeof *rc->value);
@@ -202,6 +217,14 @@ static bool region_columns_make(region_columns *rc, const adem_regions *rs, cons
     adem_outlets_column_name(o, k, rc->names[2 * nr + k], sizeof rc->names[0]);
     rc->name[2 * nr + k] = rc->names[2 * nr + k];
   }
+  for (int k = 0, c = 2 * nr + no; k < nw; ++k) {
+    if (!slip_column(&w->walls, k)) continue;
+    const char *wn = k < w->walls.nplanes ? w->walls.planes[k].def.name
+                                           : w->walls.mesh.groups[k - w->walls.nplanes].name;
+    snprintf(rc->names[c], sizeof rc->names[0], "%s_slip_m_s", wn);
+    rc->name[c] = rc->names[c];
+    c++;
+  }
   return true;
 }
 
@@ -217,6 +240,16 @@ static adem_status csv_row(adem_output *out, adem_case *c, region_columns *rc,
     }
   }
   adem_status st = adem_outlets_sample(c, rc->value + 2 * nr, err);
+  const adem_walls *wl = &c->world->walls;
+  int nw = wl->nplanes + wl->mesh.ngroups, v = 2 * nr + adem_outlets_columns(c->outlets);
+  if (!st && v < rc->n) {
+    double *slip = malloc(((size_t)nw + 1) * sizeof *slip);
+    if (!slip) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    adem_world_wall_slip(c->world, slip, slip + wl->nplanes);
+    for (int k = 0; k < nw; ++k)
+      if (slip_column(wl, k)) rc->value[v++] = slip[k];
+    free(slip);
+  }
   return st ? st : adem_output_csv_append(out, c->world, err);
 }
 
@@ -487,7 +520,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   memset(&out, 0, sizeof out);
   adem_output_track track = {c->output.ntrack, c->output.track};
   region_columns rc;
-  if (!region_columns_make(&rc, c->regions, c->outlets))
+  if (!region_columns_make(&rc, c->regions, c->outlets, w))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
   if (rs->writer)

@@ -166,6 +166,54 @@ static void test_frozen_carry_load(void **state) {
   }
 }
 
+/* Claim: the slip measure tells a smooth moving floor from a rough one. A sphere resting on a
+ * smooth plane that starts moving along x at 0.1 m/s slips at the plane's speed at first (to
+ * 1e-3 m/s: friction has had one step), and once friction has made it roll without slipping its
+ * centre lags the plane by 5/7 of its speed (m v = F t, (2/5) m r^2 w = F r t, v + w r = 0.1:
+ * v = 0.1 / 3.5), to 1e-3 of that; on a frozen layer attached to the plane the sphere sits in a
+ * hollow and is carried along: its slip is below 1e-3 m/s after 0.3 s. */
+static void test_slip(void **state) {
+  (void)state;
+  const char *moving =
+      "{type: plane, name: floor, point: [0, 0, 0], normal: [0, 0, 1], material: steel,\n"
+      "     motion: {velocity: [0.1, 0, 0]}}";
+  char text[4096];
+  /* smooth: the lattice replaced by one sphere on the plane, the other sphere far away */
+  snprintf(text, sizeof text,
+           "name: smooth\n"
+           "materials:\n"
+           "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
+           "     restitution: 0.3, friction: 0.5}\n"
+           "  - {name: steel, rigid: true, friction: 0.5}\n"
+           "walls:\n  - %s\n"
+           "particles:\n"
+           "  - {type: list, material: glass, spheres: [{position: [0, 0, 0.002], radius: 0.002}]}\n"
+           "time: {end: 0.1, step: 1.0e-5}\n"
+           "output: {csv_interval: 0, frame_interval: 0, checkpoint_interval: 0}\n",
+           moving);
+  adem_case *c = load(text);
+  adem_error err;
+  if (adem_world_step(c->world, 1, &err)) fail_msg("%s", err.message);
+  double smooth0, smooth, rough[3];
+  adem_world_wall_slip(c->world, &smooth0, NULL);
+  if (adem_world_step(c->world, 9999, &err)) fail_msg("%s", err.message);
+  adem_world_wall_slip(c->world, &smooth, NULL);
+  adem_case_free(c);
+  snprintf(text, sizeof text, rough_fmt, moving, "floor");
+  c = load(text);
+  for (int k = 0; k < 3; ++k) {
+    if (adem_world_step(c->world, 10000, &err)) fail_msg("%s", err.message);
+    adem_world_wall_slip(c->world, &rough[k], NULL);
+  }
+  printf("# slip on a floor moving at 0.1 m/s: smooth %.6g m/s (first step), %.6g m/s (0.1 s; "
+         "rolling without slipping: 5/7 x 0.1 = %.6g), rough %.3g, %.3g, %.3g m/s (0.1, 0.2, 0.3 s)\n",
+         smooth0, smooth, 0.5 / 7.0, rough[0], rough[1], rough[2]);
+  assert_true(fabs(smooth0 - 0.1) < 1e-3);
+  assert_true(fabs(smooth - 0.5 / 7.0) < 1e-3 * 0.5 / 7.0);
+  assert_true(rough[2] < 1e-3);
+  adem_case_free(c);
+}
+
 /* Claim: frozen spheres are refused where they cannot work, naming the key. */
 static void test_frozen_refusals(void **state) {
   (void)state;
@@ -186,6 +234,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_frozen_follow_wall),
       cmocka_unit_test(test_frozen_carry_load),
+      cmocka_unit_test(test_slip),
       cmocka_unit_test(test_frozen_refusals),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
