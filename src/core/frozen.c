@@ -31,6 +31,7 @@ adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attac
     return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
   p->frozen[i] = 1;
   p->attach[i] = attach;
+  w->frozen_any = true;
   const adem_motion *m = motion_of(w, i);
   if (m && m->servo.on)
     return adem_error_set(err, ADEM_ERR_INPUT,
@@ -44,6 +45,7 @@ adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attac
 
 void adem_world_place_frozen(adem_world *w, double t) {
   adem_particles *p = &w->p;
+  if (!w->frozen_any) return; /* a run without them pays nothing per step */
   for (size_t i = 0; i < p->n; ++i) {
     if (!p->frozen[i]) continue;
     const adem_motion *m = motion_of(w, i);
@@ -59,6 +61,7 @@ void adem_world_place_frozen(adem_world *w, double t) {
 
 void adem_world_restart_anchors(adem_world *w, double t_s) {
   adem_particles *p = &w->p;
+  if (!w->frozen_any) return;
   for (size_t i = 0; i < p->n; ++i) {
     if (!p->frozen[i]) continue;
     const adem_motion *m = motion_of(w, i);
@@ -78,6 +81,7 @@ static adem_vec3 contact_force(const adem_world *w, size_t i) {
 void adem_world_frozen_plane_forces(const adem_world *w, adem_vec3 *out) {
   const adem_particles *p = &w->p;
   uint32_t *order = NULL;
+  if (!w->frozen_any) return;
   for (size_t i = 0; i < p->n && !order; ++i)
     if (p->frozen[i] && p->attach[i] < 0) order = adem_world_id_order(w);
   if (!order) return; /* none (or out of memory: the walls' own contacts only) */
@@ -97,6 +101,7 @@ void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
   const adem_walls *wl = &w->walls;
   int ng = wl->mesh.ngroups;
   uint32_t *order = NULL;
+  if (!w->frozen_any) return;
   for (size_t i = 0; i < p->n && !order; ++i)
     if (p->frozen[i] && p->attach[i] > 0) order = adem_world_id_order(w);
   if (!order || ng == 0) {

@@ -1247,6 +1247,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     d->material = adem_get_i32(rd);
   }
   adem_status st = adem_particles_load(rd, &w->p, err);
+  if (!st) w->frozen_any = adem_world_has_frozen(w);
   if (!st) st = adem_pairs_load(rd, &w->pp, err);
   if (!st) st = adem_pairs_load(rd, &w->pw, err);
   if (!st && !rd->failed) {

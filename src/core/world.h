@@ -95,6 +95,8 @@ struct adem_world {
   /* faces of the domain box a particle may leave through (an outlet removes it later): bit 2d
    * the face at domain_lo along axis d, bit 2d + 1 the one at domain_hi */
   unsigned open_faces;
+  /* some particle is (or was) frozen (frozen.c): the per-step placement runs only then */
+  bool frozen_any;
 
   /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
    * interpolated crossing time; the default) or first order (as before) */

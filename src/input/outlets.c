@@ -281,7 +281,7 @@ adem_status adem_outlets_run(adem_case *c, adem_error *err) {
     if (w->step % period_of(t, w->dt) != 0) continue;
     for (size_t r = 0; r < n; ++r) {
       size_t i = order[r];
-      if (gone[i] || !removes(t, c, w, w->p.pos[i])) continue;
+      if (gone[i] || w->p.frozen[i] || !removes(t, c, w, w->p.pos[i])) continue; /* a wall's */
       gone[i] = 1;
       t->count++;
       t->mass += 1.0 / w->p.inv_mass[i];
