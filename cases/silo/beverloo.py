@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Discharge rates of cases/silo/silo.yaml runs against Beverloo's correlation.
 
-Usage: beverloo.py L1:OUT1 L2:OUT2 ...   (L: the orifice's side in m, OUT: the run's output folder)
+Usage: beverloo.py [--window FROM TO] L1:OUT1 L2:OUT2 ...
+  (L: the orifice's side in m, OUT: the run's output folder; the window 0.5 .. 0.8 s by default)
 
 For each run: the packing fraction of the settled bed (centres in a box inside it, from the
 frame at the gate's opening), its bulk density rho_b, and the discharge rate W: the slope of a
@@ -66,8 +67,13 @@ def rate(path):
 
 
 def main():
+    global FROM, TO
+    args = sys.argv[1:]
+    if args[:1] == ["--window"]:
+        FROM, TO = float(args[1]), float(args[2])
+        args = args[3:]
     runs = []
-    for arg in sys.argv[1:]:
+    for arg in args:
         side, out = arg.split(":", 1)
         phi, top = packing_fraction(out + "/" + FRAME)
         w, n = rate(out + "/timeseries.csv")
@@ -88,13 +94,13 @@ def main():
         b = ym - s * xm
         C = s ** 2.5 / (rho_b * math.sqrt(G))
         k = -b / (s * D)
-        print("fit of W^(2/5) against L: C = %.3f, k = %.2f" % (C, k))
+        print("fit of W^(2/5) against L: C' = %.3f (a circle's C = C' pi/4 = %.3f), k = %.2f" % (C, C * math.pi / 4, k))
         for side, out, phi, top, w, _ in runs:
             wf = C * rho_b * math.sqrt(G) * max(side - k * D, 0.0) ** 2.5
             print("  L = %.0f mm: W = %.4f kg/s, fit %.4f (%+.1f %%)" % (side * 1e3, w, wf, 100 * (w / wf - 1)))
     for side, out, phi, top, w, _ in runs:
         c15 = w / (rho_b * math.sqrt(G) * (side - 1.5 * D) ** 2.5)
-        print("  k = 1.5: L = %.0f mm gives C = %.3f (a circle's C = %.3f x pi/4)" % (side * 1e3, c15, c15 * math.pi / 4))
+        print("  k = 1.5: L = %.0f mm gives C' = %.3f (a circle's C = C' pi/4 = %.3f)" % (side * 1e3, c15, c15 * math.pi / 4))
 
 
 if __name__ == "__main__":
