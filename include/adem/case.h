@@ -32,6 +32,7 @@ typedef struct adem_pours adem_pours;
 typedef struct adem_stages adem_stages;
 /* Named regions (src/insert.h): output.regions, and the regions random sets were filled in. */
 typedef struct adem_regions adem_regions;
+typedef struct adem_outlets adem_outlets;
 /* A run-until condition (src/until.h). */
 typedef struct adem_until adem_until;
 
@@ -58,6 +59,7 @@ typedef struct adem_case {
   adem_until *until;          /* time.until (NULL: the run lasts until time.end) */
   adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
   adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
+  adem_outlets *outlets;      /* outlets and output.mass_flow (NULL: none; input/outlets.h) */
   /* What adem_run has written up to the current step (kept in checkpoints, so that a resumed
    * run, even one given a later end time, continues the files as one run would have). */
   uint64_t frames_written;    /* frames at t = 0 and at every frame interval (not one written

@@ -301,7 +301,8 @@ size_t adem_world_particle_count(const adem_world *w);
 adem_diagnostics adem_world_diagnostics(const adem_world *w);
 
 /* Per-particle quantities, read into arrays in order of particle id (id k at out[k * components],
- * components 3 for vectors, 1 for scalars). */
+ * components 3 for vectors, 1 for scalars; once an outlet has removed particles, the k-th
+ * smallest id remaining). */
 typedef enum adem_particle_field {
   ADEM_FIELD_POSITION = 0,         /* m */
   ADEM_FIELD_VELOCITY = 1,         /* m/s */

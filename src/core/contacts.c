@@ -23,13 +23,13 @@ static inline adem_vec3 v3_select(bool c, adem_vec3 a, adem_vec3 b) {
  * particle BROF holds has its spin set to zero by that kick. Every operand is loaded whatever
  * the branch, so that a block kernel's loop has no branch to a load (pair_block). */
 static inline adem_vec3 predicted_velocity(const adem_particles *p, size_t i, double dt) {
-  adem_vec3 v = p->vel[i];
-  return v3_select(dt == 0.0, v, v3_axpy(v, 0.5 * dt * p->inv_mass[i], p->force[i]));
+  adem_vec3 v = p->vel[i]; /* a frozen particle's is its wall's at the full step already */
+  return v3_select(dt == 0.0 || p->frozen[i], v, v3_axpy(v, 0.5 * dt * p->inv_mass[i], p->force[i]));
 }
 static inline adem_vec3 predicted_spin(const adem_particles *p, size_t i, double dt) {
   adem_vec3 o = p->omega[i];
   adem_vec3 o_pred = v3_axpy(o, 0.5 * dt * p->inv_inertia[i], p->torque[i]);
-  return v3_select(dt == 0.0, o, v3_select(p->held[i] != 0, v3_zero(), o_pred));
+  return v3_select(dt == 0.0 || p->frozen[i], o, v3_select(p->held[i] != 0, v3_zero(), o_pred));
 }
 
 /* The spin of a wall's motion (constant rotation about its axis), rad/s. */

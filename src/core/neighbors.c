@@ -351,7 +351,7 @@ static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *ou
   double skin = nb->skin;
   if (nb->brute_force) {
     for (size_t j = i + 1; j < p->n; ++j) {
-      if (!pair_close(nb, p, i, j, skin)) continue;
+      if ((p->frozen[i] && p->frozen[j]) || !pair_close(nb, p, i, j, skin)) continue;
       if (out) {
         bool lower = p->id[i] < p->id[j];
         out->a[at + count] = (uint32_t)(lower ? i : j);
@@ -374,7 +374,8 @@ static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *ou
         size_t jb = nb->cell_start[cell], je = nb->cell_start[cell + 1];
         if (jb < i + 1) jb = i + 1; /* each pair once, from its lower index */
         for (size_t j = jb; j < je; ++j) {
-          if (!pair_close(nb, p, i, j, skin)) continue;
+          /* two frozen particles are one rigid wall: no contact */
+          if ((p->frozen[i] && p->frozen[j]) || !pair_close(nb, p, i, j, skin)) continue;
           if (out) {
             bool lower = p->id[i] < p->id[j];
             out->a[at + count] = (uint32_t)(lower ? i : j);
@@ -390,6 +391,7 @@ static size_t particle_pairs_of(const build_ctx *w, size_t i, adem_pair_list *ou
 
 static size_t wall_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, size_t at) {
   size_t count = 0;
+  if (w->p->frozen[i]) return 0; /* part of a wall: no wall contacts */
   adem_vec3 x = w->p->pos[i];
   double reach = w->p->radius[i] + w->nb->skin;
   for (int k = 0; k < w->walls->nplanes; ++k) {
@@ -469,7 +471,7 @@ static adem_status bin_triangles(build_ctx *w, double reach) {
 static size_t mesh_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, size_t at) {
   const adem_mesh *m = &w->walls->mesh;
   const adem_neighbors *nb = w->nb;
-  if (m->ntris == 0) return 0;
+  if (m->ntris == 0 || w->p->frozen[i]) return 0;
   adem_vec3 x = w->p->pos[i];
   double reach = w->p->radius[i] + nb->skin;
   size_t count = 0, tb = 0, te = m->ntris;

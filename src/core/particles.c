@@ -97,6 +97,7 @@ typedef struct kick_args {
 
 static inline void kick_one(const kick_args *a, size_t i) {
   adem_particles *p = a->p;
+  if (p->frozen[i]) return; /* its wall's motion sets its velocity and spin */
   p->vel[i] = v3_axpy(p->vel[i], a->h * p->inv_mass[i], p->force[i]); /* H3 */
   if (a->closing && p->held[i])
     p->omega[i] = v3_zero();
@@ -111,6 +112,7 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
 
 /* Moves particle i; returns how much farther than its radius it went. */
 static inline double drift_one(adem_particles *p, double dt, size_t i) {
+  if (p->frozen[i]) return -p->radius[i]; /* placed with its wall (adem_world_place_frozen) */
   p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
   double moved = dt * v3_norm(p->vel[i]); /* the drift is a straight segment */
   p->path_length[i] += moved;

@@ -44,7 +44,10 @@ typedef struct adem_group {
   X(double, wall_work, "energy moving walls gave through its contacts to the last closing kick, J") \
   X(double, wall_work_next, "of the last force pass, what the next opening kick receives, J") \
   X(adem_vec3, brof_impulse, "angular impulse of BROF's share from particle contacts, which no "  \
-    "partner takes back (I9-I10 act per particle), N m s")
+    "partner takes back (I9-I10 act per particle), N m s") \
+  X(uint8_t, frozen, "1: fixed to a wall (or to space): not integrated, placed by the wall's motion") \
+  X(int32_t, attach, "the wall a frozen particle moves with: 0 none, k + 1 mesh group k, -(k + 1) plane k") \
+  X(adem_vec3, anchor, "a frozen particle's centre where its wall's motion starts (at the motion's t0)")
 
 typedef struct adem_particles {
   size_t n, cap;

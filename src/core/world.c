@@ -164,6 +164,7 @@ adem_status adem_world_set_mesh_torque_point(adem_world *w, int wall, adem_vec3 
 void adem_world_mesh_loads(const adem_world *w, adem_vec3 *group_force, adem_vec3 *group_torque,
                            adem_vec3 *wall_force, adem_vec3 *wall_torque) {
   adem_walls_mesh_loads(&w->walls, group_force, group_torque, wall_force, wall_torque);
+  adem_world_frozen_mesh_loads(w, group_force, group_torque, wall_force, wall_torque);
 }
 
 adem_status adem_world_set_mesh_motion(adem_world *w, int group, const adem_motion_def *def,
@@ -307,7 +308,10 @@ adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *pre
                                    const adem_mesh_setting *prev_meshes,
                                    const adem_mesh_setting *next_meshes, double t_s,
                                    adem_error *err) {
-  return adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
+  adem_status st =
+      adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
+  if (!st) adem_world_restart_anchors(w, t_s);
+  return st;
 }
 
 adem_status adem_world_change_materials(adem_world *w, const adem_material_def *defs,
@@ -634,7 +638,7 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
   for (size_t i = 0; i < p->n; ++i)
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
-      if (w->walls.planes[k].inactive) continue;
+      if (w->walls.planes[k].inactive || p->frozen[i]) continue; /* a frozen one is wall */
       double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -729,6 +733,7 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
     w->dt = isfinite(est.dt) ? est.dt : 1e-6;
   }
   adem_world_place_walls(w, w->time);
+  adem_world_place_frozen(w, w->time);
   st = check_periodic(w, err);
   if (st) return st;
   st = adem_world_build_neighbors(w, err);
@@ -757,9 +762,10 @@ static inline bool particle_ok(const adem_world *w, size_t i) {
   if (ok && w->has_domain) {
     adem_vec3 x = p->pos[i];
     unsigned per = w->periodic.axes; /* crossing a periodic face is no escape */
-    ok = ((per & 1u) || (x.x >= w->domain_lo.x && x.x <= w->domain_hi.x)) &&
-         ((per & 2u) || (x.y >= w->domain_lo.y && x.y <= w->domain_hi.y)) &&
-         ((per & 4u) || (x.z >= w->domain_lo.z && x.z <= w->domain_hi.z));
+    unsigned o = w->open_faces; /* an outlet face: leaving through it is no escape either */
+    ok = ((per & 1u) || (((o & 1u) || x.x >= w->domain_lo.x) && ((o & 2u) || x.x <= w->domain_hi.x))) &&
+         ((per & 2u) || (((o & 4u) || x.y >= w->domain_lo.y) && ((o & 8u) || x.y <= w->domain_hi.y))) &&
+         ((per & 4u) || (((o & 16u) || x.z >= w->domain_lo.z) && ((o & 32u) || x.z <= w->domain_hi.z)));
   }
   return ok;
 }
@@ -989,6 +995,7 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
       if (st) return st;
     }
     adem_world_place_walls(w, (double)(w->step + 1) * dt);
+    adem_world_place_frozen(w, (double)(w->step + 1) * dt);
     bool rebuild = adem_neighbors_need_rebuild(&w->nb, &w->p, adem_world_wall_shift(w), nthreads);
     if (sp) rebuild = sp->any(sp->ctx, rebuild); /* the largest displacement of all processes */
     if (rebuild) {
@@ -1116,6 +1123,7 @@ void adem_world_save(adem_writer *wr, const adem_world *w) {
     adem_put_f64(wr, w->periodic.lo[d]);
     adem_put_f64(wr, w->periodic.len[d]);
   }
+  adem_put_u32(wr, w->open_faces);
   adem_put_f64(wr, w->nb.skin);
   adem_put_f64(wr, w->nb.skin_fraction);
   adem_put_u8(wr, w->nb.brute_force ? 1 : 0);
@@ -1165,6 +1173,7 @@ adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
   (void)adem_get_vec(rd);
   (void)adem_get_u32(rd); /* periodic axes, then lo and length per axis */
   for (int d = 0; d < 6; ++d) (void)adem_get_f64(rd);
+  (void)adem_get_u32(rd); /* open faces */
   (void)adem_get_f64(rd); /* skin */
   (void)adem_get_f64(rd);
   (void)adem_get_u8(rd);
@@ -1227,6 +1236,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     w->periodic.lo[d] = adem_get_f64(rd);
     w->periodic.len[d] = adem_get_f64(rd);
   }
+  w->open_faces = adem_get_u32(rd);
   w->nb.skin = adem_get_f64(rd);
   w->nb.skin_fraction = adem_get_f64(rd);
   w->nb.brute_force = adem_get_u8(rd) != 0;
@@ -1258,6 +1268,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
     d->material = adem_get_i32(rd);
   }
   adem_status st = adem_particles_load(rd, &w->p, err);
+  if (!st) w->frozen_any = adem_world_has_frozen(w);
   if (!st) st = adem_pairs_load(rd, &w->pp, err);
   if (!st) st = adem_pairs_load(rd, &w->pw, err);
   if (!st && !rd->failed) {
@@ -1338,8 +1349,14 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
     if (!count) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     count_contacts(w, count);
   }
-  for (size_t i = 0; i < n; ++i) {
-    uint64_t id = p->id[i]; /* ids are 0 .. n-1: particles are never removed */
+  /* the k-th smallest id at k: the id itself while no particle has been removed */
+  uint32_t *order = adem_world_id_order(w);
+  if (!order) {
+    free(count);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  for (size_t id = 0; id < n; ++id) {
+    size_t i = order[id];
     const adem_vec3 *v = NULL;
     double s = 0.0;
     switch (field) {
@@ -1365,6 +1382,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
       out[id] = s;
     }
   }
+  free(order);
   free(count);
   return ADEM_OK;
 }
@@ -1467,6 +1485,7 @@ void adem_world_plane_forces(const adem_world *w, adem_vec3 *out) {
       if (wall < (uint32_t)w->walls.nplanes) out[wall] = v3_sub(out[wall], l->res[k].force_a);
     }
   }
+  adem_world_frozen_plane_forces(w, out);
 }
 
 uint64_t adem_world_neighbor_builds(const adem_world *w) { return w->nb.rebuilds; }

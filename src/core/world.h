@@ -92,6 +92,11 @@ struct adem_world {
   adem_vec3 domain_lo, domain_hi;
   /* periodic axes of the domain box (periodic.h); axes 0: none */
   adem_periodic periodic;
+  /* faces of the domain box a particle may leave through (an outlet removes it later): bit 2d
+   * the face at domain_lo along axis d, bit 2d + 1 the one at domain_hi */
+  unsigned open_faces;
+  /* some particle is (or was) frozen (frozen.c): the per-step placement runs only then */
+  bool frozen_any;
 
   /* contact forces in the step: second order (predicted dashpot velocities, JKR jumps at the
    * interpolated crossing time; the default) or first order (as before) */
@@ -166,6 +171,37 @@ void adem_world_add_external_work(adem_world *w, double work);
 
 /* Takes particles first..n-1, added to a prepared world while it runs (pours), into the run. */
 adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *err);
+
+/* Removes the particles i with gone[i] != 0 (storage order) between steps, with their pairs and
+ * mesh slots, and builds the neighbour lists again (the others keep their contacts' history).
+ * The energy they carried leaves the balance's initial energy, so that balance_error does not
+ * jump. The others' forces stay those of the last force pass (a removed particle's push on a
+ * neighbour acts for that half kick). *removed: how many went. src/core/remove.c. */
+adem_status adem_world_remove_particles(adem_world *w, const uint8_t *gone, size_t *removed,
+                                        adem_error *err);
+
+/* Frozen particles (src/core/frozen.c): particle id becomes part of a wall, attach 0 (fixed in
+ * space), k + 1 (mesh group k) or -(k + 1) (plane k), moving with the wall's prescribed motion
+ * from where it is now; not a servo wall. */
+adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attach,
+                                       adem_error *err);
+/* Puts the frozen particles where their walls' motions have them at t, with their walls'
+ * velocity and spin. */
+void adem_world_place_frozen(adem_world *w, double t);
+/* After a stage changed motions at t_s: the anchors of the frozen particles whose wall's motion
+ * begins there are where they are. */
+void adem_world_restart_anchors(adem_world *w, double t_s);
+/* Adds the contact forces on the frozen particles (by id) to their planes' forces, and forces
+ * and torques to their mesh groups' and mesh walls' loads (any pointer may be NULL). */
+void adem_world_frozen_plane_forces(const adem_world *w, adem_vec3 *out);
+void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
+                                  adem_vec3 *group_torque, adem_vec3 *wall_force,
+                                  adem_vec3 *wall_torque);
+bool adem_world_has_frozen(const adem_world *w);
+/* The wall layer's slip (src/core/slip.c): per plane and per mesh group, the mean over the
+ * particles touching it (or a frozen particle attached to it) of the tangential speed of their
+ * centre relative to the wall's material there, m/s; NaN when none touches. Either may be NULL. */
+void adem_world_wall_slip(const adem_world *w, double *plane_slip, double *group_slip);
 
 /* Neighbour search over the whole world (neighbors.h). */
 adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);

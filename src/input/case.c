@@ -17,6 +17,7 @@
 #include "rng.h"
 #include "schedule.h"
 #include "insert.h"
+#include "outlets.h"
 #include "case_yaml.h"
 #include "schema.h"
 #include "stages.h"
@@ -1738,19 +1739,19 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
     if ((st = check_box(ctx, keep_lo, keep_hi, hi_node, &km))) goto done;
   }
   if ((st = check_memory(ctx, (double)p.n, m->node, m->path))) goto done;
-  /* ids are 0 .. n-1 (particles are never removed): sort by id */
+  /* by id (an outlet may have removed some: not always 0 .. n-1) */
   order = malloc((p.n + 1) * sizeof *order);
-  if (!order) {
+  uint32_t *by_id = malloc((p.n + 1) * sizeof *by_id);
+  if (!order || !by_id || adem_particles_id_order(&p, by_id)) {
+    free(by_id);
     st = adem_yaml_nomem(ctx);
     goto done;
   }
-  for (size_t i = 0; i < p.n; ++i) order[i] = SIZE_MAX;
-  for (size_t i = 0; i < p.n && !st; ++i) {
-    if (p.id[i] >= p.n || order[p.id[i]] != SIZE_MAX)
-      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: its particle ids are not 0 .. %zu", resolved, p.n - 1);
-    else
-      order[p.id[i]] = i;
-  }
+  for (size_t k = 0; k < p.n; ++k) order[k] = by_id[k];
+  for (size_t k = 1; k < p.n && !st; ++k)
+    if (p.id[order[k]] == p.id[order[k - 1]])
+      st = adem_yaml_fail(ctx, file_node, path, "%s is not a usable adem checkpoint: particle id %llu is there twice", resolved, (unsigned long long)p.id[order[k]]);
+  free(by_id);
   for (size_t k = 0; k < p.n && !st; ++k) {
     size_t i = order[k];
     adem_vec3 x = p.pos[i];
@@ -1783,6 +1784,34 @@ done:
   free(data);
   free(resolved);
   return st;
+}
+
+/* particles[].frozen / attach: the set's spheres (from index n0) become part of a wall
+ * (src/core/frozen.c), a plane or a mesh group by name, or are fixed in space. */
+static adem_status freeze_set(case_ctx *ctx, const map_cursor *m, size_t n0) {
+  bool frozen = false;
+  char name[ADEM_NAME_MAX] = "", path[KEY_PATH_MAX];
+  yaml_node_t *node;
+  adem_status st = adem_yaml_get_bool(ctx, m, "frozen", &frozen);
+  if (!st) st = adem_yaml_get_string(ctx, m, "attach", name, sizeof name, &node);
+  if (st || (!frozen && !node)) return st;
+  int32_t attach = 0;
+  if (node) {
+    adem_yaml_join(path, sizeof path, m->path, "attach");
+    int g = adem_world_find_mesh_group(ctx->w, name);
+    for (int k = 0; g < 0 && k < adem_world_plane_count(ctx->w) && !attach; ++k)
+      if (!strcmp(adem_world_plane(ctx->w, k)->name, name)) attach = -(k + 1);
+    if (g >= 0) attach = g + 1;
+    if (!attach)
+      return adem_yaml_fail(ctx, node, path, "no plane or mesh group named `%s` to attach to "
+                            "(a box's planes are NAME.xmin ...)", name);
+  }
+  for (size_t i = n0; i < ctx->w->p.n; ++i) {
+    adem_error werr = {ADEM_OK, ""};
+    if (adem_world_freeze_particle(ctx->w, ctx->w->p.id[i], attach, &werr))
+      return adem_yaml_fail(ctx, node ? node : m->node, node ? path : m->path, "%s", werr.message);
+  }
+  return ADEM_OK;
 }
 
 static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
@@ -1822,12 +1851,14 @@ static adem_status build_particles(case_ctx *ctx, const map_cursor *root) {
     if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
     adem_yaml_join(path, sizeof path, m.path, "group");
     if ((st = find_group(ctx, group_name, group_node ? group_node : m.node, path, &group))) return st;
+    size_t n0 = ctx->w->p.n;
     if (!strcmp(m.variant, "list"))
       st = build_list(ctx, &m, mat, group);
     else if (!strcmp(m.variant, "lattice"))
       st = build_lattice(ctx, &m, mat, group);
     else
       st = build_random(ctx, &m, i, mat, group);
+    if (!st) st = freeze_set(ctx, &m, n0);
     if (st) return st;
   }
   return ADEM_OK;
@@ -2193,6 +2224,7 @@ static adem_status build(case_ctx *ctx) {
     adem_world_set_domain(ctx->w, v3_sub(ctx->box_lo, v3(margin, margin, margin)),
                           v3_add(ctx->box_hi, v3(margin, margin, margin)));
   }
+  if ((st = adem_outlets_read(ctx, &root, &out))) return st; /* regions and domain known */
   if ((st = choose_step(ctx, &time, g))) return st;
   return warn_pulling_forces(ctx);
 }
@@ -2517,6 +2549,7 @@ void adem_case_free(adem_case *c) {
   adem_stages_free(c->stages);
   adem_regions_free(c->regions);
   adem_regions_free(c->fills);
+  adem_outlets_free(c->outlets);
   free(c->until);
   free(c->source);
   if (c->sets)

@@ -2,6 +2,8 @@
  * changes carried into the running world where a stage begins. */
 #include "stages.h"
 
+#include "outlets.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -123,6 +125,8 @@ int adem_stages_current(const adem_case *c) { return c->stages ? c->stages->curr
 
 uint64_t adem_stages_next_step(const adem_case *c, uint64_t step) {
   uint64_t next = adem_pours_next_step(c->pours, c->world->dt, step);
+  uint64_t out = adem_outlets_next_step(c->outlets, c->world->dt, step);
+  if (out < next) next = out;
   const adem_stages *s = c->stages;
   for (int k = s ? s->current + 1 : 0; s && k < s->n; ++k) {
     uint64_t b = adem_stages_start_step(c, k);
@@ -190,7 +194,8 @@ adem_status adem_stages_events(adem_case *c, adem_error *err) {
     adem_status st = adem_stages_enter(c, s->current + 1, w->prepared, err);
     if (st) return st;
   }
-  return adem_pours_run(c->pours, w, err);
+  adem_status st = adem_outlets_run(c, err); /* before a batch: it never removes new ones */
+  return st ? st : adem_pours_run(c->pours, w, err);
 }
 
 adem_status adem_stages_resume(adem_case *c, int current, adem_error *err) {

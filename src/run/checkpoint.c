@@ -21,6 +21,7 @@
 #include "fileio.h"
 #include "insert.h"
 #include "log.h"
+#include "outlets.h"
 #include "stages.h"
 #include "stream.h"
 #include "world.h"
@@ -78,6 +79,7 @@ static void save_case(adem_writer *wr, const adem_case *c, int *nomem) {
   free(runs);
   /* when each stage began and the run-until conditions' streaks */
   adem_stages_save(wr, c);
+  adem_outlets_save(wr, c->outlets); /* removed counts and masses, the flows' state */
 }
 
 typedef void save_fn(adem_writer *wr, const void *what, int *nomem);
@@ -249,6 +251,7 @@ static adem_status restore(adem_reader *rd, const char *path, const char *const 
   rd->at += nruns;
   if ((st = adem_pours_unpack(c->pours, runs, (size_t)nruns, err))) goto mismatch;
   if ((st = adem_stages_load(rd, c, err))) goto mismatch;
+  if ((st = adem_outlets_load(rd, c->outlets, err))) goto mismatch;
 
   bool prepared;
   if ((st = adem_world_load_prepared(rd, &prepared, err))) goto damaged;

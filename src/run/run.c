@@ -14,8 +14,10 @@
 #include "adem/adem.h"
 #include "files.h"
 #include "fileio.h"
+#include "flow_plot.h"
 #include "insert.h"
 #include "log.h"
+#include "outlets.h"
 #include "output.h"
 #include "schedule.h"
 #include "stages.h"
@@ -149,12 +151,20 @@ static adem_status write_plots(const adem_case *c, const char *dir, adem_error *
     }
   }
   if (!st && c->output.plot_loads) st = plot_loads(c, dir, have_csv, err);
+  if (!st && c->output.plot && have_csv && adem_outlets_columns(c->outlets) > 0) {
+    char *csv = adem_file_join(dir, "timeseries.csv"), *png = adem_file_join(dir, "flow.png");
+    st = csv && png ? adem_run_plot_flow(c, csv, png, err)
+                    : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    free(csv);
+    free(png);
+  }
   return st;
 }
 
 /* output.regions: columns NAME_count and NAME_mass_kg of each region. */
 typedef struct region_columns {
   int n;
+  int brof; /* the first of BROF's columns (n without them) */
   char (*names)[ADEM_NAME_MAX + 16];
   const char **name;
   double *value, *count, *mass;
@@ -180,16 +190,32 @@ static bool case_uses_brof(const adem_case *c) {
   return false;
 }
 
-/* The regions' columns, then, when the case has BROF, the angular impulse BROF's particle
+/* Whether the CSV has a slip column for plane k (k < nplanes) or mesh group k - nplanes: the
+ * walls that move (their CSV flag, any stage's motion). */
+static bool slip_column(const adem_walls *wl, int k) {
+  if (k < wl->nplanes) return (wl->planes[k].csv & ADEM_WALL_CSV_MOVES) != 0;
+  int g = k - wl->nplanes;
+  for (int j = 0; j < wl->nmesh_walls; ++j)
+    if (g >= wl->mesh_walls[j].first && g < wl->mesh_walls[j].first + wl->mesh_walls[j].count)
+      return (wl->mesh_walls[j].csv & ADEM_WALL_CSV_MOVES) != 0;
+  return false;
+}
+
+/* ... then the outlets' and mass flows' columns (outlets.h), then NAME_slip_m_s of each moving
+ * wall (adem_world_wall_slip), then, when the case has BROF, the angular impulse BROF's particle
  * contacts have added (brof_impulse_x_Nms ...: no partner takes it back, I9-I10). */
-static bool region_columns_make(region_columns *rc, const adem_regions *rs, bool brof) {
+static bool region_columns_make(region_columns *rc, const adem_regions *rs, const adem_outlets *o,
+                                const adem_world *w, bool brof) {
   memset(rc, 0, sizeof *rc);
-  int nr = rs ? rs->n : 0;
-  rc->n = 2 * nr + (brof ? 3 : 0);
-  size_t m = (size_t)(nr > 0 ? nr : 1);
-  rc->names = calloc(2 * m + 3, sizeof *rc->names);
-  rc->name = calloc(2 * m + 3, sizeof *rc->name);
-  rc->value = calloc(2 * m + 3, sizeof *rc->value);
+  int nr = rs ? rs->n : 0, no = adem_outlets_columns(o), ns = 0;
+  int nw = w->walls.nplanes + w->walls.mesh.ngroups;
+  for (int k = 0; k < nw; ++k) ns += slip_column(&w->walls, k);
+  rc->brof = 2 * nr + no + ns;
+  rc->n = rc->brof + (brof ? 3 : 0);
+  size_t m = (size_t)(nr > 0 ? nr : 1), mc = 2 * m + (size_t)no + (size_t)ns + 3;
+  rc->names = calloc(mc, sizeof *rc->names);
+  rc->name = calloc(mc, sizeof *rc->name);
+  rc->value = calloc(mc, sizeof *rc->value);
   rc->count = calloc(m, sizeof *rc->count);
   rc->mass = calloc(m, sizeof *rc->mass);
   if (!rc->names || !rc->name || !rc->value || !rc->count || !rc->mass) {
@@ -202,15 +228,27 @@ static bool region_columns_make(region_columns *rc, const adem_regions *rs, bool
     rc->name[2 * k] = rc->names[2 * k];
     rc->name[2 * k + 1] = rc->names[2 * k + 1];
   }
-  for (int a = 0; brof && a < 3; ++a) {
-    snprintf(rc->names[2 * nr + a], sizeof rc->names[0], "brof_impulse_%c_Nms", "xyz"[a]);
-    rc->name[2 * nr + a] = rc->names[2 * nr + a];
+  for (int k = 0; k < no; ++k) {
+    adem_outlets_column_name(o, k, rc->names[2 * nr + k], sizeof rc->names[0]);
+    rc->name[2 * nr + k] = rc->names[2 * nr + k];
+  }
+  for (int k = 0, c = 2 * nr + no; k < nw; ++k) {
+    if (!slip_column(&w->walls, k)) continue;
+    const char *wn = k < w->walls.nplanes ? w->walls.planes[k].def.name
+                                           : w->walls.mesh.groups[k - w->walls.nplanes].name;
+    snprintf(rc->names[c], sizeof rc->names[0], "%s_slip_m_s", wn);
+    rc->name[c] = rc->names[c];
+    c++;
+  }
+  for (int a = 0, c = rc->n - 3; brof && a < 3; ++a) {
+    snprintf(rc->names[c + a], sizeof rc->names[0], "brof_impulse_%c_Nms", "xyz"[a]);
+    rc->name[c + a] = rc->names[c + a];
   }
   return true;
 }
 
 /* A CSV row with the regions' counts and masses now. */
-static adem_status csv_row(adem_output *out, const adem_case *c, region_columns *rc,
+static adem_status csv_row(adem_output *out, adem_case *c, region_columns *rc,
                            adem_error *err) {
   int nr = c->regions ? c->regions->n : 0;
   if (nr > 0) {
@@ -220,13 +258,24 @@ static adem_status csv_row(adem_output *out, const adem_case *c, region_columns 
       rc->value[2 * k + 1] = rc->mass[k];
     }
   }
-  if (rc->n > 2 * nr) { /* BROF's columns */
-    adem_vec3 b = adem_world_diagnostics(c->world).brof_impulse;
-    rc->value[2 * nr] = b.x;
-    rc->value[2 * nr + 1] = b.y;
-    rc->value[2 * nr + 2] = b.z;
+  adem_status st = adem_outlets_sample(c, rc->value + 2 * nr, err);
+  const adem_walls *wl = &c->world->walls;
+  int nw = wl->nplanes + wl->mesh.ngroups, v = 2 * nr + adem_outlets_columns(c->outlets);
+  if (!st && v < rc->brof) {
+    double *slip = malloc(((size_t)nw + 1) * sizeof *slip);
+    if (!slip) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    adem_world_wall_slip(c->world, slip, slip + wl->nplanes);
+    for (int k = 0; k < nw; ++k)
+      if (slip_column(wl, k)) rc->value[v++] = slip[k];
+    free(slip);
   }
-  return adem_output_csv_append(out, c->world, err);
+  if (!st && rc->brof < rc->n) { /* BROF's columns */
+    adem_vec3 b = adem_world_diagnostics(c->world).brof_impulse;
+    rc->value[rc->brof] = b.x;
+    rc->value[rc->brof + 1] = b.y;
+    rc->value[rc->brof + 2] = b.z;
+  }
+  return st ? st : adem_output_csv_append(out, c->world, err);
 }
 
 /* The run's processes (src/mpi): one, or a system split over several, each stepping its own
@@ -270,6 +319,10 @@ static adem_status split_start(adem_case *c, run_split *rs, int size, adem_error
   /* nothing to split yet (every particle comes from a pour): every process steps the same
    * empty world until the first batch, then splits */
   if (w->p.n == 0 && !w->admit_pending) return ADEM_OK;
+  if (adem_world_has_frozen(w)) /* their loads are summed on one process (frozen.c) */
+    return adem_error_set(err, ADEM_ERR_INPUT,
+                          "frozen particles (particles[].frozen, attach) are not supported split "
+                          "over MPI processes yet: run with one process");
   if (w->admit_pending) { /* what the serial run's next step begins with */
     w->admit_pending = false;
     adem_status st = adem_world_admit_particles(w, w->admit_from, err);
@@ -505,7 +558,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   memset(&out, 0, sizeof out);
   adem_output_track track = {c->output.ntrack, c->output.track};
   region_columns rc;
-  if (!region_columns_make(&rc, c->regions, case_uses_brof(c)))
+  if (!region_columns_make(&rc, c->regions, c->outlets, w, case_uses_brof(c)))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_output_extra extra = {rc.n, rc.name, rc.value};
   if (rs->writer)
@@ -654,6 +707,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   }
   if (rs->writer) adem_output_close(&out);
   region_columns_free(&rc);
+  if (rs->writer && (!st || st == ADEM_INTERRUPTED)) adem_outlets_log(c);
   /* The plots of what the CSV holds, however the run ended: done, stopped by a signal, or
    * failed (they show how it went wrong). A plot that fails then is a warning only. */
   if (rs->writer && (!st || st == ADEM_INTERRUPTED || st == ADEM_ERR_RUNTIME)) {

@@ -9,7 +9,9 @@
  *   - hopper: the flagship hopper's meshes (cases/meshes) with 300 spheres of 6 mm, the gate
  *     pulled aside at 30 ms and switched off by a stage at 60 ms;
  *   - mesh servo: golden/test_servo.c's case, a mesh plate pressed by a servo (face loads
- *     every step), with stages. */
+ *     every step), with stages;
+ *   - silo: golden/test_outlets.c's 300 spheres through a 24 mm orifice (cases/silo), removed by
+ *     a region outlet and a domain-face outlet, with mass flows through a plane and of a region. */
 #ifndef ADEM_TEST_FEATURE_CASES_H
 #define ADEM_TEST_FEATURE_CASES_H
 
@@ -181,5 +183,39 @@ static const char *const mesh_servo_case =
     "  frame_interval: 0.007\n"
     "  csv_interval: 0.00035\n"
     "  checkpoint_interval: 0\n";
+
+/* printf format: the source folder (the plate mesh) */
+static const char *const silo_case_fmt =
+    "name: small-silo\n"
+    "seed: 5\n"
+    "materials:\n"
+    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
+    "     restitution: 0.5, friction: 0.5}\n"
+    "  - {name: steel, rigid: true, restitution: 0.5, friction: 0.5}\n"
+    "particles:\n"
+    "  - {type: random, material: glass, count: 300,\n"
+    "     radius: {distribution: uniform, min: 1.9e-3, max: 2.1e-3},\n"
+    "     min: [-0.031, -0.031, 0.002], max: [0.031, 0.031, 0.032]}\n"
+    "walls:\n"
+    "  - {type: plane, name: x_lo, point: [-0.032, 0, 0], normal: [1, 0, 0], material: steel}\n"
+    "  - {type: plane, name: x_hi, point: [0.032, 0, 0], normal: [-1, 0, 0], material: steel}\n"
+    "  - {type: plane, name: y_lo, point: [0, -0.032, 0], normal: [0, 1, 0], material: steel}\n"
+    "  - {type: plane, name: y_hi, point: [0, 0.032, 0], normal: [0, -1, 0], material: steel}\n"
+    "  - {type: mesh, name: plate, file: '%s/cases/silo/plate-24mm.stl', material: steel}\n"
+    "time: {end: 0.12, step: 2.0e-5}\n"
+    "domain: {min: [-0.04, -0.04, -0.006], max: [0.04, 0.04, 0.1]}\n"
+    "outlets:\n"
+    "  - {name: catch, region: below, interval: 0.005}\n"
+    "  - {name: bottom, face: z_min, interval: 0.0024}\n"
+    "output:\n"
+    "  frame_interval: 0\n"
+    "  csv_interval: 0.02\n"
+    "  checkpoint_interval: 0.06\n"
+    "  regions:\n"
+    "    - {name: silo, shape: box, min: [-0.032, -0.032, 0], max: [0.032, 0.032, 0.1]}\n"
+    "    - {name: below, shape: box, min: [-0.04, -0.04, -0.025], max: [0.04, 0.04, -0.003]}\n"
+    "  mass_flow:\n"
+    "    - {name: orifice, point: [0, 0, 0], normal: [0, 0, -1], window: 0.03}\n"
+    "    - {name: bin, region: silo}\n";
 
 #endif
