@@ -2,7 +2,8 @@
  * as frames/contacts_NNNNNN.vtp in contacts.pvd (and .csv), they hold every touching contact of
  * the time series' count; they read back (adem_contact_frame_read_file) with the pair's line
  * from centre to centre and a wall's to its contact point; a run stopped and resumed writes the
- * same contact frames and contacts.pvd, byte for byte, as one that never stopped. */
+ * same contact frames and contacts.pvd, byte for byte, as one that never stopped (perturbed: with
+ * the resumed run not reading back the earlier contacts.pvd, the two contacts.pvd differ). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
