@@ -89,7 +89,7 @@ typedef struct adem_fields adem_fields;
 
 /* A grid for the options (checked: width, cell > 0, lo < hi, at most 2 averaged axes and at most
  * ADEM_FIELDS_MAX_NODES nodes). */
-#define ADEM_FIELDS_MAX_NODES ((size_t)1 << 28)
+#define ADEM_FIELDS_MAX_NODES ((size_t)1 << 25) /* 33.5 million: 7.5 GB of accumulators */
 adem_status adem_fields_create(const adem_fields_options *opt, adem_fields **out, adem_error *err);
 void adem_fields_free(adem_fields *f);
 /* Adds one frame (a time average over the frames added). Contacts naming a particle id that is
