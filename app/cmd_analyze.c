@@ -10,6 +10,7 @@
 
 const char *const analyze_help =
     "Usage: adem analyze repose OUTDIR [options]\n"
+    "       adem analyze fields OUTDIR [options]   (coarse-grained fields: adem analyze fields --help)\n"
     "\n"
     "Measures the pile in the last particle frame of a run's output folder (frames/) and writes\n"
     "its profile as OUTDIR/repose_profile.csv and OUTDIR/repose_profile.png. The angle comes by\n"
@@ -49,9 +50,10 @@ int cmd_analyze(int argc, char **argv) {
     fputs(analyze_help, argc < 1 ? stderr : stdout);
     return argc < 1 ? EXIT_INPUT : EXIT_OK;
   }
+  if (strcmp(argv[0], "fields") == 0) return cmd_analyze_fields(argc - 1, argv + 1);
   if (strcmp(argv[0], "repose") != 0)
-    return fail(EXIT_INPUT, "unknown analysis '%s'; there is: repose (see: adem analyze --help)",
-                argv[0]);
+    return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields (see: adem analyze "
+                            "--help)", argv[0]);
   if (argc < 2) return fail(EXIT_INPUT, "adem analyze repose needs a run's output folder");
   const char *dir = argv[1];
   adem_pile_options opt = adem_pile_default_options();

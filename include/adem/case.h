@@ -21,6 +21,8 @@ typedef struct adem_output_settings {
   int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
   int plot_loads;             /* 1: write a PNG of the wall loads against time at the end */
   int pieces;                 /* 1: split over processes, a frame is a .pvtu of one piece each */
+  int contacts_every;         /* output.contacts: contact frames with every N-th frame (0: off) */
+  int contacts_csv;           /* 1: each contact frame also as CSV */
   /* output.track: particles whose rolling torque, angular velocity and distance from their
    * initial centre get CSV columns. */
   int ntrack;

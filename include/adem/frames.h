@@ -26,6 +26,8 @@ typedef struct adem_vtu_frame {
   adem_vec3 *pos;   /* centres, m ("position", the frame's Points) */
   double *radius;   /* m ("radius") */
   int64_t *id;      /* stable particle ids ("id"), or NULL when the file has none */
+  adem_vec3 *velocity; /* m/s ("velocity"), or NULL when the file has none */
+  double *mass;     /* kg ("mass"), or NULL when the file has none (frames before the array) */
   double time;      /* s, FieldData "TimeValue"; NaN when the file has none */
   int64_t step;     /* FieldData "Step"; -1 when the file has none */
 } adem_vtu_frame;
@@ -42,6 +44,27 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
 adem_status adem_vtu_read_file(const char *path, adem_vtu_frame *frame, adem_error *err);
 
 void adem_vtu_frame_free(adem_vtu_frame *frame);
+
+/* One contact frame (frames/contacts_NNNNNN.vtp, output.contacts): VTK PolyData of one line per
+ * touching contact, from particle a's centre p0 to particle b's centre as a sees it (the
+ * minimum image across a periodic face) or to the contact point on a wall, p1. */
+typedef struct adem_contact_frame {
+  size_t n;
+  adem_vec3 *p0, *p1; /* m */
+  adem_vec3 *force;   /* force on a, N (on b the opposite) */
+  int32_t *kind;      /* 0 particle pair, 1 plane, 2 mesh */
+  int64_t *id_a;      /* particle id a */
+  int64_t *id_b;      /* particle id b, plane index or mesh group */
+  double time;        /* s, NaN when the file has none */
+  int64_t step;       /* -1 when the file has none */
+} adem_contact_frame;
+
+/* Reads a contact frame, checked as a particle frame is (adem_vtu_read_memory). */
+adem_status adem_contact_frame_read_memory(const void *data, size_t len, const char *name,
+                                           adem_contact_frame *frame, adem_error *err);
+adem_status adem_contact_frame_read_file(const char *path, adem_contact_frame *frame,
+                                         adem_error *err);
+void adem_contact_frame_free(adem_contact_frame *frame);
 
 #ifdef __cplusplus
 }

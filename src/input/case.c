@@ -2189,6 +2189,12 @@ static adem_status build(case_ctx *ctx) {
   o->plot_loads = plot;
   if ((st = adem_yaml_get_bool(ctx, &out, "pieces", &plot))) return st;
   o->pieces = plot;
+  if ((st = adem_yaml_get_bool(ctx, &out, "contacts", &plot))) return st;
+  uint64_t every = 1;
+  if ((st = adem_yaml_get_uint(ctx, &out, "contacts_every", &every, NULL))) return st;
+  o->contacts_every = plot ? (int)(every < INT32_MAX ? every : INT32_MAX) : 0;
+  if ((st = adem_yaml_get_bool(ctx, &out, "contacts_csv", &plot))) return st;
+  o->contacts_csv = plot;
   bool balance;
   if ((st = adem_yaml_get_bool(ctx, &out, "energy_balance", &balance))) return st;
   adem_world_set_energy_balance(ctx->w, balance);

@@ -89,6 +89,18 @@ static int put_material_picked(FILE *f, const uint16_t *m, const uint32_t *idx, 
   return 1;
 }
 
+/* The masses (1 / inverse mass) of the particles at idx (idx NULL: the first n): what the
+ * coarse-grained fields weigh them by (adem analyze fields). */
+static int put_mass(FILE *f, const double *inv_mass, const uint32_t *idx, size_t n) {
+  double buf[CHUNK];
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t k = n - i < CHUNK ? n - i : CHUNK;
+    for (size_t j = 0; j < k; ++j) buf[j] = 1.0 / inv_mass[idx ? idx[i + j] : i + j];
+    if (fwrite(buf, sizeof buf[0], k, f) != k) return 0;
+  }
+  return 1;
+}
+
 /* Array k of a frame of the particles at idx. */
 static int put_picked_array(FILE *f, int k, const frame_set *fs) {
   const adem_particles *p = fs->p;
@@ -102,9 +114,10 @@ static int put_picked_array(FILE *f, int k, const frame_set *fs) {
     case 4: return put_picked(f, p->omega, sizeof *p->omega, x, n);
     case 5: return put_picked(f, p->force, sizeof *p->force, x, n);
     case 6: return put_picked(f, p->rolling_torque, sizeof *p->rolling_torque, x, n);
-    case 7: return put_picked(f, p->pos, sizeof *p->pos, x, n);
-    case 8: return put_counting(f, n, 0);
-    case 9: return put_counting(f, n, 1);
+    case 7: return put_mass(f, p->inv_mass, x, n);
+    case 8: return put_picked(f, p->pos, sizeof *p->pos, x, n);
+    case 9: return put_counting(f, n, 0);
+    case 10: return put_counting(f, n, 1);
     default: return put_types(f, n);
   }
 }
@@ -123,9 +136,10 @@ static int put_particle_array(FILE *f, int k, void *user) {
     case 4: return put_raw(f, p->omega, n * sizeof *p->omega);
     case 5: return put_raw(f, p->force, n * sizeof *p->force);
     case 6: return put_raw(f, p->rolling_torque, n * sizeof *p->rolling_torque); /* every model */
-    case 7: return put_raw(f, p->pos, n * sizeof *p->pos);
-    case 8: return put_counting(f, n, 0);
-    case 9: return put_counting(f, n, 1);
+    case 7: return put_mass(f, p->inv_mass, NULL, n);
+    case 8: return put_raw(f, p->pos, n * sizeof *p->pos);
+    case 9: return put_counting(f, n, 0);
+    case 10: return put_counting(f, n, 1);
     default: return put_types(f, n);
   }
 }
@@ -137,7 +151,7 @@ static const struct {
 } frame_arrays[] = {{"radius", "Float64", 1},           {"id", "Int64", 1},
                     {"material", "Int32", 1},           {"velocity", "Float64", 3},
                     {"angular_velocity", "Float64", 3}, {"force", "Float64", 3},
-                    {"rolling_torque", "Float64", 3}};
+                    {"rolling_torque", "Float64", 3},   {"mass", "Float64", 1}};
 
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err) {
   return adem_output_write_vtu_of(w, NULL, w->p.n, path, err);
@@ -153,7 +167,8 @@ adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, s
       {"radius", "Float64", 1, 8 * n},           {"id", "Int64", 1, 8 * n},
       {"material", "Int32", 1, 4 * n},           {"velocity", "Float64", 3, 24 * n},
       {"angular_velocity", "Float64", 3, 24 * n}, {"force", "Float64", 3, 24 * n},
-      {"rolling_torque", "Float64", 3, 24 * n},   {"position", "Float64", 3, 24 * n},
+      {"rolling_torque", "Float64", 3, 24 * n},   {"mass", "Float64", 1, 8 * n},
+      {"position", "Float64", 3, 24 * n},
       {"connectivity", "Int64", 1, 8 * n},       {"offsets", "Int64", 1, 8 * n},
       {"types", "UInt8", 1, n},
   };
@@ -164,7 +179,7 @@ adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, s
            "      <DataArray type=\"Int64\" Name=\"Step\" NumberOfTuples=\"1\" "
            "format=\"ascii\">%" PRIu64 "</DataArray>\n",
            w->time, w->step);
-  adem_vtu_layout lay = {n, n, field, "PointData", "Scalars=\"radius\" Vectors=\"velocity\"", 7, 8};
+  adem_vtu_layout lay = {n, n, field, "PointData", "Scalars=\"radius\" Vectors=\"velocity\"", 8, 9};
   return adem_vtu_write(path, &lay, arr, (int)(sizeof arr / sizeof arr[0]), put_particle_array,
                         &fs, err);
 }
@@ -812,6 +827,7 @@ static adem_status finish_frame(adem_output *o, const adem_world *w, const char 
   if (!st) st = adem_output_pvd_write(&o->pvd, o->pvd_path, err);
   if (!st) st = mesh_frame(o, w, err);
   if (!st && w->walls.mesh.ntris > 0) st = mesh_pvd_write(o, err);
+  if (!st) st = adem_output_contacts_frame(o, w, err);
   if (!st) o->next_frame++;
   return st;
 }
@@ -891,6 +907,7 @@ void adem_output_close(adem_output *o) {
     close(o->csv_fd);
   }
   adem_output_pvd_free(&o->pvd);
+  adem_output_pvd_free(&o->contacts_pvd);
   free(o->dir);
   free(o->pvd_path);
   free(o->csv_path);

@@ -16,7 +16,7 @@ adem_status adem_mesh_write_vtu(const adem_mesh *mesh, const double *face_force,
 
 /* One VTU file: UnstructuredGrid of vertex cells, raw appended binary data with UInt64 block
  * headers; point data radius, id, material, velocity, angular_velocity, force, rolling_torque
- * (the rolling resistance torque of the last force pass). */
+ * (the rolling resistance torque of the last force pass), mass. */
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err);
 /* The same of the n particles at idx (in that order); idx NULL: every particle. */
 adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, size_t n,
@@ -79,6 +79,11 @@ typedef struct adem_output {
   int csv_fd;         /* -1 when closed */
   adem_output_track track; /* points into the caller's arrays, which must outlive the output */
   adem_output_extra extra;  /* the same */
+  /* output.contacts (contact_frames.c): contact frames with every contacts_every-th particle
+   * frame (0: none), listed in contacts.pvd; contacts_csv: a CSV of each too */
+  int contacts_every;
+  bool contacts_csv;
+  adem_pvd contacts_pvd;
 } adem_output;
 
 /* Creates dir (and dir/frames) and checks they can be written: ADEM_ERR_INPUT with a clear
@@ -106,5 +111,14 @@ adem_status adem_output_frame_pvtu(adem_output *o, const adem_world *w, int npie
  * now). */
 adem_status adem_output_csv_append(adem_output *o, const adem_world *w, adem_error *err);
 void adem_output_close(adem_output *o);
+
+/* Contact frames (output.contacts): after adem_output_open, switches them on with every
+ * every-th particle frame (frame index k with k % every == 0), as frames/contacts_NNNNNN.vtp
+ * (and .csv with csv) listed in contacts.pvd. A resumed run keeps the entries of contacts.pvd
+ * of frames before frames_done and rewrites it. every 0: off. */
+adem_status adem_output_contacts_open(adem_output *o, int every, bool csv, bool resume,
+                                      size_t frames_done, adem_error *err);
+/* The contact frame of particle frame o->next_frame, if due (called by the particle frame). */
+adem_status adem_output_contacts_frame(adem_output *o, const adem_world *w, adem_error *err);
 
 #endif

@@ -565,6 +565,9 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     st = adem_output_open(&out, dir, w, adem_stages_output_on(c, 0), adem_stages_output_on(c, 1),
                           resume, frames_done, (double)k_frame * dt, w->time, drop_row, &track,
                           &extra, err);
+  if (!st && rs->writer)
+    st = adem_output_contacts_open(&out, c->output.contacts_every, c->output.contacts_csv, resume,
+                                   frames_done, err);
   st = split_agree(rs, st, err);
   if (st) {
     region_columns_free(&rc);
@@ -653,7 +656,8 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     bool last = s >= total || ended;
     bool ckpt_due = last || due(s, k_ckpt);
     /* frames in pieces need the whole only for the mesh frame */
-    bool frame_whole = due(s, k_frame) && !(c->output.pieces && w->walls.mesh.ntris == 0);
+    bool frame_whole = due(s, k_frame) && !(c->output.pieces && w->walls.mesh.ntris == 0 &&
+                                            !c->output.contacts_every);
     if (ws != w && !decide && (ckpt_due || frame_whole || due(s, k_csv)))
       st = split_assemble(c, rs, false, err);
     if (!st && (last || due(s, k_frame))) st = write_frame(&out, c, rs, &frame_no, err);

@@ -201,7 +201,10 @@ typedef struct header {
   uint64_t offsets[MAX_ARRAYS]; /* of every appended DataArray, to check that each block fits */
   size_t noffsets;
   int have_piece;
-  array_ref radius, position, id;
+  array_ref radius, position, id, velocity, mass; /* a particle frame's */
+  array_ref force, kind, id_a, id_b;              /* a contact frame's cell data */
+  int poly;        /* a contact frame: PolyData of lines */
+  uint64_t nlines; /* its NumberOfLines */
   double time;
   int64_t step;
   size_t data; /* offset of the first byte after '_' */
@@ -254,10 +257,12 @@ static int attrs_ok(const tag *t) {
   return tag_attr(t, NULL, &v) == 0;
 }
 
-static adem_status parse_header(const char *s, size_t total, const char *name, header *h,
-                                adem_error *err) {
+static adem_status parse_header(const char *s, size_t total, const char *name, int poly,
+                                header *h, adem_error *err) {
   size_t len = total;
   memset(h, 0, sizeof *h);
+  h->poly = poly;
+  const char *grid = poly ? "PolyData" : "UnstructuredGrid";
   /* The XML ends with the <AppendedData ...> start tag; what follows is binary and is never
    * scanned for tags. */
   size_t xml_end = find(s, len, 0, "<AppendedData");
@@ -275,6 +280,7 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
   h->time = NAN;
   h->step = -1;
   int in_vtk = 0, in_grid = 0, in_field = 0, in_piece = 0, in_pdata = 0, in_points = 0;
+  int in_cdata = 0;
   int seen_vtk = 0;
   size_t pos = 0;
   tag t;
@@ -298,9 +304,8 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
       if (seen_vtk)
         return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: a second <VTKFile>", NAME_OF(name), t.at);
       seen_vtk = in_vtk = 1;
-      if (tag_attr(&t, "type", &v) != 1 || !slice_is(v, "UnstructuredGrid"))
-        return fail(err, ADEM_ERR_INPUT, "%s: VTKFile type is not \"UnstructuredGrid\"",
-                    NAME_OF(name));
+      if (tag_attr(&t, "type", &v) != 1 || !slice_is(v, grid))
+        return fail(err, ADEM_ERR_INPUT, "%s: VTKFile type is not \"%s\"", NAME_OF(name), grid);
       if (tag_attr(&t, "byte_order", &v) != 1 || !slice_is(v, machine_order()))
         return fail(err, ADEM_ERR_INPUT, "%s: byte_order is not \"%s\" (this machine's; files are "
                     "read without swapping)", NAME_OF(name), machine_order());
@@ -325,7 +330,7 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
       h->data = i + 1;
       break;
     }
-    if (slice_is(t.name, "UnstructuredGrid")) {
+    if (slice_is(t.name, grid)) {
       in_grid = !t.closing;
     } else if (slice_is(t.name, "FieldData")) {
       in_field = !t.closing && !t.self_closing;
@@ -335,8 +340,8 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
         continue;
       }
       if (!in_grid)
-        return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: <Piece> outside <UnstructuredGrid>",
-                    NAME_OF(name), t.at);
+        return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: <Piece> outside <%s>", NAME_OF(name),
+                    t.at, grid);
       if (h->have_piece)
         return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: more than one <Piece> (adem writes one)",
                     NAME_OF(name), t.at);
@@ -344,8 +349,14 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
       if (tag_attr(&t, "NumberOfPoints", &v) != 1 || !parse_u64(v, UINT64_MAX, &h->npoints))
         return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: Piece without a valid NumberOfPoints",
                     NAME_OF(name), t.at);
+      if (poly && (tag_attr(&t, "NumberOfLines", &v) != 1 ||
+                   !parse_u64(v, UINT64_MAX, &h->nlines) || h->npoints != 2 * h->nlines))
+        return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: Piece without a valid NumberOfLines (two "
+                    "points per line)", NAME_OF(name), t.at);
     } else if (slice_is(t.name, "PointData")) {
       in_pdata = in_piece && !t.closing && !t.self_closing;
+    } else if (slice_is(t.name, "CellData")) {
+      in_cdata = in_piece && !t.closing && !t.self_closing;
     } else if (slice_is(t.name, "Points")) {
       in_points = in_piece && !t.closing && !t.self_closing;
     } else if (slice_is(t.name, "DataArray") && !t.closing) {
@@ -381,12 +392,16 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
       } else if (in_points) {
         adem_status e = read_array_tag(&t, name, &h->position, err);
         if (e) return e;
-      } else if (in_pdata && slice_is(nm, "radius")) {
-        adem_status e = read_array_tag(&t, name, &h->radius, err);
-        if (e) return e;
-      } else if (in_pdata && slice_is(nm, "id")) {
-        adem_status e = read_array_tag(&t, name, &h->id, err);
-        if (e) return e;
+      } else if (in_pdata || in_cdata) {
+        static const char *const pnames[] = {"radius", "id", "velocity", "mass"};
+        static const char *const cnames[] = {"force", "kind", "id_a", "id_b"};
+        array_ref *pref[] = {&h->radius, &h->id, &h->velocity, &h->mass};
+        array_ref *cref[] = {&h->force, &h->kind, &h->id_a, &h->id_b};
+        for (int q = 0; q < 4; ++q) {
+          if (in_pdata ? !slice_is(nm, pnames[q]) : !slice_is(nm, cnames[q])) continue;
+          adem_status e = read_array_tag(&t, name, in_pdata ? pref[q] : cref[q], err);
+          if (e) return e;
+        }
       }
     }
   }
@@ -394,6 +409,15 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
     return fail(err, ADEM_ERR_INPUT, "%s: no <Piece>", NAME_OF(name));
   if (!h->position.found)
     return fail(err, ADEM_ERR_INPUT, "%s: no <Points> DataArray (the centres)", NAME_OF(name));
+  if (poly) {
+    const array_ref *need[] = {&h->force, &h->kind, &h->id_a, &h->id_b};
+    const char *names[] = {"force", "kind", "id_a", "id_b"};
+    for (int q = 0; q < 4; ++q)
+      if (!need[q]->found)
+        return fail(err, ADEM_ERR_INPUT, "%s: no CellData DataArray \"%s\"", NAME_OF(name),
+                    names[q]);
+    return ADEM_OK;
+  }
   if (!h->radius.found)
     return fail(err, ADEM_ERR_INPUT, "%s: no PointData DataArray \"radius\"", NAME_OF(name));
   return ADEM_OK;
@@ -405,6 +429,7 @@ static adem_status locate_block(const unsigned char *base, size_t len, const hea
                                 const array_ref *a, const char *what, const char *type,
                                 uint64_t ncomp, size_t size, const char *name,
                                 const unsigned char **out, adem_error *err) {
+  uint64_t count = h->poly && a != &h->position ? h->nlines : h->npoints;
   if (!slice_is(a->type, type))
     return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: DataArray \"%s\" has type \"%.*s\", not %s",
                 NAME_OF(name), a->tag_at, what, (int)(a->type.n > 32 ? 32 : a->type.n), a->type.p,
@@ -421,12 +446,12 @@ static adem_status locate_block(const unsigned char *base, size_t len, const hea
   uint64_t nbytes;
   memcpy(&nbytes, base + h->data + a->offset, 8);
   /* n * ncomp * size without overflow: n was bounded by the file size before. */
-  uint64_t want = h->npoints * ncomp * (uint64_t)size;
+  uint64_t want = count * ncomp * (uint64_t)size;
   if (nbytes != want)
     return fail(err, ADEM_ERR_INPUT,
-                "%s: DataArray \"%s\": block of %llu bytes, expected %llu (%llu points x %llu x %zu)",
+                "%s: DataArray \"%s\": block of %llu bytes, expected %llu (%llu tuples x %llu x %zu)",
                 NAME_OF(name), what, (unsigned long long)nbytes, (unsigned long long)want,
-                (unsigned long long)h->npoints, (unsigned long long)ncomp, size);
+                (unsigned long long)count, (unsigned long long)ncomp, size);
   if (nbytes > avail - a->offset - 8)
     return fail(err, ADEM_ERR_INPUT,
                 "%s: DataArray \"%s\": block at offset %llu of %llu bytes runs past the end of "
@@ -441,7 +466,34 @@ void adem_vtu_frame_free(adem_vtu_frame *frame) {
   free(frame->pos);
   free(frame->radius);
   free(frame->id);
+  free(frame->velocity);
+  free(frame->mass);
   memset(frame, 0, sizeof *frame);
+}
+
+/* Every appended block (the ones not read too) lies inside the data, and the data section is
+ * closed after the last one: a file cut anywhere is refused. */
+static adem_status check_blocks(const unsigned char *base, size_t len, const header *h,
+                                const char *name, adem_error *err) {
+  size_t avail = len - h->data, last = 0;
+  for (size_t k = 0; k < h->noffsets; ++k) {
+    uint64_t off = h->offsets[k], nbytes;
+    if (off > avail || avail - off < 8)
+      return fail(err, ADEM_ERR_INPUT,
+                  "%s: an appended block at offset %llu starts past the end of the data (%zu "
+                  "bytes; truncated?)", NAME_OF(name), (unsigned long long)off, avail);
+    memcpy(&nbytes, base + h->data + off, 8);
+    if (nbytes > avail - off - 8)
+      return fail(err, ADEM_ERR_INPUT,
+                  "%s: the appended block at offset %llu (%llu bytes) runs past the end of the "
+                  "file (truncated?)", NAME_OF(name), (unsigned long long)off,
+                  (unsigned long long)nbytes);
+    if (off + 8 + nbytes > last) last = (size_t)(off + 8 + nbytes);
+  }
+  if (find((const char *)base, len, h->data + last, "</AppendedData>") == len)
+    return fail(err, ADEM_ERR_INPUT, "%s: no </AppendedData> after the last block (truncated?)",
+                NAME_OF(name));
+  return ADEM_OK;
 }
 
 adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
@@ -450,38 +502,24 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
   if (!data && len) return fail(err, ADEM_ERR_INPUT, "%s: no data", NAME_OF(name));
   const unsigned char *base = data;
   header h;
-  adem_status st = parse_header((const char *)data, len, name, &h, err);
+  adem_status st = parse_header((const char *)data, len, name, 0, &h, err);
   if (st) return st;
   /* Every point needs at least 32 bytes (radius + centre): bounds n before any product. */
   if (h.npoints > (len - h.data) / 32)
     return fail(err, ADEM_ERR_INPUT,
                 "%s: NumberOfPoints %llu does not fit in the %zu bytes of appended data",
                 NAME_OF(name), (unsigned long long)h.npoints, len - h.data);
-  /* Every appended block (the ones not read too) lies inside the data, and the data section is
-   * closed after the last one: a file cut anywhere is refused. */
-  size_t avail = len - h.data, last = 0;
-  for (size_t k = 0; k < h.noffsets; ++k) {
-    uint64_t off = h.offsets[k], nbytes;
-    if (off > avail || avail - off < 8)
-      return fail(err, ADEM_ERR_INPUT,
-                  "%s: an appended block at offset %llu starts past the end of the data (%zu "
-                  "bytes; truncated?)", NAME_OF(name), (unsigned long long)off, avail);
-    memcpy(&nbytes, base + h.data + off, 8);
-    if (nbytes > avail - off - 8)
-      return fail(err, ADEM_ERR_INPUT,
-                  "%s: the appended block at offset %llu (%llu bytes) runs past the end of the "
-                  "file (truncated?)", NAME_OF(name), (unsigned long long)off,
-                  (unsigned long long)nbytes);
-    if (off + 8 + nbytes > last) last = (size_t)(off + 8 + nbytes);
-  }
-  if (find((const char *)base, len, h.data + last, "</AppendedData>") == len)
-    return fail(err, ADEM_ERR_INPUT, "%s: no </AppendedData> after the last block (truncated?)",
-                NAME_OF(name));
-  const unsigned char *rb, *pb, *ib = NULL;
+  st = check_blocks(base, len, &h, name, err);
+  if (st) return st;
+  const unsigned char *rb, *pb, *ib = NULL, *vb = NULL, *mb = NULL;
   st = locate_block(base, len, &h, &h.radius, "radius", "Float64", 1, 8, name, &rb, err);
   if (!st) st = locate_block(base, len, &h, &h.position, "position", "Float64", 3, 8, name, &pb, err);
   if (!st && h.id.found)
     st = locate_block(base, len, &h, &h.id, "id", "Int64", 1, 8, name, &ib, err);
+  if (!st && h.velocity.found)
+    st = locate_block(base, len, &h, &h.velocity, "velocity", "Float64", 3, 8, name, &vb, err);
+  if (!st && h.mass.found)
+    st = locate_block(base, len, &h, &h.mass, "mass", "Float64", 1, 8, name, &mb, err);
   if (st) return st;
 
   size_t n = (size_t)h.npoints;
@@ -490,7 +528,9 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
   f.pos = malloc(cap * sizeof *f.pos);
   f.radius = malloc(cap * sizeof *f.radius);
   if (ib) f.id = malloc(cap * sizeof *f.id);
-  if (!f.pos || !f.radius || (ib && !f.id)) {
+  if (vb) f.velocity = malloc(cap * sizeof *f.velocity);
+  if (mb) f.mass = malloc(cap * sizeof *f.mass);
+  if (!f.pos || !f.radius || (ib && !f.id) || (vb && !f.velocity) || (mb && !f.mass)) {
     adem_vtu_frame_free(&f);
     return fail(err, ADEM_ERR_NOMEM, "%s: out of memory for %zu particles", NAME_OF(name), n);
   }
@@ -511,13 +551,98 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
     f.radius[i] = r;
     f.pos[i] = (adem_vec3){x[0], x[1], x[2]};
     if (ib) memcpy(&f.id[i], ib + 8 * i, 8);
+    if (vb) {
+      memcpy(x, vb + 24 * i, 24);
+      f.velocity[i] = (adem_vec3){x[0], x[1], x[2]};
+    }
+    if (mb) {
+      memcpy(&r, mb + 8 * i, 8);
+      if (!(isfinite(r) && r > 0.0)) {
+        adem_vtu_frame_free(&f);
+        return fail(err, ADEM_ERR_INPUT, "%s: particle %zu: mass %g is not a finite number > 0",
+                    NAME_OF(name), i, r);
+      }
+      f.mass[i] = r;
+    }
   }
   *frame = f;
   return ADEM_OK;
 }
 
-adem_status adem_vtu_read_file(const char *path, adem_vtu_frame *frame, adem_error *err) {
+void adem_contact_frame_free(adem_contact_frame *frame) {
+  if (!frame) return;
+  free(frame->p0);
+  free(frame->p1);
+  free(frame->force);
+  free(frame->kind);
+  free(frame->id_a);
+  free(frame->id_b);
   memset(frame, 0, sizeof *frame);
+}
+
+adem_status adem_contact_frame_read_memory(const void *data, size_t len, const char *name,
+                                           adem_contact_frame *frame, adem_error *err) {
+  memset(frame, 0, sizeof *frame);
+  if (!data && len) return fail(err, ADEM_ERR_INPUT, "%s: no data", NAME_OF(name));
+  const unsigned char *base = data;
+  header h;
+  adem_status st = parse_header((const char *)data, len, name, 1, &h, err);
+  if (st) return st;
+  /* every line needs at least 92 bytes (two points, a force, kind and two ids) */
+  if (h.nlines > (len - h.data) / 92)
+    return fail(err, ADEM_ERR_INPUT,
+                "%s: NumberOfLines %llu does not fit in the %zu bytes of appended data",
+                NAME_OF(name), (unsigned long long)h.nlines, len - h.data);
+  st = check_blocks(base, len, &h, name, err);
+  const unsigned char *pb, *fb, *kb, *ab, *bb;
+  if (!st) st = locate_block(base, len, &h, &h.position, "position", "Float64", 3, 8, name, &pb, err);
+  if (!st) st = locate_block(base, len, &h, &h.force, "force", "Float64", 3, 8, name, &fb, err);
+  if (!st) st = locate_block(base, len, &h, &h.kind, "kind", "Int32", 1, 4, name, &kb, err);
+  if (!st) st = locate_block(base, len, &h, &h.id_a, "id_a", "Int64", 1, 8, name, &ab, err);
+  if (!st) st = locate_block(base, len, &h, &h.id_b, "id_b", "Int64", 1, 8, name, &bb, err);
+  if (st) return st;
+  size_t n = (size_t)h.nlines, cap = n ? n : 1;
+  adem_contact_frame f = {.n = n, .time = h.time, .step = h.step};
+  f.p0 = malloc(cap * sizeof *f.p0);
+  f.p1 = malloc(cap * sizeof *f.p1);
+  f.force = malloc(cap * sizeof *f.force);
+  f.kind = malloc(cap * sizeof *f.kind);
+  f.id_a = malloc(cap * sizeof *f.id_a);
+  f.id_b = malloc(cap * sizeof *f.id_b);
+  if (!f.p0 || !f.p1 || !f.force || !f.kind || !f.id_a || !f.id_b) {
+    adem_contact_frame_free(&f);
+    return fail(err, ADEM_ERR_NOMEM, "%s: out of memory for %zu contacts", NAME_OF(name), n);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    double x[9];
+    memcpy(x, pb + 48 * i, 48);
+    memcpy(x + 6, fb + 24 * i, 24);
+    for (int q = 0; q < 9; ++q)
+      if (!isfinite(x[q])) {
+        adem_contact_frame_free(&f);
+        return fail(err, ADEM_ERR_INPUT, "%s: contact %zu: a point or the force is not finite",
+                    NAME_OF(name), i);
+      }
+    f.p0[i] = (adem_vec3){x[0], x[1], x[2]};
+    f.p1[i] = (adem_vec3){x[3], x[4], x[5]};
+    f.force[i] = (adem_vec3){x[6], x[7], x[8]};
+    memcpy(&f.kind[i], kb + 4 * i, 4);
+    memcpy(&f.id_a[i], ab + 8 * i, 8);
+    memcpy(&f.id_b[i], bb + 8 * i, 8);
+    if (f.kind[i] < 0 || f.kind[i] > 2) {
+      adem_contact_frame_free(&f);
+      return fail(err, ADEM_ERR_INPUT, "%s: contact %zu: kind %d is not 0, 1 or 2",
+                  NAME_OF(name), i, (int)f.kind[i]);
+    }
+  }
+  *frame = f;
+  return ADEM_OK;
+}
+
+/* The whole file in a fresh buffer (at most ADEM_VTU_READ_MAX_BYTES). */
+static adem_status slurp(const char *path, unsigned char **out, size_t *out_len, adem_error *err) {
+  *out = NULL;
+  *out_len = 0;
   FILE *fp = fopen(path, "rb");
   if (!fp) return fail(err, ADEM_ERR_INPUT, "cannot open %s: %s", path, strerror(errno));
   unsigned char *buf = NULL;
@@ -552,7 +677,30 @@ adem_status adem_vtu_read_file(const char *path, adem_vtu_frame *frame, adem_err
     free(buf);
     return fail(err, ADEM_ERR_INPUT, "cannot read %s: %s", path, strerror(e ? e : EIO));
   }
-  adem_status st = adem_vtu_read_memory(buf, len, path, frame, err);
+  *out = buf;
+  *out_len = len;
+  return ADEM_OK;
+}
+
+adem_status adem_vtu_read_file(const char *path, adem_vtu_frame *frame, adem_error *err) {
+  memset(frame, 0, sizeof *frame);
+  unsigned char *buf;
+  size_t len;
+  adem_status st = slurp(path, &buf, &len, err);
+  if (st) return st;
+  st = adem_vtu_read_memory(buf, len, path, frame, err);
+  free(buf);
+  return st;
+}
+
+adem_status adem_contact_frame_read_file(const char *path, adem_contact_frame *frame,
+                                         adem_error *err) {
+  memset(frame, 0, sizeof *frame);
+  unsigned char *buf;
+  size_t len;
+  adem_status st = slurp(path, &buf, &len, err);
+  if (st) return st;
+  st = adem_contact_frame_read_memory(buf, len, path, frame, err);
   free(buf);
   return st;
 }
