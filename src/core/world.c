@@ -39,6 +39,7 @@ void adem_world_free(adem_world *w) {
   adem_neighbors_free(&w->nb);
   adem_materials_free(&w->mat);
   free(w->groups);
+  free(w->id_map);
   free(w);
 }
 
@@ -337,7 +338,8 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
   double energy = 0.0;
   for (size_t i = first; i < p->n; ++i) {
     double m = 1.0 / p->inv_mass[i];
-    adem_vec3 f = v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force);
+    adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force),
+                         p->ext_force[i]);
     adem_particles_set_loads(p, i, f, v3_zero(), v3_zero(), 0);
     energy += 0.5 * v3_norm2(p->vel[i]) * m + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i] -
               v3_dot(f, p->pos[i]);
@@ -1030,9 +1032,11 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     size_t i = order[r];
     adem_block_sum_add(&sum[KINETIC], 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i]);
     adem_block_sum_add(&sum[ROTATIONAL], 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i]);
-    /* Potential of the constant body forces: -(m g + F_ext) . x */
-    adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
-                         w->groups[p->group[i]].external_force);
+    /* Potential of the body forces: -(m g + F_group + F_ext) . x (a change of F_ext is
+     * external work: adem_world_set_particles) */
+    adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
+                                w->groups[p->group[i]].external_force),
+                         p->ext_force[i]);
     adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
     adem_block_sum_add(&sum[POTENTIAL], -v3_dot(f, xi));
     /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
@@ -1283,7 +1287,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
 /* ---------------------------------------------------------------- reading the state */
 
 int adem_particle_field_components(adem_particle_field field) {
-  return field <= ADEM_FIELD_ROLLING_TORQUE ? 3 : 1;
+  return field <= ADEM_FIELD_ROLLING_TORQUE || field == ADEM_FIELD_EXTERNAL_FORCE ? 3 : 1;
 }
 
 /* Number of touching contacts of each particle index (particles and walls). */
@@ -1306,7 +1310,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
   const adem_particles *p = &w->p;
   size_t n = p->n;
   int nc = adem_particle_field_components(field);
-  if ((unsigned)field > ADEM_FIELD_INVERSE_INERTIA)
+  if ((unsigned)field > ADEM_FIELD_EXTERNAL_FORCE)
     return adem_error_set(err, ADEM_ERR_INPUT, "unknown particle field %d", (int)field);
   if (capacity < n * (size_t)nc)
     return adem_error_set(err, ADEM_ERR_INPUT, "%zu particles need %zu doubles, the array has %zu",
@@ -1335,6 +1339,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
       case ADEM_FIELD_PATH_LENGTH: s = p->path_length[i]; break;
       case ADEM_FIELD_INVERSE_MASS: s = p->inv_mass[i]; break;
       case ADEM_FIELD_INVERSE_INERTIA: s = p->inv_inertia[i]; break;
+      case ADEM_FIELD_EXTERNAL_FORCE: v = &p->ext_force[i]; break;
     }
     if (v) {
       out[3 * id] = v->x;
@@ -1353,8 +1358,7 @@ adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 
                                     adem_error *err) {
   adem_particles *p = &w->p;
   size_t i = 0;
-  while (i < p->n && p->id[i] != id) ++i;
-  if (i == p->n)
+  if (!adem_world_particle_index(w, id, &i))
     return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
   if ((position && !v3_isfinite(*position)) || (velocity && !v3_isfinite(*velocity)) ||
       (angular_velocity && !v3_isfinite(*angular_velocity)))
