@@ -45,7 +45,7 @@ def _field(name):
 def _rows(a, n, what, width=3):
     """a as a C-contiguous float64 array of n rows of width (a single row is repeated)."""
     arr = np.asarray(a, dtype=np.float64)
-    if arr.shape == (width,) and n != 1 or (width == 1 and arr.ndim == 0):
+    if (width > 1 and arr.shape == (width,)) or (width == 1 and arr.ndim == 0):
         arr = np.broadcast_to(arr, (n, width) if width > 1 else (n,))
     want = (n, width) if width > 1 else (n,)
     if arr.shape != want:

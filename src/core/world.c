@@ -314,7 +314,7 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
   adem_interaction_def *d = malloc(((size_t)ninteractions + 1) * sizeof *d);
   if (!d) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   memcpy(d, interactions, (size_t)ninteractions * sizeof *d);
-  for (int j = 0; j < mt->n; ++j) mt->m[j].def = defs[j];
+  for (int j = 0; j < mt->n; ++j) adem_material_def_store(&mt->m[j].def, &defs[j]);
   free(mt->defs);
   mt->defs = d;
   mt->ndefs = ninteractions;
