@@ -176,12 +176,19 @@ adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_mot
   return adem_walls_set_plane_motion(&w->walls, plane, def, err);
 }
 
+/* Switched in a running world (between steps, through the API), a wall's candidate pairs
+ * change now: the neighbour lists are rebuilt (a wall's pairs are made only at a build). */
+static adem_status rebuild_for_wall(adem_world *w, adem_status st, adem_error *err) {
+  if (!st && w->prepared && !w->split && !w->admit_pending) st = adem_world_build_neighbors(w, err);
+  return st;
+}
+
 adem_status adem_world_set_plane_active(adem_world *w, int plane, int active, adem_error *err) {
-  return adem_walls_set_plane_active(&w->walls, plane, active != 0, err);
+  return rebuild_for_wall(w, adem_walls_set_plane_active(&w->walls, plane, active != 0, err), err);
 }
 
 adem_status adem_world_set_mesh_active(adem_world *w, int group, int active, adem_error *err) {
-  return adem_walls_set_mesh_active(&w->walls, group, active != 0, err);
+  return rebuild_for_wall(w, adem_walls_set_mesh_active(&w->walls, group, active != 0, err), err);
 }
 
 void adem_world_place_walls(adem_world *w, double t) { adem_walls_place(&w->walls, t); }
