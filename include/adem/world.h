@@ -339,6 +339,13 @@ adem_status adem_world_get_ids(const adem_world *w, uint64_t *out, size_t capaci
  * work done from outside. */
 adem_status adem_world_set_particles(adem_world *w, adem_particle_field field, const double *in,
                                      size_t count, adem_error *err);
+/* Adds n particles from arrays, as n calls of adem_world_add_particle: pos, vel, omega n x 3
+ * doubles (vel, omega NULL: zero), radius n, material and group n ints (NULL: 0 each); ids (may
+ * be NULL) receives their ids. Every row is checked first: a bad one adds none. */
+adem_status adem_world_add_particles(adem_world *w, size_t n, const double *pos, const double *vel,
+                                     const double *omega, const double *radius,
+                                     const int *material, const int *group, uint64_t *ids,
+                                     adem_error *err);
 /* One particle's external force (N); the same as a row of adem_world_set_particles. */
 adem_status adem_world_set_external_force(adem_world *w, uint64_t id, adem_vec3 force,
                                           adem_error *err);

@@ -213,6 +213,8 @@ _sig("adem_world_set_interaction", ST, W, POINTER(InteractionDef), E)
 _sig("adem_world_add_group", ST, W, c_char_p, Vec3, POINTER(c_int), E)
 _sig("adem_world_find_group", c_int, W, c_char_p)
 _sig("adem_world_add_particle", ST, W, POINTER(ParticleDef), POINTER(c_uint64), E)
+_sig("adem_world_add_particles", ST, W, c_size_t, c_void_p, c_void_p, c_void_p, c_void_p,
+     c_void_p, c_void_p, c_void_p, E)
 _sig("adem_world_add_plane", ST, W, POINTER(PlaneDef), POINTER(c_int), E)
 _sig("adem_world_add_box", ST, W, c_char_p, Vec3, Vec3, c_int, POINTER(c_int), E)
 _sig("adem_world_add_mesh", ST, W, c_void_p, c_size_t, c_char_p, POINTER(MeshTransform), E)

@@ -157,9 +157,11 @@ class World:
 
     def add_particles(self, positions, radius, material=0, velocity=None,
                       angular_velocity=None, group=0):
-        """Adds n particles from arrays: positions (n, 3), radius scalar or (n,), velocity and
-        angular_velocity (n, 3) or one row for all; returns their ids (n,) uint64."""
-        pos = np.asarray(positions, dtype=np.float64)
+        """Adds n particles from arrays in one call: positions (n, 3), radius scalar or (n,),
+        velocity and angular_velocity (n, 3) or one row for all, material a name or index or
+        (n,) indices, group a name or index; returns their ids (n,) uint64. A bad row adds
+        none."""
+        pos = np.ascontiguousarray(positions, dtype=np.float64)
         if pos.ndim == 1 and pos.shape == (3,):
             pos = pos.reshape(1, 3)
         if pos.ndim != 2 or pos.shape[1] != 3:
@@ -169,22 +171,22 @@ class World:
         vel = _rows((0.0, 0.0, 0.0) if velocity is None else velocity, n, "velocity")
         om = _rows((0.0, 0.0, 0.0) if angular_velocity is None else angular_velocity, n,
                    "angular_velocity")
-        mat = self.material(material)
+        if np.ndim(material) == 1:  # one material index per particle
+            mats = np.ascontiguousarray(material, dtype=np.intc)
+            if mats.shape != (n,):
+                raise InputError("material: expected %d indices, got %s" % (n, mats.shape))
+        else:
+            mats = np.full(n, self.material(material), dtype=np.intc)
         grp = group if isinstance(group, int) else lib.adem_world_find_group(self._w,
                                                                             group.encode())
         if grp < 0:
             raise InputError("no group named %r" % group)
+        grps = np.full(n, grp, dtype=np.intc)
         ids = np.empty(n, dtype=np.uint64)
-        d = lib.adem_default_particle_def()
-        d.material, d.group = mat, grp
-        pid = c_uint64()
-        for k in range(n):  # one C call per particle: a set-up, not a step
-            d.position = _lib.Vec3(*pos[k])
-            d.velocity = _lib.Vec3(*vel[k])
-            d.angular_velocity = _lib.Vec3(*om[k])
-            d.radius = rad[k]
-            self._check(lib.adem_world_add_particle(self._w, byref(d), byref(pid), self._err))
-            ids[k] = pid.value
+        self._check(lib.adem_world_add_particles(self._w, n, pos.ctypes.data, vel.ctypes.data,
+                                                 om.ctypes.data, rad.ctypes.data,
+                                                 mats.ctypes.data, grps.ctypes.data,
+                                                 ids.ctypes.data, self._err))
         return ids
 
     def add_plane(self, point, normal, material=0, name="plane", velocity=(0.0, 0.0, 0.0)):

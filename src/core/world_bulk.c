@@ -124,3 +124,45 @@ adem_status adem_world_set_external_force(adem_world *w, uint64_t id, adem_vec3 
   change_force(&w->p, i, force);
   return ADEM_OK;
 }
+
+adem_status adem_world_add_particles(adem_world *w, size_t n, const double *pos, const double *vel,
+                                     const double *omega, const double *radius,
+                                     const int *material, const int *group, uint64_t *ids,
+                                     adem_error *err) {
+  /* every row is checked first, so that a bad one adds nothing */
+  for (size_t k = 0; k < n; ++k) {
+    int m = material ? material[k] : 0, g = group ? group[k] : 0;
+    bool finite = true;
+    for (int d = 0; d < 3; ++d)
+      finite = finite && isfinite(pos[3 * k + d]) && (!vel || isfinite(vel[3 * k + d])) &&
+               (!omega || isfinite(omega[3 * k + d]));
+    if (!(radius[k] > 0.0) || !isfinite(radius[k]))
+      return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: particle radius %g must be > 0 "
+                            "(no particle was added)", k, radius[k]);
+    if (!finite)
+      return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: particle position and velocities must "
+                            "be finite (no particle was added)", k);
+    if (m < 0 || m >= w->mat.n || !(w->mat.m[m].def.density > 0.0) || w->mat.m[m].def.rigid)
+      return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: material %d does not exist or cannot "
+                            "make particles (no particle was added)", k, m);
+    if (g < 0 || g >= w->ngroups)
+      return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: group %d does not exist (no particle "
+                            "was added)", k, g);
+  }
+  if (adem_particles_reserve(&w->p, w->p.n + n))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu more particles", n);
+  for (size_t k = 0; k < n; ++k) {
+    adem_particle_def d = adem_default_particle_def();
+    d.position = v3(pos[3 * k], pos[3 * k + 1], pos[3 * k + 2]);
+    if (vel) d.velocity = v3(vel[3 * k], vel[3 * k + 1], vel[3 * k + 2]);
+    if (omega) d.angular_velocity = v3(omega[3 * k], omega[3 * k + 1], omega[3 * k + 2]);
+    d.radius = radius[k];
+    d.material = material ? material[k] : 0;
+    d.group = group ? group[k] : 0;
+    uint64_t id = 0;
+    adem_status st = adem_world_add_particle(w, &d, &id, err);
+    if (st) return st; /* out of memory only: the rows were checked */
+    if (ids) ids[k] = id;
+  }
+  return ADEM_OK;
+}

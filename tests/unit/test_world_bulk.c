@@ -222,6 +222,31 @@ static void test_external_force_bits(void **state) {
   rmdir(dir);
 }
 
+/* Particles from arrays: the ids come back in order, and a bad row adds none. */
+static void test_add_particles(void **state) {
+  (void)state;
+  adem_world *w = adem_world_create();
+  int m = test_material(w, "glass", 1e7, 0.3, 0.5, 0.5);
+  double pos[9] = {0, 0, 0, 0.01, 0, 0, 0.02, 0, 0}, r[3] = {1e-3, 1e-3, -1.0};
+  int mat[3] = {m, m, m};
+  uint64_t ids[3] = {9, 9, 9};
+  adem_error err;
+  assert_int_equal(adem_world_add_particles(w, 3, pos, NULL, NULL, r, mat, NULL, ids, &err),
+                   ADEM_ERR_INPUT);
+  assert_non_null(strstr(err.message, "row 2"));
+  assert_int_equal(adem_world_particle_count(w), 0);
+  r[2] = 2e-3;
+  assert_int_equal(adem_world_add_particles(w, 3, pos, pos, NULL, r, mat, NULL, ids, &err), ADEM_OK);
+  assert_int_equal(adem_world_particle_count(w), 3);
+  for (int k = 0; k < 3; ++k) assert_int_equal(ids[k], k);
+  double *v = field(w, ADEM_FIELD_VELOCITY), *rad = field(w, ADEM_FIELD_RADIUS);
+  assert_memory_equal(v, pos, sizeof pos);
+  assert_true(rad[2] == 2e-3);
+  free(v);
+  free(rad);
+  adem_world_free(w);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_set_particles_in_id_order),
@@ -229,6 +254,7 @@ int main(void) {
       cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_external_force_accelerates),
       cmocka_unit_test(test_external_force_bits),
+      cmocka_unit_test(test_add_particles),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
