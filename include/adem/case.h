@@ -79,7 +79,7 @@ adem_status adem_case_load_string_at(const char *text, const char *name_for_mess
 void adem_case_free(adem_case *c);
 
 /* Adds the triangles of an STL file (ASCII or binary) to the world as one mesh wall, one group
- * per solid (named name, or name.SOLID when the file has several), moving with velocity
+ * per solid (docs/meshes.md names them), moving with velocity
  * (non-zero needs tf->own_vertices); tf NULL: the default transform. */
 adem_status adem_world_add_stl(adem_world *w, const char *path, const adem_mesh_transform *tf,
                                const char *name, adem_vec3 velocity, adem_error *err);

@@ -318,7 +318,9 @@ int adem_particle_field_components(adem_particle_field field);
 /* out holds capacity doubles, at least count x components. */
 adem_status adem_world_get_particles(const adem_world *w, adem_particle_field field, double *out,
                                      size_t capacity, adem_error *err);
-/* Places particle id, or sets its velocity or spin (NULL: keep). Between steps. */
+/* Places particle id, or sets its velocity or spin (NULL: keep). Between steps. O(1): the
+ * world keeps an id -> index map, checked at each look-up and rebuilt once (O(n)) after the
+ * particles were reordered; for every particle at once, adem_world_set_particles. */
 adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 *position,
                                     const adem_vec3 *velocity, const adem_vec3 *angular_velocity,
                                     adem_error *err);
