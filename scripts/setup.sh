@@ -10,7 +10,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 what=${1:-demo}
-packages=(build-essential cmake pkg-config libyaml-dev libcmocka-dev libomp-dev gnuplot-nox)
+packages=(build-essential cmake pkg-config libyaml-dev libcmocka-dev libomp-dev gnuplot-nox
+          python3 python3-numpy python3-pytest python3-matplotlib)
 [ "$what" = mpi-test ] && packages+=(libopenmpi-dev openmpi-bin)
 
 missing=()
@@ -40,6 +41,14 @@ if [ "$what" = mpi-test ]; then
 fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$jobs"
+
+# `import adem` in Debian's python3: a .pth file in the user's site-packages names this
+# checkout's python/ folder (the module loads build/libadem.so.0 next to it), as an editable
+# install would; rm it to undo. `cmake --install build` installs the module for good instead.
+site=$(/usr/bin/python3 -c 'import site; print(site.getusersitepackages())')
+mkdir -p "$site"
+echo "$(pwd)/python" > "$site/adem.pth"
+/usr/bin/python3 -c 'import adem; print("adem setup: import adem works (python3, module in %s, library %s)" % (adem.__path__[0], adem.library_path()))'
 
 case "$what" in
   demo)

@@ -64,5 +64,6 @@ typedef struct adem_world adem_world;
 #include "adem/pile.h"
 #include "adem/frames.h"
 #include "adem/fields.h"
+#include "adem/binding.h"
 
 #endif

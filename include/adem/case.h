@@ -82,6 +82,12 @@ adem_status adem_case_load_string_at(const char *text, const char *name_for_mess
                                      adem_case **out, adem_error *err);
 void adem_case_free(adem_case *c);
 
+/* Adds the triangles of an STL file (ASCII or binary) to the world as one mesh wall, one group
+ * per solid (docs/meshes.md names them), moving with velocity
+ * (non-zero needs tf->own_vertices); tf NULL: the default transform. */
+adem_status adem_world_add_stl(adem_world *w, const char *path, const adem_mesh_transform *tf,
+                               const char *name, adem_vec3 velocity, adem_error *err);
+
 /* The case-file reference (every key, type, unit, default, range, doc) as Markdown. */
 void adem_case_write_reference(FILE *f);
 

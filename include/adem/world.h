@@ -316,16 +316,46 @@ typedef enum adem_particle_field {
   ADEM_FIELD_CONTACTS = 9,         /* contacts touching now (particles and walls) */
   ADEM_FIELD_PATH_LENGTH = 10,     /* distance the centre has travelled, m */
   ADEM_FIELD_INVERSE_MASS = 11,    /* 1/kg, as the integrator uses it */
-  ADEM_FIELD_INVERSE_INERTIA = 12  /* 1/(kg m^2), as the integrator uses it */
+  ADEM_FIELD_INVERSE_INERTIA = 12, /* 1/(kg m^2), as the integrator uses it */
+  ADEM_FIELD_EXTERNAL_FORCE = 13   /* the particle's own external force, N (set below) */
 } adem_particle_field;
 int adem_particle_field_components(adem_particle_field field);
 /* out holds capacity doubles, at least count x components. */
 adem_status adem_world_get_particles(const adem_world *w, adem_particle_field field, double *out,
                                      size_t capacity, adem_error *err);
-/* Places particle id, or sets its velocity or spin (NULL: keep). Between steps. */
+/* Places particle id, or sets its velocity or spin (NULL: keep). Between steps. O(1): the
+ * world keeps an id -> index map, checked at each look-up and rebuilt once (O(n)) after the
+ * particles were reordered; for every particle at once, adem_world_set_particles. */
 adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 *position,
                                     const adem_vec3 *velocity, const adem_vec3 *angular_velocity,
                                     adem_error *err);
+
+/* ---- bulk access in id order (src/core/world_bulk.c) ---- */
+/* The particles' ids in increasing order into out (capacity entries, at least count): row k of
+ * the arrays adem_world_get_particles and adem_world_set_particles take is particle out[k]. */
+adem_status adem_world_get_ids(const adem_world *w, uint64_t *out, size_t capacity,
+                               adem_error *err);
+/* Sets one field of every particle from in, count x 3 doubles in id order (as
+ * adem_world_get_particles reads them; count must be the particle count): ADEM_FIELD_POSITION,
+ * ADEM_FIELD_VELOCITY, ADEM_FIELD_ANGULAR_VELOCITY or ADEM_FIELD_EXTERNAL_FORCE. Between steps;
+ * every value must be finite (else nothing is changed). O(n).
+ * A particle's external force acts with gravity and its group's force in every force pass
+ * (summed in that order), stays until changed, and is kept in checkpoints; it starts at zero.
+ * Set between steps, it replaces the old one in the last pass's total force too, so the whole
+ * next step feels it; the energy balance counts it as the potential -F . x, whose change is
+ * work done from outside. */
+adem_status adem_world_set_particles(adem_world *w, adem_particle_field field, const double *in,
+                                     size_t count, adem_error *err);
+/* Adds n particles from arrays, as n calls of adem_world_add_particle: pos, vel, omega n x 3
+ * doubles (vel, omega NULL: zero), radius n, material and group n ints (NULL: 0 each); ids (may
+ * be NULL) receives their ids. Every row is checked first: a bad one adds none. */
+adem_status adem_world_add_particles(adem_world *w, size_t n, const double *pos, const double *vel,
+                                     const double *omega, const double *radius,
+                                     const int *material, const int *group, uint64_t *ids,
+                                     adem_error *err);
+/* One particle's external force (N); the same as a row of adem_world_set_particles. */
+adem_status adem_world_set_external_force(adem_world *w, uint64_t id, adem_vec3 force,
+                                          adem_error *err);
 
 /* A contact of the last force pass. */
 typedef enum adem_contact_kind {

@@ -802,7 +802,9 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
   double dt = w->dt;
   bool breaks = *w->break_forces != 0;
   {
-    adem_vec3 f = v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force);
+    /* body forces: (m g + the group's force) + the particle's own external force */
+    adem_vec3 f = v3_add(v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force),
+                         p->ext_force[i]);
     adem_vec3 t = v3_zero(), roll = v3_zero();
     double ri = p->radius[i]; /* the arm of its contacts' tangential forces */
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};

@@ -1,5 +1,7 @@
 /* Materials and the table of material pairs (H2, H12, H15, H24). */
 #include <math.h>
+#include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -199,6 +201,21 @@ adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
   return ADEM_OK;
 }
 
+void adem_material_def_store(adem_material_def *dst, const adem_material_def *src) {
+  /* checkpoints save the defs' bytes: the name after its end and the padding are zeroed, so
+   * that they do not depend on what the caller's memory held */
+  memset(dst, 0, sizeof *dst);
+  snprintf(dst->name, sizeof dst->name, "%s", src->name);
+  dst->density = src->density;
+  dst->young = src->young;
+  dst->poisson = src->poisson;
+  dst->restitution = src->restitution;
+  dst->friction = src->friction;
+  dst->stiffness_factor = src->stiffness_factor;
+  dst->rigid = src->rigid;
+  memcpy(dst->param, src->param, sizeof dst->param);
+}
+
 int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_error *err) {
   if (adem_materials_find(mt, def->name) >= 0) {
     adem_error_set(err, ADEM_ERR_INPUT, "material '%s' is defined twice", def->name);
@@ -246,7 +263,7 @@ int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_er
   }
   mt->m = m;
   memset(&m[mt->n], 0, sizeof *m);
-  m[mt->n].def = *def;
+  adem_material_def_store(&m[mt->n].def, def);
   return mt->n++;
 }
 
@@ -291,7 +308,11 @@ int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_de
     return -1;
   }
   mt->defs = d;
-  d[mt->ndefs] = *def;
+  /* stored with its trailing padding zeroed: checkpoints save the defs' bytes, which must not
+   * depend on what the caller's stack held */
+  memset(&d[mt->ndefs], 0, sizeof *d);
+  memcpy(&d[mt->ndefs], def,
+         offsetof(adem_interaction_def, dtk_rolling_modification) + sizeof def->dtk_rolling_modification);
   return mt->ndefs++;
 }
 

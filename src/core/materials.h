@@ -41,6 +41,8 @@ typedef struct adem_materials {
 
 /* Adds a material; returns its index, or -1 with err set. */
 int adem_materials_add(adem_materials *mt, const adem_material_def *def, adem_error *err);
+/* *dst = *src with the name's tail and the padding zeroed (checkpoints save the bytes). */
+void adem_material_def_store(adem_material_def *dst, const adem_material_def *src);
 int adem_materials_find(const adem_materials *mt, const char *name);
 /* Records how two materials interact; returns the entry's index, or -1 with err set: the laws
  * must exist and fit together (a law's `requires`, e.g. DTK needs the JKR normal law). */

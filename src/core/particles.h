@@ -43,6 +43,8 @@ typedef struct adem_group {
   X(double, dissipated_next, "of the last force pass, what the next opening kick dissipates, J") \
   X(double, wall_work, "energy moving walls gave through its contacts to the last closing kick, J") \
   X(double, wall_work_next, "of the last force pass, what the next opening kick receives, J") \
+  X(adem_vec3, ext_force, "external force set through the API (adem_world_set_particles), kept " \
+    "until changed, N")                                                               \
   X(adem_vec3, brof_impulse, "angular impulse of BROF's share from particle contacts, which no "  \
     "partner takes back (I9-I10 act per particle), N m s") \
   X(uint8_t, frozen, "1: fixed to a wall (or to space): not integrated, placed by the wall's motion") \

@@ -40,6 +40,7 @@ void adem_world_free(adem_world *w) {
   adem_neighbors_free(&w->nb);
   adem_materials_free(&w->mat);
   free(w->groups);
+  free(w->id_map);
   free(w);
 }
 
@@ -177,12 +178,19 @@ adem_status adem_world_set_plane_motion(adem_world *w, int plane, const adem_mot
   return adem_walls_set_plane_motion(&w->walls, plane, def, err);
 }
 
+/* Switched in a running world (between steps, through the API), a wall's candidate pairs
+ * change now: the neighbour lists are rebuilt (a wall's pairs are made only at a build). */
+static adem_status rebuild_for_wall(adem_world *w, adem_status st, adem_error *err) {
+  if (!st && w->prepared && !w->split && !w->admit_pending) st = adem_world_build_neighbors(w, err);
+  return st;
+}
+
 adem_status adem_world_set_plane_active(adem_world *w, int plane, int active, adem_error *err) {
-  return adem_walls_set_plane_active(&w->walls, plane, active != 0, err);
+  return rebuild_for_wall(w, adem_walls_set_plane_active(&w->walls, plane, active != 0, err), err);
 }
 
 adem_status adem_world_set_mesh_active(adem_world *w, int group, int active, adem_error *err) {
-  return adem_walls_set_mesh_active(&w->walls, group, active != 0, err);
+  return rebuild_for_wall(w, adem_walls_set_mesh_active(&w->walls, group, active != 0, err), err);
 }
 
 void adem_world_place_walls(adem_world *w, double t) { adem_walls_place(&w->walls, t); }
@@ -326,7 +334,7 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   memcpy(d, interactions, (size_t)ninteractions * sizeof *d);
-  for (int j = 0; j < mt->n; ++j) mt->m[j].def = defs[j];
+  for (int j = 0; j < mt->n; ++j) adem_material_def_store(&mt->m[j].def, &defs[j]);
   free(mt->defs);
   mt->defs = d;
   mt->ndefs = ninteractions;
@@ -357,7 +365,8 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
   double energy = 0.0;
   for (size_t i = first; i < p->n; ++i) {
     double m = 1.0 / p->inv_mass[i];
-    adem_vec3 f = v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force);
+    adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force),
+                         p->ext_force[i]);
     adem_particles_set_loads(p, i, f, v3_zero(), v3_zero(), 0);
     energy += 0.5 * v3_norm2(p->vel[i]) * m + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i] -
               v3_dot(f, p->pos[i]);
@@ -1058,9 +1067,11 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
     size_t i = order[r];
     adem_block_sum_add(&sum[KINETIC], 0.5 * v3_norm2(p->vel[i]) / p->inv_mass[i]);
     adem_block_sum_add(&sum[ROTATIONAL], 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i]);
-    /* Potential of the constant body forces: -(m g + F_ext) . x */
-    adem_vec3 f = v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
-                         w->groups[p->group[i]].external_force);
+    /* Potential of the body forces: -(m g + F_group + F_ext) . x (a change of F_ext is
+     * external work: adem_world_set_particles) */
+    adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
+                                w->groups[p->group[i]].external_force),
+                         p->ext_force[i]);
     adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
     adem_block_sum_add(&sum[POTENTIAL], -v3_dot(f, xi));
     /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
@@ -1315,7 +1326,7 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err) {
 /* ---------------------------------------------------------------- reading the state */
 
 int adem_particle_field_components(adem_particle_field field) {
-  return field <= ADEM_FIELD_ROLLING_TORQUE ? 3 : 1;
+  return field <= ADEM_FIELD_ROLLING_TORQUE || field == ADEM_FIELD_EXTERNAL_FORCE ? 3 : 1;
 }
 
 /* Number of touching contacts of each particle index (particles and walls). */
@@ -1338,7 +1349,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
   const adem_particles *p = &w->p;
   size_t n = p->n;
   int nc = adem_particle_field_components(field);
-  if ((unsigned)field > ADEM_FIELD_INVERSE_INERTIA)
+  if ((unsigned)field > ADEM_FIELD_EXTERNAL_FORCE)
     return adem_error_set(err, ADEM_ERR_INPUT, "unknown particle field %d", (int)field);
   if (capacity < n * (size_t)nc)
     return adem_error_set(err, ADEM_ERR_INPUT, "%zu particles need %zu doubles, the array has %zu",
@@ -1373,6 +1384,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
       case ADEM_FIELD_PATH_LENGTH: s = p->path_length[i]; break;
       case ADEM_FIELD_INVERSE_MASS: s = p->inv_mass[i]; break;
       case ADEM_FIELD_INVERSE_INERTIA: s = p->inv_inertia[i]; break;
+      case ADEM_FIELD_EXTERNAL_FORCE: v = &p->ext_force[i]; break;
     }
     if (v) {
       out[3 * id] = v->x;
@@ -1392,8 +1404,7 @@ adem_status adem_world_set_particle(adem_world *w, uint64_t id, const adem_vec3 
                                     adem_error *err) {
   adem_particles *p = &w->p;
   size_t i = 0;
-  while (i < p->n && p->id[i] != id) ++i;
-  if (i == p->n)
+  if (!adem_world_particle_index(w, id, &i))
     return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
   if ((position && !v3_isfinite(*position)) || (velocity && !v3_isfinite(*velocity)) ||
       (angular_velocity && !v3_isfinite(*angular_velocity)))

@@ -116,6 +116,10 @@ struct adem_world {
   /* particles added through the API to a prepared world, taken in at the next step */
   bool admit_pending;
   size_t admit_from;
+  /* id -> storage index (world_bulk.c): a cache, checked at every look-up against p.id and
+   * rebuilt when a reordering made it stale (not saved) */
+  uint32_t *id_map;
+  size_t id_map_n;
 };
 
 /* All-pairs search instead of the grid (tests compare the two). */
@@ -227,6 +231,10 @@ adem_status adem_world_load(adem_reader *rd, adem_world *w, adem_error *err);
  * names (*names, free it), the rest skipped; for a case that starts from another run's state. */
 adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
                                       char (**names)[ADEM_NAME_MAX], int *nmat, adem_error *err);
+
+/* The storage index of particle id (world_bulk.c): O(1) through the id map, which is rebuilt
+ * (O(n)) when a reordering made it stale. false: no particle has that id. */
+bool adem_world_particle_index(adem_world *w, uint64_t id, size_t *index);
 
 /* The whole set-up of a world made through the API (settings, materials, interactions, groups,
  * walls), before its dynamic state: loading it into a fresh world remakes that world. */
