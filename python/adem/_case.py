@@ -14,7 +14,7 @@ from ._world import World
 
 Progress = collections.namedtuple(
     "Progress", "time end_time step total_steps wall_seconds eta_seconds steps_per_second "
-                "contacts particles final")
+                "contacts particles final until")
 
 
 def _set_strings(sets):
@@ -151,7 +151,7 @@ def run(case, out=None, threads=0, progress=None):
             try:
                 progress(Progress(p.time, p.end_time, p.step, p.total_steps, p.wall_seconds,
                                   p.eta_seconds, p.steps_per_second, p.contacts, p.particles,
-                                  bool(p.final)))
+                                  bool(p.final), p.until.decode("utf-8", "replace")))
             except BaseException as e:  # stop cleanly, re-raise after the checkpoint
                 raised.append(e)
                 stop.value = 1

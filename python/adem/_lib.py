@@ -154,7 +154,8 @@ class Progress(Structure):
                 ("total_steps", c_uint64), ("wall_seconds", c_double),
                 ("eta_seconds", c_double), ("eta_rough", c_int),
                 ("steps_per_second", c_double), ("contacts", c_size_t),
-                ("particles", c_size_t), ("may_end_early", c_int), ("final", c_int)]
+                ("particles", c_size_t), ("may_end_early", c_int), ("final", c_int),
+                ("until", c_char * 160)]
 
 
 PROGRESS_FN = ctypes.CFUNCTYPE(None, POINTER(Progress), c_void_p)
@@ -167,7 +168,8 @@ class RunOptions(Structure):
 
 class VtuFrame(Structure):
     _fields_ = [("n", c_size_t), ("pos", POINTER(Vec3)), ("radius", POINTER(c_double)),
-                ("id", POINTER(c_int64)), ("time", c_double), ("step", c_int64)]
+                ("id", POINTER(c_int64)), ("velocity", POINTER(Vec3)),
+                ("mass", POINTER(c_double)), ("time", c_double), ("step", c_int64)]
 
 
 _MIRRORS = {"adem_error": Error, "adem_vec3": Vec3, "adem_material_def": MaterialDef,

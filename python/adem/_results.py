@@ -50,7 +50,8 @@ class Results:
 
     def frame(self, k):
         """Particle frame k (an index into frames, or a path) as a dict: time, step, id (int64),
-        position (n, 3), radius (n,), rows sorted by id."""
+        position (n, 3), radius (n,), and velocity (n, 3) and mass (n,) when the frame has them,
+        rows sorted by id."""
         path = self.frames[k] if isinstance(k, int) else os.fspath(k)
         f = _lib.VtuFrame()
         err = _lib.Error()
@@ -63,10 +64,18 @@ class Results:
             ids = (np.ctypeslib.as_array(f.id, shape=(n,)).copy() if n and f.id
                    else np.arange(n, dtype=np.int64))
             out = {"time": f.time, "step": f.step}
+            extra = {}
+            if n and f.velocity:
+                extra["velocity"] = np.ctypeslib.as_array(
+                    ctypes.cast(f.velocity, ctypes.POINTER(ctypes.c_double)),
+                    shape=(n * 3,)).reshape(n, 3).copy()
+            if n and f.mass:
+                extra["mass"] = np.ctypeslib.as_array(f.mass, shape=(n,)).copy()
         finally:
             lib.adem_vtu_frame_free(byref(f))
         order = np.argsort(ids, kind="stable")
         out.update(id=ids[order], position=pos[order], radius=rad[order])
+        out.update({k: v[order] for k, v in extra.items()})
         return out
 
     @property
