@@ -162,7 +162,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   switch (laws.rolling) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
-    kernel(&in, &h->rolling, &ro);                               \
+    kernel(&in, &h->rolling, &h->rolling_aux, &ro);                               \
     break;
     ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
@@ -387,7 +387,8 @@ enum { PREFETCH_AHEAD = 8 };
   X(opix, opi.x) X(opiy, opi.y) X(opiz, opi.z) X(opjx, opj.x) X(opjy, opj.y) X(opjz, opj.z)
 #define PAIR_BLOCK_HISTORY(X)                                                                   \
   X(tx, tangential.x) X(ty, tangential.y) X(tz, tangential.z) X(rx, rolling.x)                  \
-  X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(elastic, elastic)
+  X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(raux, rolling_aux)                \
+  X(elastic, elastic)
 
 typedef struct pair_block {
   int m;                        /* pairs held */

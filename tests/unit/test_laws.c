@@ -186,12 +186,13 @@ static void test_rolling_laws(void **state) {
 #define ADEM_X(ID, name, kernel, hist, req, pp, prm, eq, doc)                                  \
   {                                                                                          \
     adem_vec3 hi = v3_zero(), hj = v3_zero();                                                \
+    double auxi = 0.0, auxj = 0.0;                                                           \
     double most = 0.0;                                                                       \
     for (int s = 0; s < 40; ++s) {                                                           \
       adem_rolling_output oi = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
       adem_rolling_output oj = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
-      kernel(&ini, &hi, &oi);                                                                \
-      kernel(&inj, &hj, &oj);                                                                \
+      kernel(&ini, &hi, &auxi, &oi);                                                         \
+      kernel(&inj, &hj, &auxj, &oj);                                                         \
       double scale = fmax(v3_norm(oi.torque), 1e-30);                                        \
       assert_opposite(oi.torque, oj.torque, scale, name);                                    \
       assert_same(oi.capacity, oj.capacity, name " capacity");                               \
