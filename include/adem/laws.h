@@ -117,6 +117,11 @@ typedef enum adem_law_param_id {
   X(ADEM_ROLLING_BROF, "brof", adem_rolling_brof_law, 0, "", 1, "rolling_friction", "I9-I10",      \
     "Bounded rolling friction: per particle, the torque that stops its spin within the step, "    \
     "bounded by the sum of e_c |F_n| over its contacts; never reverses the rotation.")             \
+  X(ADEM_ROLLING_BROF_OBJECTIVE, "brof_objective", adem_rolling_brof_objective_law, 0, "", 1,      \
+    "rolling_friction", "I9-I10, objective",                                                       \
+    "BROF whose target spin is the capacity-weighted mean of all its partners' spins (walls' and " \
+    "particles'), not 0 for particle partners: I9-I10 when the partners are at rest; a cluster "  \
+    "turning rigidly with a drum or turntable is not braked.")                                     \
   ADEM_EXTRA_ROLLING_LAWS(X)
 
 typedef enum adem_normal_model {

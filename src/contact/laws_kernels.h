@@ -48,6 +48,9 @@ typedef struct adem_contact_geometry {
                         * (the drift's: displacements of the step are w dt) */
   adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n, at the half step */
   adem_vec3 w_pred;    /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
+  double mob_t;        /* the change of w's tangential part per unit tangential force on i over
+                        * the closing half kick: for spheres (r^2/I = 2.5/m) 3.5 (1/m_i + 1/m_j)
+                        * dt/2; 0 in the first-order scheme */
   adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
@@ -239,6 +242,13 @@ ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *his
   /* fmin without a library call: both are finite and >= 0 */
   if (g->rj != 0.0 && e_b < e_c) e_c = e_b;
   out->capacity = e_c * in->f_load;
+}
+
+/* The same capacity; the force pass's per-particle sum takes the partners' spins into the target
+ * (contacts.c). */
+ADEM_LAW void adem_rolling_brof_objective_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                              double *aux, adem_rolling_output *out) {
+  adem_rolling_brof_law(in, hist, aux, out); /* I9 */
 }
 
 ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,

@@ -75,7 +75,8 @@ size_t adem_reader_left(const adem_reader *rd);
                                 a record of its own; 9: a pair's stored energy alone, the
                                 balance's records only while the balance is on; 10: a pair's
                                 opened flag; 11: the rolling stiffness a contact's rolling
-                                spring was stored with */
+                                spring was stored with, the tangential force a
+                                contact applied at the last pass */
 #define ADEM_CKPT_ENDIAN 0x01020304u
 #define ADEM_CKPT_HEADER_BYTES 40u
 /* Checks the header of checkpoint bytes of kind magic (hist_size: the build's contact-history
