@@ -36,7 +36,7 @@ const char *const check_help =
     "    (E/E_mod)^(2/5), the Tabor parameter (a warning below 3, where JKR does not apply) and\n"
     "    the largest external force that stays below 10% of the modified pull-off force;\n"
     "  - the Hertz collision time at the reference speed v_ref, the Rayleigh time, the\n"
-    "    proposed step min(t_c/50, 0.2 t_R, stability limit/10), the chosen step and whether it is automatic;\n"
+    "    proposed step min(t_c/50, 0.2 t_R, stability limit/5), the chosen step and whether it is automatic;\n"
     "  - the number of steps, frames, CSV rows and checkpoints;\n"
     "  - an estimate of the memory the run needs (every particle, the pours' totals included,\n"
     "    their candidate pairs, the neighbour grid), the limit it is held against\n"

@@ -221,7 +221,7 @@ typedef struct adem_step_estimate {
                         * brings the spheres to, or half its period of oscillation about the
                         * equilibrium if that is shorter */
   double t_rayleigh;   /* shortest Rayleigh time, s */
-  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh, dt_stable/10) */
+  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh, dt_stable/5) */
   double dt_stable;    /* shortest step at which a contact's fastest mode (normal; tangential with
                         * the contact point's mass m-star/3.5 and a rolling spring; model C's
                         * explicit dashpot) reaches the integrator's stability limit, linearised at

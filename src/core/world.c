@@ -553,9 +553,9 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
   }
   free(rmin);
   est.dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh); /* about 50 steps a collision */
-  /* and a tenth of the stability limit: the rolling spring DTK keeps real under reduced
+  /* and a fifth of the stability limit: the rolling spring DTK keeps real under reduced
    * stiffness outruns the normal mode below f ~ 1e-2 (docs/models.md, "Time step") */
-  est.dt = fmin(est.dt, 0.1 * est.dt_stable);
+  est.dt = fmin(est.dt, 0.2 * est.dt_stable);
   est.dt_limit = fmin(est.t_collision / ADEM_STEP_LIMIT_DIVISOR, est.dt_stable);
   return est;
 }

@@ -1756,7 +1756,7 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
                "the proposal%s", loc, step, c->dt_user_ratio,
                c->estimate.dt,
                c->estimate.dt < fmin(c->estimate.t_collision / 50.0, 0.2 * c->estimate.t_rayleigh)
-                   ? "a tenth of the stability limit"
+                   ? "a fifth of the stability limit"
                    : collision ? "t_collision/50" : "0.2 t_Rayleigh",
                limit_name, limit, limit / c->estimate.dt,
                step > limit ? " and the step is above it (limits.allow_large_step)" : "");

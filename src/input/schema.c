@@ -202,7 +202,7 @@ static const adem_schema_entry base_schema[] = {
 
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
-    {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh, a tenth of the contacts' stability limit). A larger step is allowed with a warning up to min(t_collision/5, the stability limit of the contacts' modes with their damping: docs/models.md, \"Time step\"); beyond it the case is refused unless `limits.allow_large_step: true`."},
+    {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh, a fifth of the contacts' stability limit). A larger step is allowed with a warning up to min(t_collision/5, the stability limit of the contacts' modes with their damping: docs/models.md, \"Time step\"); beyond it the case is refused unless `limits.allow_large_step: true`."},
     UNTIL_ENTRIES("time.until", "the run (`end` is then the most it lasts)"),
     {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see above."},
 

@@ -517,7 +517,7 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   fprintf(f, "  reference speed v_ref     %.4g m/s\n", e->v_ref);
   fprintf(f, "  Hertz collision time t_c  %.4g s\n", e->t_collision);
   fprintf(f, "  Rayleigh time t_R         %.4g s\n", e->t_rayleigh);
-  fprintf(f, "  proposed step             %.4g s = min(t_c/50, 0.2 t_R, stability limit/10)\n", e->dt);
+  fprintf(f, "  proposed step             %.4g s = min(t_c/50, 0.2 t_R, stability limit/5)\n", e->dt);
   fprintf(f, "  stability limit           %.4g s = t_c/%.3g (contact modes with damping)\n",
           e->dt_stable, e->t_collision / e->dt_stable);
   if (c->dt_auto)

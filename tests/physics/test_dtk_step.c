@@ -5,9 +5,9 @@
  * MPa, gamma 0.11) resting at the JKR equilibrium on a rigid wall at f = 1e-5, set rocking
  * (xi far below xi_crit). Claims checked:
  *  - the stability limit includes the rolling mode (t_c/29.4 here, against t_c/4.9 at f = 1)
- *    and the proposal is at most a tenth of it (t_c/294 instead of t_c/50);
+ *    and the proposal is at most a fifth of it (t_c/147 instead of t_c/50);
  *  - with it the rocking stays bounded: the largest spin over 4000 steps is below the initial
- *    one (0.988; 1.05 at min(t_c/50, 0.2 t_R), where the rolling mode is at 0.58 of the
+ *    one (0.986; 1.05 at min(t_c/50, 0.2 t_R), where the rolling mode is at 0.58 of the
  *    limit: the limit is conservative, from the peak stiffness of a 1 m/s impact). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -99,8 +99,8 @@ static void test_proposal_includes_rolling_mode(void **state) {
          est.t_collision / est.dt, old_dt);
   printf("# largest spin / initial over 4000 steps: %.6f at the proposal, %.6f at "
          "min(t_c/50, 0.2 t_R)\n", with / omega0, old / omega0);
-  assert_true(est.dt <= 0.1 * est.dt_stable * (1.0 + 1e-12));
-  assert_true(est.dt < 0.2 * old_dt); /* the rolling mode sets the proposal here */
+  assert_true(est.dt <= 0.2 * est.dt_stable * (1.0 + 1e-12));
+  assert_true(est.dt < 0.4 * old_dt); /* the rolling mode sets the proposal here */
   assert_true(with < 1.0 * omega0);
 }
 
