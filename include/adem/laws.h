@@ -101,23 +101,28 @@ typedef enum adem_law_param_id {
 
 #define ADEM_ROLLING_LAWS(X)                                                                      \
   X(ADEM_ROLLING_NONE, "none", adem_rolling_none_law, 0, "", 0, "", "", "No rolling resistance.") \
-  X(ADEM_ROLLING_DTK, "dtk", adem_rolling_dtk_law, 3, "jkr", 0, "adhesion_hysteresis",             \
+  X(ADEM_ROLLING_DTK, "dtk", adem_rolling_dtk_law, 4, "jkr", 0, "adhesion_hysteresis",             \
     "H18-H22",                                                                                     \
     "Adhesive rolling resistance (Dominik-Tielens-Krijt): torque k_r xi, k_r = 4 F_C (a/a0)^(3/2), " \
     "|xi| <= xi_crit; under reduced stiffness F_C, a0, xi_crit stay real (H section 3.2).")       \
   X(ADEM_ROLLING_A, "model_a", adem_rolling_model_a_law, 0, "", 0, "rolling_friction", "I7-I8",   \
     "Constant directional torque eta_r R_r |F_n| against the relative spin (oscillates at rest).") \
-  X(ADEM_ROLLING_C, "model_c", adem_rolling_model_c_law, 3, "", 0,                                 \
+  X(ADEM_ROLLING_C, "model_c", adem_rolling_model_c_law, 4, "", 0,                                 \
     "rolling_friction rolling_damping", "Ai et al. 2011",                                          \
     "Elastic-plastic spring k_r = 2.25 S_n eta_r^2 R_r^2 limited to eta_r R_r |F_n|, with a "      \
     "dashpot while below the limit.")                                                             \
-  X(ADEM_ROLLING_C_CAPPED, "model_c_capped", adem_rolling_model_c_capped_law, 3, "", 0,         \
+  X(ADEM_ROLLING_C_CAPPED, "model_c_capped", adem_rolling_model_c_capped_law, 4, "", 0,         \
     "rolling_friction rolling_damping", "Ai et al. 2011, capped",                                  \
     "Model C with spring + dashpot limited to eta_r R_r |F_n| (model C's dashpot alone is not "   \
     "bounded).")                                                                                   \
   X(ADEM_ROLLING_BROF, "brof", adem_rolling_brof_law, 0, "", 1, "rolling_friction", "I9-I10",      \
     "Bounded rolling friction: per particle, the torque that stops its spin within the step, "    \
     "bounded by the sum of e_c |F_n| over its contacts; never reverses the rotation.")             \
+  X(ADEM_ROLLING_BROF_OBJECTIVE, "brof_objective", adem_rolling_brof_objective_law, 0, "", 1,      \
+    "rolling_friction", "I9-I10, objective",                                                       \
+    "BROF whose target spin is the capacity-weighted mean of all its partners' spins (walls' and " \
+    "particles'), not 0 for particle partners: I9-I10 when the partners are at rest; a cluster "  \
+    "turning rigidly with a drum or turntable is not braked.")                                     \
   ADEM_EXTRA_ROLLING_LAWS(X)
 
 typedef enum adem_normal_model {
@@ -163,7 +168,7 @@ typedef struct adem_law {
   adem_law_slot slot;
   int id;               /* the enum value in its slot */
   const char *name;     /* as written in a case file */
-  int history;          /* doubles of contact history it keeps (0..3) */
+  int history;          /* doubles of contact history it keeps (0..4) */
   const char *requires; /* name of the normal law it needs, or "" */
   bool per_particle;    /* acts per particle (BROF), not as a couple per contact */
   const char *params;   /* keys of the parameters it reads, space separated */

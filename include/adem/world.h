@@ -221,13 +221,19 @@ typedef struct adem_step_estimate {
                         * brings the spheres to, or half its period of oscillation about the
                         * equilibrium if that is shorter */
   double t_rayleigh;   /* shortest Rayleigh time, s */
-  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh) */
+  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh, dt_stable/5) */
+  double dt_stable;    /* shortest step at which a contact's fastest mode (normal; tangential with
+                        * the contact point's mass m-star/3.5 and a rolling spring; model C's
+                        * explicit dashpot) reaches the integrator's stability limit, linearised at
+                        * the collision's peak stiffness (docs/models.md, "Time step"), s */
+  double dt_limit;     /* the largest step a case may ask for: min(t_collision/5, dt_stable) */
 } adem_step_estimate;
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref);
-/* Stability limit of a given step: t_collision / ADEM_STEP_LIMIT_DIVISOR. Measured on a
+/* Accuracy limit of a given step: t_collision / ADEM_STEP_LIMIT_DIVISOR. Measured on a
  * two-sphere Hertz collision (docs/reliability.md): up to t_c/5 the restitution is off by
  * 1.6 % at most, at t_c/4 by 3 %, t_c/3 6.5 %, t_c/2.5 15 % (energy created), t_c/2 a factor
- * 2.3. A case asking for more is refused unless limits.allow_large_step is true. */
+ * 2.3. A case asking for more than it or than the stability limit (adem_step_estimate's
+ * dt_limit) is refused unless limits.allow_large_step is true. */
 #define ADEM_STEP_LIMIT_DIVISOR 5.0
 /* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5), s. */
 double adem_hertz_collision_time(double mstar, double R, double E, double v);

@@ -34,15 +34,15 @@ static const adem_law_param params[] = {
 #undef ADEM_X
 };
 
-/* History is kept in three doubles per slot, four for the tangential slot (pairs.h): a row
- * cannot ask for more. */
+/* History is kept in four doubles for the tangential and rolling slots (pairs.h), none for the
+ * normal slot: a row cannot ask for more. */
 #define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
-  _Static_assert((hist) >= 0 && (hist) <= 3, "a law keeps at most 3 doubles of history");
+  _Static_assert((hist) == 0, "a normal law keeps no history");
 ADEM_NORMAL_LAWS(ADEM_X)
-ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
 #define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
-  _Static_assert((hist) >= 0 && (hist) <= 4, "a tangential law keeps at most 4 doubles of history");
+  _Static_assert((hist) >= 0 && (hist) <= 4, "a law keeps at most 4 doubles of history");
+ADEM_ROLLING_LAWS(ADEM_X)
 ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
 

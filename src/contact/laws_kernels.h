@@ -48,6 +48,9 @@ typedef struct adem_contact_geometry {
                         * (the drift's: displacements of the step are w dt) */
   adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n, at the half step */
   adem_vec3 w_pred;    /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
+  double mob_t;        /* the change of w's tangential part per unit tangential force on i over
+                        * the closing half kick: for spheres (r^2/I = 2.5/m) 3.5 (1/m_i + 1/m_j)
+                        * dt/2; 0 in the first-order scheme */
   adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
   double ri, rj;       /* radii; rj = 0 for a wall */
   double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
@@ -189,49 +192,52 @@ ADEM_LAW double adem_rolling_damping(const adem_pair_params *pp, const adem_cont
   return d == 0.0 ? 0.0 : d * 2.0 * sqrt(g->inertia_r * k_r);
 }
 
-ADEM_LAW void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_none_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                     adem_rolling_output *out) {
   (void)in;
   (void)hist;
+  (void)aux;
   (void)out;
 }
 
-ADEM_LAW void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_a_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                        adem_rolling_output *out) {
   (void)hist; /* I7-I8 */
+  (void)aux;
   out->torque = adem_rolling_model_a(in->g->omega_rel, adem_rolling_eta(in) * adem_rolling_radius(in->g),
                                      in->f_load);
   out->dashpot = out->torque; /* no spring: all its work is dissipation */
 }
 
-ADEM_LAW void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_c_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                        adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = adem_rolling_damping(in->pp, g, k_r);
-  out->torque = adem_rolling_model_c(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
+  out->torque = adem_rolling_model_c(hist, aux, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
                                      eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r; /* spring: M^2/(2 k_r) */
 }
 
-ADEM_LAW void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_model_c_capped_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                               adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   double R_r = adem_rolling_radius(g);
   double eta = adem_rolling_eta(in);
   double k_r = 2.25 * in->Sn * eta * eta * R_r * R_r;
   double c_r = adem_rolling_damping(in->pp, g, k_r);
-  out->torque = adem_rolling_model_c_capped(hist, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
+  out->torque = adem_rolling_model_c_capped(hist, aux, g->n, g->omega_rel, g->omega_pred, in->dt, k_r,
                                             eta * R_r * in->f_load, c_r, &out->dissipated);
   out->dashpot = v3_sub(out->torque, *hist);
   if (k_r > 0.0) out->elastic = 0.5 * v3_norm2(*hist) / k_r;
 }
 
-ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist,
+ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                     adem_rolling_output *out) {
+  (void)aux;
   (void)hist; /* I9: e_c = min(eta_i r_i, eta_j r_j); wall: eta_i r_i */
   const adem_contact_geometry *g = in->g;
   int k = ADEM_PARAM_ROLLING_FRICTION;
@@ -242,7 +248,14 @@ ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *his
   out->capacity = e_c * in->f_load;
 }
 
-ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist,
+/* The same capacity; the force pass's per-particle sum takes the partners' spins into the target
+ * (contacts.c). */
+ADEM_LAW void adem_rolling_brof_objective_law(const adem_rolling_input *in, adem_vec3 *hist,
+                                              double *aux, adem_rolling_output *out) {
+  adem_rolling_brof_law(in, hist, aux, out); /* I9 */
+}
+
+ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist, double *aux,
                                    adem_rolling_output *out) {
   const adem_contact_geometry *g = in->g;
   const adem_pair_params *pp = in->pp;
@@ -260,7 +273,7 @@ ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist
    * law that feeds energy in when the tangential spring is soft (reduced stiffness). Pure rolling
    * still gives |v_L| = the centre's speed. */
   adem_vec3 v_l = adem_rolling_dtk_velocity(g->omega_rel, g->n, g->R);
-  out->torque = adem_rolling_dtk(hist, g->n, v_l, in->dt, k_r, xi_crit, g->R, &out->dissipated);
+  out->torque = adem_rolling_dtk(hist, aux, g->n, v_l, in->dt, k_r, xi_crit, g->R, &out->dissipated);
   /* M = k_r xi over a turn of xi/R: energy k_r xi^2/(2R) */
   out->elastic = 0.5 * k_r * v3_norm2(*hist) / g->R;
 }

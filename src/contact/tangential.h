@@ -38,7 +38,23 @@ typedef struct adem_tangential_input {
   double stiffness; /* S_t = 8 G sqrt(R delta) (H14) */
   double damping;   /* c_t of the dashpot, force -c_t vt (H16) */
   double f_limit;   /* Coulomb limit mu |F_N + 2 F_C| (H17) */
+  double mobility;  /* the change of the slip velocity per unit tangential force on i over the
+                     * closing half kick, (1/m_i + r_i^2/I_i + 1/m_j + r_j^2/I_j) dt/2; 0: the
+                     * dashpot takes vt_damp as it is. Else vt_damp leaves out this contact's own
+                     * force of the last pass, and the dashpot takes the slip velocity at the full
+                     * step implicitly: (vt_damp + mobility F_spring)/(1 + c_t mobility), with
+                     * this pass's spring force (adem_tangential_damping_velocity) */
 } adem_tangential_input;
+
+/* The velocity the tangential dashpot takes: the slip at the full step with this contact's own
+ * spring force of this pass and its own dashpot force -c_t v solved for (implicit). An explicit
+ * dashpot on a predicted velocity is a two-step recurrence that is unstable above
+ * c_t dt/(2 m_t) ~ 1 (docs/models.md, "Time step"); the implicit one is stable for any c_t. */
+ADEM_LAW adem_vec3 adem_tangential_damping_velocity(const adem_tangential_input *in,
+                                                    adem_vec3 spring) {
+  double m = in->mobility;
+  return v3_scale(v3_axpy(in->vt_damp, m, spring), 1.0 / (1.0 + in->damping * m));
+}
 
 typedef struct adem_tangential_output {
   adem_vec3 force;   /* on i: spring + dashpot, within the limit */
@@ -58,8 +74,8 @@ ADEM_LAW void adem_tangential_total(const adem_tangential_input *in, adem_vec3 *
   double S = in->stiffness;
   adem_vec3 x0 = adem_tangential_project(*xi, in->n);
   adem_vec3 x = v3_axpy(x0, in->dt, in->vt);
-  adem_vec3 dash = v3_scale(in->vt_damp, -in->damping);
-  adem_vec3 f = v3_sub(v3_scale(x, -S), v3_scale(in->vt_damp, in->damping));
+  adem_vec3 dash = v3_scale(adem_tangential_damping_velocity(in, v3_scale(x, -S)), -in->damping);
+  adem_vec3 f = v3_add(v3_scale(x, -S), dash);
   double fmag2 = v3_norm2(f);
   out->sliding = false;
   out->dissipated = 0.0;
@@ -103,7 +119,7 @@ ADEM_LAW void adem_tangential_incremental(const adem_tangential_input *in, adem_
     spring = v3_scale(spring, L / sqrt(s2));
     out->sliding = true;
   }
-  adem_vec3 dash = v3_scale(in->vt_damp, -in->damping);
+  adem_vec3 dash = v3_scale(adem_tangential_damping_velocity(in, spring), -in->damping);
   adem_vec3 f = v3_add(spring, dash);
   double f2 = v3_norm2(f);
   if (f2 > L * L) { /* the dashpot gives up what exceeds the limit */

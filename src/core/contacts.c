@@ -124,9 +124,17 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   double vn = v3_dot(g->w, g->n); /* > 0 while approaching */
   adem_vec3 vt = v3_axpy(g->w, -vn, g->n);
   /* the dashpots take the velocity at the full step, where their force acts: with the half step's
-   * they would lag by half a step (first order); v + F_old dt/(2m) is second order */
+   * they would lag by half a step (first order); v + F_old dt/(2m) is second order. The
+   * tangential dashpot's own share of it is solved for (implicit): w_pred less what this
+   * contact's tangential force of the last pass gave it, plus what its spring of this pass gives
+   * (the law adds that), then the dashpot's own part divided out. On w_pred as it is, the dashpot
+   * is a two-step recurrence that a sticking contact at e = 0.2 (damping ratio of the tangential
+   * mode sqrt(3.5) times the normal one's) makes unstable above t_c/11.7 (docs/models.md). The
+   * normal dashpot keeps the explicit form: its mode is slower and less damped, the guard covers
+   * it (step_limit.c), and the implicit form made the JKR capture threshold first order */
   double vn_d = v3_dot(g->w_pred, g->n);
-  adem_vec3 vt_d = v3_axpy(g->w_pred, -vn_d, g->n);
+  adem_vec3 ft_old = v3_axpy(h->tangential_force, -v3_dot(h->tangential_force, g->n), g->n);
+  adem_vec3 vt_d = v3_axpy(v3_axpy(g->w_pred, -vn_d, g->n), -g->mob_t, ft_old);
 
   double a = adem_hertz_radius(g->R, g->delta); /* sqrt(R delta): S_n, S_t use it (H13, H14) */
   adem_normal_result nr = normal_law(it, laws.normal, g, a);
@@ -151,7 +159,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
   double f_limit = pp->friction * f_load;                     /* H17 */
-  adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit};
+  adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit, g->mob_t};
   adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (laws.tangential) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
@@ -165,6 +173,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   }
 
   r.force = v3_axpy(tout.force, -fn, g->n);
+  h->tangential_force = tout.force;
   r.elastic = nr.e_elastic + tout.elastic;
   r.damping = v3_axpy(tout.dashpot, -f_damp, g->n);
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
@@ -172,7 +181,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   switch (laws.rolling) {
 #define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
   case ID:                                                       \
-    kernel(&in, &h->rolling, &ro);                               \
+    kernel(&in, &h->rolling, &h->rolling_aux, &ro);                               \
     break;
     ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
@@ -320,9 +329,18 @@ particle_kinematics(const adem_particles *p, const adem_vec3 *pred, size_t i, si
   return k;
 }
 
-/* The contact as the laws see it. I_r is left 0: the caller sets it when a law needs it. */
+/* The mobility of a contact's slip velocity (contact_geometry's mob_t) for a pass of closing half
+ * kick h (0: the first-order scheme) and the inverse masses' sum (a wall's is 0): a tangential
+ * force F on i at the contact point changes v_i - v_j by F (1/m_i + 1/m_j) h and, through the
+ * spins, the slip by F (r_i^2/I_i + r_j^2/I_j) h = 2.5 F (1/m_i + 1/m_j) h (spheres). */
+static inline void set_mobility(contact_geometry *g, double inv_mass_sum, double h) {
+  g->mob_t = 3.5 * inv_mass_sum * h;
+}
+
+/* The contact as the laws see it. I_r is left 0: the caller sets it when a law needs it. h: the
+ * closing half kick of the second-order scheme, 0 in the first-order one. */
 static inline __attribute__((always_inline)) contact_geometry
-kinematic_geometry(const pair_kinematics *k, bool energy, bool packed) {
+kinematic_geometry(const pair_kinematics *k, bool energy, bool packed, double h) {
   double ri = k->ri, rj = k->rj;
   double rsum = ri + rj;
   contact_geometry g;
@@ -344,6 +362,7 @@ kinematic_geometry(const pair_kinematics *k, bool energy, bool packed) {
   g.energy = energy;
   g.packed = packed;
   g.inertia_r = 0.0;
+  set_mobility(&g, k->mi + k->mj, h);
   return g;
 }
 
@@ -359,7 +378,7 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
   size_t i = l->a[k], j = l->b[k];
   double hp = w->second_order ? dt : 0.0; /* first order: the half step's velocities */
   pair_kinematics kin = particle_kinematics(p, w->predicted, i, j, d, dist, hp);
-  contact_geometry g = kinematic_geometry(&kin, w->energy, false);
+  contact_geometry g = kinematic_geometry(&kin, w->energy, false, 0.5 * hp);
   /* I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1: moments about the contact point */
   if (needs_rolling_inertia(it)) {
     double ri = g.ri, rj = g.rj;
@@ -399,7 +418,9 @@ enum { PREFETCH_AHEAD = 8 };
   X(opix, opi.x) X(opiy, opi.y) X(opiz, opi.z) X(opjx, opj.x) X(opjy, opj.y) X(opjz, opj.z)
 #define PAIR_BLOCK_HISTORY(X)                                                                   \
   X(tx, tangential.x) X(ty, tangential.y) X(tz, tangential.z) X(rx, rolling.x)                  \
-  X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(elastic, elastic)
+  X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(raux, rolling_aux)                \
+  X(ftx, tangential_force.x) X(fty, tangential_force.y) X(ftz, tangential_force.z)               \
+  X(elastic, elastic)
 
 typedef struct pair_block {
   int m;                        /* pairs held */
@@ -433,7 +454,8 @@ pair_block_put(pair_block *b, int q, const pair_kinematics *kin, const adem_cont
 static inline __attribute__((always_inline)) void
 pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws, bool balance) {
   const adem_interaction *it = b->it;
-  double dt = law_step(w);
+  double dt = law_step(w); /* 0 while the pass holds histories (prepare) */
+  double h_close = w->second_order ? 0.5 * w->dt : 0.0; /* as particle_pair's 0.5 hp */
   int m = b->m;
   for (int q = 0; q < m; ++q) {
     pair_kinematics kin;
@@ -444,7 +466,7 @@ pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws,
     PAIR_BLOCK_HISTORY(PAIR_BLOCK_GET_HIST)
 #undef PAIR_BLOCK_GET_KIN
 #undef PAIR_BLOCK_GET_HIST
-    contact_geometry g = kinematic_geometry(&kin, false, true);
+    contact_geometry g = kinematic_geometry(&kin, false, true, h_close);
     contact_result r = contact_force(it, laws, &g, &h, dt, b->fresh[q] != 0.0);
     b->hist[q] = h;
     pair_records(&g, &r, balance, &b->res[q], &b->bal[q]);
@@ -624,6 +646,7 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     g.rj = 0.0;
     g.energy = w->energy;
     g.packed = false;
+    set_mobility(&g, p->inv_mass[i], 0.5 * hp);
     const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], pl->material);
     g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
     if (g.delta <= 0.0) {
@@ -707,7 +730,7 @@ static void mesh_pairs(const adem_force_scope *w) {
       g.rj = 0.0;
       g.energy = w->energy;
       g.packed = false;
-    g.packed = false;
+      set_mobility(&g, p->inv_mass[i], 0.5 * hp);
       const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], m->groups[grp].material);
       g.inertia_r = needs_rolling_inertia(it) ? 1.0 / p->inv_inertia[i] + ri * ri / p->inv_mass[i] : 0.0;
       adem_contact_history h_held = h;
@@ -810,6 +833,8 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
     double capacity = 0.0, capacity_pp = 0.0;
     adem_vec3 wall_spin = v3_zero(); /* sum of capacity x spin of the walls it touches (BROF) */
+    adem_vec3 partner_spin = v3_zero(); /* the same of its particle partners (brof_objective) */
+    bool objective = false;
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1;
@@ -845,6 +870,14 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         }
       }
       capacity += pp->res[k].rolling_capacity;
+      if (pp->res[k].rolling_capacity > 0.0) {
+        size_t j = (code & 1u) ? pp->a[k] : pp->b[k];
+        if (adem_materials_pair(w->mat, p->material[i], p->material[j])->rolling ==
+            ADEM_ROLLING_BROF_OBJECTIVE) {
+          partner_spin = v3_axpy(partner_spin, pp->res[k].rolling_capacity, p->omega[j]);
+          objective = true;
+        }
+      }
     }
     capacity_pp = capacity;
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
@@ -893,17 +926,21 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     uint8_t held = 0;
     if (capacity > 0.0) {
       /* BROF (I9-I10). omega is the half-step spin; -I (omega - omega*)/dt - t would bring it to
-       * omega* within the step. omega* is 0 for particle contacts (I resists the absolute spin)
-       * and the wall's spin for a wall contact, weighted by the contacts' capacities: a particle
+       * omega* within the step. omega* is 0 for particle contacts (I resists the absolute spin;
+       * brof_objective: the partner's spin) and the wall's spin for a wall contact, weighted by the contacts' capacities: a particle
        * turning with a rotating wall (a drum) is not braked. When the capacity allows it and
        * omega* = 0, the particle is held: the resistance cancels every other torque and the
        * closing half kick sets the spin to exactly zero (a sum of two half kicks would leave a
        * round-off residue that then never dies out). */
-      adem_vec3 target = v3_scale(wall_spin, 1.0 / capacity);
+      adem_vec3 wall_target = v3_scale(wall_spin, 1.0 / capacity);
+      /* brof_objective: its particle partners' spins in the target too (their half-step spins,
+       * read before any kick of this step) */
+      adem_vec3 target = objective ? v3_scale(v3_add(wall_spin, partner_spin), 1.0 / capacity)
+                                   : wall_target;
       adem_vec3 t_stop =
           v3_sub(v3_scale(v3_sub(p->omega[i], target), -1.0 / (p->inv_inertia[i] * dt)), t);
       adem_vec3 t_brof = adem_rolling_brof(t_stop, capacity);
-      if (v3_norm2(t_stop) <= capacity * capacity && v3_norm2(wall_spin) == 0.0) {
+      if (v3_norm2(t_stop) <= capacity * capacity && v3_norm2(target) == 0.0) {
         t_brof = v3_neg(t);
         held = 1;
       }
@@ -911,7 +948,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       roll = v3_add(roll, t_brof);
       /* BROF resists the spin relative to omega*: that work is dissipation; t_brof . omega* is
        * what the walls' spin gives through it */
-      double p_wall = v3_dot(t_brof, target);
+      double p_wall = v3_dot(t_brof, wall_target);
       en.H = v3_add(en.H, t_brof);
       en.P_d += p_wall;
       en.P_w += p_wall;

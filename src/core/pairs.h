@@ -22,6 +22,11 @@ typedef struct adem_contact_history {
                          * tangential displacement of i relative to j (H14, m) */
   adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
   double tangential_aux; /* incremental law: the S_t its force was stored with (N/m) */
+  double rolling_aux;    /* models C and DTK: the rolling stiffness their spring was stored with */
+  /* the tangential force on i the contact applied at the last pass, N (second-order scheme: its
+   * dashpot takes the slip velocity at the full step implicitly, with the contact's own force of
+   * this pass in place of this one, contacts.c) */
+  adem_vec3 tangential_force;
   double elastic;        /* energy the history's springs (tangential, rolling) stored at the
                           * last force pass, J: what is lost when the contact opens or a mesh
                           * contact moves to another region (the normal energy follows the

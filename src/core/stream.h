@@ -76,7 +76,9 @@ size_t adem_reader_left(const adem_reader *rd);
                                 balance's records only while the balance is on; 10: a pair's
                                 opened flag; 11: the domain's open (outlet) faces, the
                                 outlets' and mass flows' state, the per-particle external
-                                force */
+                                force, the rolling stiffness a contact's rolling spring was
+                                stored with, the tangential force a contact applied at the
+                                last pass */
 #define ADEM_CKPT_ENDIAN 0x01020304u
 #define ADEM_CKPT_HEADER_BYTES 40u
 /* Checks the header of checkpoint bytes of kind magic (hist_size: the build's contact-history

@@ -10,6 +10,7 @@
 #include "log.h"
 #include "parallel.h"
 #include "rng.h"
+#include "step_limit.h"
 #include "world.h"
 
 adem_world *adem_world_create(void) {
@@ -535,7 +536,7 @@ static double pair_collision_time(const adem_interaction *it, double m_eff, doub
 }
 
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
-  adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY};
+  adem_step_estimate est = {v_ref, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
   adem_world *mw = (adem_world *)w; /* derive the pair table if the caller has not prepared */
   if (!w->mat.pairs) adem_materials_derive(&mw->mat, NULL);
   int nm = w->mat.n;
@@ -563,19 +564,28 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
         double mb = w->mat.m[b].def.density * (4.0 / 3.0) * ADEM_PI * rb * rb * rb;
         double tc = pair_collision_time(it, m * mb / (m + mb), r * rb / (r + rb), v_ref);
         est.t_collision = fmin(est.t_collision, tc);
+        est.dt_stable = fmin(est.dt_stable, adem_step_limit_pair(it, tc, m, r, mb, rb));
       }
     }
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.planes[k].def.material);
-      est.t_collision = fmin(est.t_collision, pair_collision_time(it, m, r, v_ref));
+      double tc = pair_collision_time(it, m, r, v_ref);
+      est.t_collision = fmin(est.t_collision, tc);
+      est.dt_stable = fmin(est.dt_stable, adem_step_limit_pair(it, tc, m, r, 0.0, 0.0));
     }
     for (int k = 0; k < w->walls.mesh.ngroups; ++k) {
       const adem_interaction *it = adem_world_interaction(w, a, w->walls.mesh.groups[k].material);
-      est.t_collision = fmin(est.t_collision, pair_collision_time(it, m, r, v_ref));
+      double tc = pair_collision_time(it, m, r, v_ref);
+      est.t_collision = fmin(est.t_collision, tc);
+      est.dt_stable = fmin(est.dt_stable, adem_step_limit_pair(it, tc, m, r, 0.0, 0.0));
     }
   }
   free(rmin);
   est.dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh); /* about 50 steps a collision */
+  /* and a fifth of the stability limit: the rolling spring DTK keeps real under reduced
+   * stiffness outruns the normal mode below f ~ 1e-2 (docs/models.md, "Time step") */
+  est.dt = fmin(est.dt, 0.2 * est.dt_stable);
+  est.dt_limit = fmin(est.t_collision / ADEM_STEP_LIMIT_DIVISOR, est.dt_stable);
   return est;
 }
 

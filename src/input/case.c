@@ -1898,7 +1898,13 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     v_ref = fmax(fmax(ctx->vmax, sqrt(2.0 * gn * height)), 0.1);
   }
   c->estimate = adem_world_estimate_step(ctx->w, v_ref);
-  double limit = c->estimate.t_collision / ADEM_STEP_LIMIT_DIVISOR;
+  /* t_collision/5 (accuracy) or the contacts' stability limit (damping and the tangential-
+   * rotational and rolling modes), whichever is shorter */
+  double limit = c->estimate.dt_limit;
+  bool stab = c->estimate.dt_stable < c->estimate.t_collision / ADEM_STEP_LIMIT_DIVISOR;
+  char limit_name[128];
+  if (stab) snprintf(limit_name, sizeof limit_name, "stability limit of the contacts' modes t_collision/%.3g", c->estimate.t_collision / limit);
+  else snprintf(limit_name, sizeof limit_name, "limit t_collision/%g (accuracy; the contacts are stable to t_collision/%.3g)", ADEM_STEP_LIMIT_DIVISOR, c->estimate.t_collision / c->estimate.dt_stable);
   bool proposal = c->estimate.dt > 0 && isfinite(c->estimate.dt);
   if (step_auto) {
     if (!proposal)
@@ -1913,20 +1919,23 @@ static adem_status choose_step(case_ctx *ctx, const map_cursor *time, adem_vec3 
     c->dt_user_ratio = proposal ? step / c->estimate.dt : 0.0;
     if (proposal && isfinite(limit) && step > limit && !ctx->allow_large_step)
       return adem_yaml_fail(ctx, step_node ? step_node : time->at, "time.step",
-                  "%g s is %.2fx the stability limit t_collision/%g = %g s of the stiffest pair "
+                  "%g s is %.2fx the %s = %g s of the stiffest pair "
                   "(t_collision %g s at v_ref %g m/s): the explicit integration gains or loses "
                   "energy beyond it. Allowed: `auto` (%g s) or a step up to %g s; or set "
-                  "limits.allow_large_step: true", step, step / limit, ADEM_STEP_LIMIT_DIVISOR,
+                  "limits.allow_large_step: true", step, step / limit, limit_name,
                   limit, c->estimate.t_collision, v_ref, c->estimate.dt, limit);
     if (c->dt_user_ratio > 1.0) {
       bool collision = c->estimate.t_collision / 50.0 <= 0.2 * c->estimate.t_rayleigh;
       char loc[LOC_MAX];
       adem_yaml_where(ctx, step_node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN,
-               "%s: time.step %g s is %.1fx the proposed %g s (%s); the stability limit "
-               "t_collision/%g = %g s is %.1fx the proposal%s", loc, step, c->dt_user_ratio,
-               c->estimate.dt, collision ? "t_collision/50" : "0.2 t_Rayleigh",
-               ADEM_STEP_LIMIT_DIVISOR, limit, limit / c->estimate.dt,
+               "%s: time.step %g s is %.1fx the proposed %g s (%s); the %s = %g s is %.1fx "
+               "the proposal%s", loc, step, c->dt_user_ratio,
+               c->estimate.dt,
+               c->estimate.dt < fmin(c->estimate.t_collision / 50.0, 0.2 * c->estimate.t_rayleigh)
+                   ? "a fifth of the stability limit"
+                   : collision ? "t_collision/50" : "0.2 t_Rayleigh",
+               limit_name, limit, limit / c->estimate.dt,
                step > limit ? " and the step is above it (limits.allow_large_step)" : "");
     }
   }

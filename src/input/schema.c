@@ -206,7 +206,7 @@ static const adem_schema_entry base_schema[] = {
 
     {"time", NULL, MAP, "", NULL, NULL, REQ, .doc = "Simulated time and step."},
     {"time.end", NULL, NUM, "s", NULL, NULL, GT(0), REQ, .doc = "End time."},
-    {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh). A larger step is allowed with a warning up to t_collision/5, the stability limit; beyond it the case is refused unless `limits.allow_large_step: true`."},
+    {"time.step", NULL, AUTO, "s", "auto", NULL, GT(0), .doc = "Time step; `auto` takes the proposed step min(t_collision/50, 0.2 t_Rayleigh, a fifth of the contacts' stability limit). A larger step is allowed with a warning up to min(t_collision/5, the stability limit of the contacts' modes with their damping: docs/models.md, \"Time step\"); beyond it the case is refused unless `limits.allow_large_step: true`."},
     UNTIL_ENTRIES("time.until", "the run (`end` is then the most it lasts)"),
     {"time.reference_speed", NULL, AUTO, "m/s", "auto", NULL, GT(0), .doc = "Impact speed at which the Hertz collision time is evaluated; `auto`: see above."},
 
@@ -217,7 +217,7 @@ static const adem_schema_entry base_schema[] = {
     {"limits.max_overlap_ratio", NULL, NUM, "", "0.2", NULL, GT_LE(0, 1), .doc = "Stop the run when a contact's overlap exceeds this fraction of the smaller radius."},
     {"limits.initial_overlap", NULL, NUM, "", "0", NULL, .lo = 0, .hi = 0.5, .range = ADEM_RANGE_MIN | ADEM_RANGE_MAX, .doc = "Overlaps allowed between particles (and with mesh walls) at the start, as a fraction of the smaller radius: for a bed settled by another run or code. 0 refuses any."},
     {"limits.max_memory", NULL, AUTO, "B", "auto", NULL, GT(0), .doc = "Memory the run may use, bytes; `auto`: what the machine has available (MemAvailable in /proc/meminfo). A case whose estimate (every particle, the pours' totals included, their candidate pairs and the neighbour grid; `adem check` prints it) is larger is refused before anything is allocated."},
-    {"limits.allow_large_step", NULL, BOOL, "", "false", NULL, .doc = "`true`: run with a time.step above the stability limit t_collision/5 (refused otherwise: on a two-sphere collision the restitution is off by up to 1.6 % at t_collision/5, 3 % at /4, 6.5 % at /3, 15 % at /2.5 with energy created, a factor 2.3 at /2)."},
+    {"limits.allow_large_step", NULL, BOOL, "", "false", NULL, .doc = "`true`: run with a time.step above min(t_collision/5, the contacts' stability limit) (refused otherwise: on a two-sphere collision the restitution is off by up to 1.6 % at t_collision/5, 3 % at /4, 6.5 % at /3, 15 % at /2.5 with energy created, a factor 2.3 at /2; above the stability limit, t_collision/7.3 at e = 0.1 and /6.1 at e = 0.2, a contact rings from step to step)."},
 
     {"output", NULL, MAP, "", NULL, NULL, .doc = "What a run writes; an interval of 0 switches that output off."},
     {"output.dir", NULL, STR, "", NULL, "`out/<name>`", .doc = "Output directory (created if missing)."},

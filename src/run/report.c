@@ -89,7 +89,7 @@ static void print_rolling_friction(FILE *f, const adem_world *w, int a, int b, b
   const int k = ADEM_PARAM_ROLLING_FRICTION;
   double ea = it->pp.param_a[k], eb = it->pp.param_b[k];
   const char *na = w->mat.m[a].def.name, *nb = w->mat.m[b].def.name;
-  bool brof = it->rolling == ADEM_ROLLING_BROF;
+  bool brof = it->rolling == ADEM_ROLLING_BROF || it->rolling == ADEM_ROLLING_BROF_OBJECTIVE;
   char from[2 * ADEM_NAME_MAX + 96];
   if (it->set_param[k])
     snprintf(from, sizeof from, "the interaction entry's value, for both sides");
@@ -536,7 +536,9 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   fprintf(f, "  reference speed v_ref     %.4g m/s\n", e->v_ref);
   fprintf(f, "  Hertz collision time t_c  %.4g s\n", e->t_collision);
   fprintf(f, "  Rayleigh time t_R         %.4g s\n", e->t_rayleigh);
-  fprintf(f, "  proposed step             %.4g s = min(t_c/50, 0.2 t_R)\n", e->dt);
+  fprintf(f, "  proposed step             %.4g s = min(t_c/50, 0.2 t_R, stability limit/5)\n", e->dt);
+  fprintf(f, "  stability limit           %.4g s = t_c/%.3g (contact modes with damping)\n",
+          e->dt_stable, e->t_collision / e->dt_stable);
   if (c->dt_auto)
     fprintf(f, "  chosen step               %.4g s (auto)\n", dt);
   else

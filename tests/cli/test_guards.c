@@ -1,6 +1,6 @@
 /* The guards a user meets in long runs (docs/reliability.md): a case whose memory estimate
  * exceeds limits.max_memory or what the machine has is refused before anything is allocated;
- * a time step above the stability limit t_collision/5 is refused unless limits.allow_large_step;
+ * a time step above min(t_collision/5, the contacts' stability limit) is refused unless limits.allow_large_step;
  * a particle that moves more than its radius in a step next to a mesh wall is reported. Each
  * guard has a case that fires it and one that does not. */
 #include <setjmp.h>
@@ -128,7 +128,7 @@ static void test_step_limit(void **state) {
   double e5 = restitution_at(path, tc / 5.0 * 0.999, "");
   assert_true(fabs(e5 - 0.9) < 0.02 * 0.9);
   assert_int_equal(adem(&out, "check '%s' --set time.step=%.9g", path, tc / 5.0 * 0.999), 0);
-  assert_mentions(out, "the stability limit t_collision/5");
+  assert_mentions(out, "the limit t_collision/5");
   assert_mentions(out, "10.0x the proposal");
   /* above it: refused, in the case file and from --set */
   char *text = replaced(pair_case, "  reference_speed: 2\n", "  reference_speed: 2\n  step: 6.0e-5\n");
@@ -136,10 +136,10 @@ static void test_step_limit(void **state) {
   assert_int_equal(adem(&out, "check '%s'", big), 2);
   assert_mentions(out, "big_step.yaml:21:9");
   assert_mentions(out, "time.step");
-  assert_mentions(out, "stability limit t_collision/5");
+  assert_mentions(out, "limit t_collision/5");
   assert_mentions(out, "limits.allow_large_step: true");
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_big'", big, tmpdir), 2);
-  assert_mentions(out, "stability limit");
+  assert_mentions(out, "limit t_collision/5");
   assert_int_equal(adem(&out, "check '%s' --set time.step=%.9g", path, tc / 2.0), 2);
   assert_mentions(out, "--set time.step");
   /* allowed: runs with a warning, and the collision is visibly wrong */
@@ -152,7 +152,7 @@ static void test_step_limit(void **state) {
                         "duration: 0.001}, {name: stiff, set: {materials.glass.youngs_modulus: "
                         "1.0e9}}]'", path), 2);
   assert_mentions(out, "stages[1] (`stiff`)");
-  assert_mentions(out, "5.33x the stability limit");
+  assert_mentions(out, "5.33x the limit t_collision/5");
   /* strict validation of the key */
   assert_int_equal(adem(&out, "check '%s' --set limits.allow_large_step=3", path), 2);
   assert_mentions(out, "limits.allow_large_step");

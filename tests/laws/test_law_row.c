@@ -40,7 +40,7 @@ static void test_registry_has_the_row(void **state) {
   assert_non_null(law);
   assert_int_equal(law->id, ADEM_ROLLING_TEST_VISCOUS);
   assert_true(adem_law_reads(law, "rolling_friction"));
-  assert_non_null(strstr(adem_law_choices(ADEM_SLOT_ROLLING), "brof|test_viscous"));
+  assert_non_null(strstr(adem_law_choices(ADEM_SLOT_ROLLING), "brof_objective|test_viscous"));
   /* the built-in rows are untouched */
   assert_int_equal(adem_law_find(ADEM_SLOT_ROLLING, "brof")->id, ADEM_ROLLING_BROF);
 }
@@ -54,7 +54,7 @@ static void test_reference_lists_it(void **state) {
   adem_case_write_reference(f);
   fclose(f);
   assert_contains(buf, "| rolling | `test_viscous` |");
-  assert_contains(buf, "`brof` \\| `test_viscous`");
+  assert_contains(buf, "`brof_objective` \\| `test_viscous`");
   free(buf);
 }
 

@@ -226,13 +226,13 @@ static void test_step_too_large_warns(void **state) {
   assert_contains(logged, "time.step 2e-05 s is ");
   assert_contains(logged, "x the proposed");
   assert_contains(logged, "t_collision/50");
-  assert_contains(logged, "the stability limit t_collision/5");
+  assert_contains(logged, "the limit t_collision/5");
   assert_contains(logged, "test.yaml:23:9");
   adem_case_free(c);
   free(text);
   /* above the limit: refused, unless limits.allow_large_step */
   expect_bad("  end: 0.5\n", "  end: 0.5\n  step: 1e-3\n",
-             WORDS("test.yaml:23:9: ", "time.step", "29.80x the stability limit t_collision/5",
+             WORDS("test.yaml:23:9: ", "time.step", "29.80x the limit t_collision/5",
                    "limits.allow_large_step: true"));
   text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\nlimits: {allow_large_step: true}\n");
   c = load_ok(text, NULL, 0);

@@ -115,8 +115,8 @@ static void test_damping_laws(void **state) {
   {                                                                              \
     double St = adem_hertz_tangential_stiffness(pi.G, adem_hertz_radius(gi.R, gi.delta)); \
     double vni = v3_dot(gi.w, gi.n), vnj = v3_dot(gj.w, gj.n);                   \
-    adem_damping_input ini = {S, St, gi.mstar, vni, 1.0, 0.0};                   \
-    adem_damping_input inj = {S, St, gj.mstar, vnj, 1.0, 0.0};                   \
+    adem_damping_input ini = {S, St, gi.mstar, vni, 1.0, 0.0};                \
+    adem_damping_input inj = {S, St, gj.mstar, vnj, 1.0, 0.0};                \
     adem_damping_output oi, oj;                                                  \
     kernel(&pi, &ini, &oi);                                                      \
     kernel(&pj, &inj, &oj);                                                      \
@@ -150,8 +150,8 @@ static void test_tangential_laws(void **state) {
     for (int s = 0; s < 40; ++s) {                                                        \
       adem_vec3 vti = v3_axpy(gi.w, -v3_dot(gi.w, gi.n), gi.n);                           \
       adem_vec3 vtj = v3_axpy(gj.w, -v3_dot(gj.w, gj.n), gj.n);                           \
-      adem_tangential_input ini = {gi.n, vti, vti, 1e-5, St, ct, limit};                  \
-      adem_tangential_input inj = {gj.n, vtj, vtj, 1e-5, St, ct, limit};                  \
+      adem_tangential_input ini = {gi.n, vti, vti, 1e-5, St, ct, limit, 0.0};               \
+      adem_tangential_input inj = {gj.n, vtj, vtj, 1e-5, St, ct, limit, 0.0};               \
       adem_tangential_output oi, oj;                                                      \
       kernel(&ini, &hi, &ai_, &oi);                                                       \
       kernel(&inj, &hj, &aj_, &oj);                                                       \
@@ -186,12 +186,13 @@ static void test_rolling_laws(void **state) {
 #define ADEM_X(ID, name, kernel, hist, req, pp, prm, eq, doc)                                  \
   {                                                                                          \
     adem_vec3 hi = v3_zero(), hj = v3_zero();                                                \
+    double auxi = 0.0, auxj = 0.0;                                                           \
     double most = 0.0;                                                                       \
     for (int s = 0; s < 40; ++s) {                                                           \
       adem_rolling_output oi = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
       adem_rolling_output oj = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
-      kernel(&ini, &hi, &oi);                                                                \
-      kernel(&inj, &hj, &oj);                                                                \
+      kernel(&ini, &hi, &auxi, &oi);                                                         \
+      kernel(&inj, &hj, &auxj, &oj);                                                         \
       double scale = fmax(v3_norm(oi.torque), 1e-30);                                        \
       assert_opposite(oi.torque, oj.torque, scale, name);                                    \
       assert_same(oi.capacity, oj.capacity, name " capacity");                               \

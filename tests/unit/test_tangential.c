@@ -57,7 +57,7 @@ static path_result run_path(law_fn *law, double d1, double d2, double s0, double
       double fn = adem_hertz_force(E, a, d_new);
       adem_vec3 vt = v3((s_new - s) / dt, 0.0, 0.0);
       tin in = {n, vt, vt, dt, adem_hertz_tangential_stiffness(G, a), 0.0,
-                mu * fn};
+                mu * fn, 0.0};
       adem_tangential_output out;
       law(&in, &hist, &aux, &out);
       r.normal += 0.5 * (fn_old + fn) * (d_new - delta);
