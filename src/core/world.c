@@ -10,6 +10,7 @@
 #include "parallel.h"
 #include "rng.h"
 #include "world.h"
+#include "cylinder.h"
 
 adem_world *adem_world_create(void) {
   adem_world *w = calloc(1, sizeof *w);
@@ -614,11 +615,12 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
       if (w->walls.planes[k].inactive) continue;
-      double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
+      adem_wall_near near = adem_wall_nearest(pl, p->pos[i]);
+      double d = near.live ? near.gap : 0.0;
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
                               "particle id %llu at (%g, %g, %g) is outside wall '%s' (its centre "
-                              "is %g m behind the plane)",
+                              "is %g m behind its surface)",
                               (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
                               pl->name, -d);
     }
@@ -644,6 +646,11 @@ static adem_status check_periodic(const adem_world *w, adem_error *err) {
                             "xyz"[d], pb->len[d], dmax, skin, need);
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
+      if (pl->shape != ADEM_WALL_PLANE) { /* a cylinder or disc: cylinder.c */
+        adem_status st = adem_wall_check_periodic(pl, d, pb->lo[d], pb->len[d], rmax + skin, err);
+        if (st) return st;
+        continue;
+      }
       double n[3] = {pl->normal.x, pl->normal.y, pl->normal.z};
       if (fabs(n[d]) > 1e-12 * v3_norm(pl->normal))
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -684,9 +691,10 @@ static void default_domain(adem_world *w) {
     rmax = fmax(rmax, w->p.radius[i]);
   }
   for (int k = 0; k < w->walls.nplanes; ++k) {
-    adem_vec3 x = w->walls.planes[k].def.point;
-    lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
-    hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+    adem_vec3 x0, x1; /* a plane's point; a cylinder's or a disc's box (cylinder.c) */
+    adem_wall_bounds(&w->walls.planes[k].def, &x0, &x1);
+    lo = v3(fmin(lo.x, x0.x), fmin(lo.y, x0.y), fmin(lo.z, x0.z));
+    hi = v3(fmax(hi.x, x1.x), fmax(hi.y, x1.y), fmax(hi.z, x1.z));
   }
   if (w->walls.mesh.nverts > 0) { /* the meshes where they are now */
     adem_vec3 mlo, mhi;
