@@ -11,6 +11,7 @@
 #include "rng.h"
 #include "world.h"
 #include "cylinder.h"
+#include "mesh_periodic.h"
 
 adem_world *adem_world_create(void) {
   adem_world *w = calloc(1, sizeof *w);
@@ -628,8 +629,8 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
 }
 
 /* Periodic boxes the run cannot use: a length below 2 (largest diameter + skin), where a pair
- * could touch through two images at once, and a plane cutting a periodic axis. A mesh wall
- * within reach of a periodic face is only warned about: it is not imaged. */
+ * could touch through two images at once, a plane cutting a periodic axis, a cylinder or plate
+ * or a mesh within reach of a periodic face unless it is the same all along the axis. */
 static adem_status check_periodic(const adem_world *w, adem_error *err) {
   const adem_periodic *pb = &w->periodic;
   if (!pb->axes) return ADEM_OK;
@@ -659,22 +660,14 @@ static adem_status check_periodic(const adem_world *w, adem_error *err) {
                               pl->name, n[0], n[1], n[2], "xyz"[d]);
     }
   }
-  if (w->walls.mesh.nverts > 0) {
-    adem_vec3 mlo, mhi;
-    adem_mesh_bounds(&w->walls.mesh, &mlo, &mhi);
-    const double lo[3] = {mlo.x, mlo.y, mlo.z}, hi[3] = {mhi.x, mhi.y, mhi.z};
-    double reach = rmax + skin;
-    for (int d = 0; d < 3; ++d)
-      if ((pb->axes >> d) & 1u &&
-          (lo[d] < pb->lo[d] + reach || hi[d] > pb->lo[d] + pb->len[d] - reach)) {
-        adem_log(ADEM_LOG_WARN,
-                 "mesh walls reach within %g m of the periodic faces along %c (they span %g .. "
-                 "%g m, the box %g .. %g m): meshes are not imaged, a particle on the other "
-                 "side of a face does not touch them",
-                 reach, "xyz"[d], lo[d], hi[d], pb->lo[d], pb->lo[d] + pb->len[d]);
-        break;
-      }
-  }
+  /* meshes are not imaged: a shell the same along the axis past both faces, or kept inside them
+   * (mesh_periodic.c) */
+  for (int d = 0; d < 3; ++d)
+    if ((pb->axes >> d) & 1u) {
+      adem_status st = adem_mesh_check_periodic(&w->walls.mesh, d, pb->lo[d], pb->len[d],
+                                                rmax + skin, err);
+      if (st) return st;
+    }
   return ADEM_OK;
 }
 
