@@ -26,6 +26,7 @@ typedef struct adem_vtu_frame {
   adem_vec3 *pos;   /* centres, m ("position", the frame's Points) */
   double *radius;   /* m ("radius") */
   int64_t *id;      /* stable particle ids ("id"), or NULL when the file has none */
+  adem_vec3 *vel;   /* velocities, m/s ("velocity"), or NULL when the file has none */
   double time;      /* s, FieldData "TimeValue"; NaN when the file has none */
   int64_t step;     /* FieldData "Step"; -1 when the file has none */
 } adem_vtu_frame;

@@ -189,6 +189,10 @@ adem_status adem_world_add_mesh(adem_world *w, const adem_vec3 *corners, size_t 
 int adem_world_plane_count(const adem_world *w);
 /* The plane where it is now. */
 const adem_plane_def *adem_world_plane(const adem_world *w, int index);
+/* A plane's (a cylinder's) rotation now: its rate, rad/s (0: none), with its unit axis and a point
+ * of the axis where they are now (either may be NULL). */
+double adem_world_plane_rotation(const adem_world *w, int index, adem_vec3 *axis, adem_vec3 *center);
+adem_vec3 adem_world_gravity(const adem_world *w);
 int adem_world_mesh_group_count(const adem_world *w);
 const char *adem_world_mesh_group_name(const adem_world *w, int group);
 int adem_world_find_mesh_group(const adem_world *w, const char *name); /* -1: none */

@@ -113,3 +113,14 @@ void adem_world_plane_torques(const adem_world *w, adem_vec3 *out) {
     }
   }
 }
+
+double adem_world_plane_rotation(const adem_world *w, int index, adem_vec3 *axis,
+                                 adem_vec3 *center) {
+  if (index < 0 || index >= w->walls.nplanes) return 0.0;
+  const adem_motion *mo = &w->walls.planes[index].motion;
+  if (axis) *axis = mo->axis;
+  if (center) *center = adem_motion_place(mo, w->walls.time, mo->center);
+  return mo->omega;
+}
+
+adem_vec3 adem_world_gravity(const adem_world *w) { return w->gravity; }

@@ -201,7 +201,7 @@ typedef struct header {
   uint64_t offsets[MAX_ARRAYS]; /* of every appended DataArray, to check that each block fits */
   size_t noffsets;
   int have_piece;
-  array_ref radius, position, id;
+  array_ref radius, position, id, velocity;
   double time;
   int64_t step;
   size_t data; /* offset of the first byte after '_' */
@@ -387,6 +387,9 @@ static adem_status parse_header(const char *s, size_t total, const char *name, h
       } else if (in_pdata && slice_is(nm, "id")) {
         adem_status e = read_array_tag(&t, name, &h->id, err);
         if (e) return e;
+      } else if (in_pdata && slice_is(nm, "velocity")) {
+        adem_status e = read_array_tag(&t, name, &h->velocity, err);
+        if (e) return e;
       }
     }
   }
@@ -441,6 +444,7 @@ void adem_vtu_frame_free(adem_vtu_frame *frame) {
   free(frame->pos);
   free(frame->radius);
   free(frame->id);
+  free(frame->vel);
   memset(frame, 0, sizeof *frame);
 }
 
@@ -477,11 +481,13 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
   if (find((const char *)base, len, h.data + last, "</AppendedData>") == len)
     return fail(err, ADEM_ERR_INPUT, "%s: no </AppendedData> after the last block (truncated?)",
                 NAME_OF(name));
-  const unsigned char *rb, *pb, *ib = NULL;
+  const unsigned char *rb, *pb, *ib = NULL, *vb = NULL;
   st = locate_block(base, len, &h, &h.radius, "radius", "Float64", 1, 8, name, &rb, err);
   if (!st) st = locate_block(base, len, &h, &h.position, "position", "Float64", 3, 8, name, &pb, err);
   if (!st && h.id.found)
     st = locate_block(base, len, &h, &h.id, "id", "Int64", 1, 8, name, &ib, err);
+  if (!st && h.velocity.found)
+    st = locate_block(base, len, &h, &h.velocity, "velocity", "Float64", 3, 8, name, &vb, err);
   if (st) return st;
 
   size_t n = (size_t)h.npoints;
@@ -490,7 +496,8 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
   f.pos = malloc(cap * sizeof *f.pos);
   f.radius = malloc(cap * sizeof *f.radius);
   if (ib) f.id = malloc(cap * sizeof *f.id);
-  if (!f.pos || !f.radius || (ib && !f.id)) {
+  if (vb) f.vel = malloc(cap * sizeof *f.vel);
+  if (!f.pos || !f.radius || (ib && !f.id) || (vb && !f.vel)) {
     adem_vtu_frame_free(&f);
     return fail(err, ADEM_ERR_NOMEM, "%s: out of memory for %zu particles", NAME_OF(name), n);
   }
@@ -511,6 +518,11 @@ adem_status adem_vtu_read_memory(const void *data, size_t len, const char *name,
     f.radius[i] = r;
     f.pos[i] = (adem_vec3){x[0], x[1], x[2]};
     if (ib) memcpy(&f.id[i], ib + 8 * i, 8);
+    if (vb) {
+      double v[3];
+      memcpy(v, vb + 24 * i, 24);
+      f.vel[i] = (adem_vec3){v[0], v[1], v[2]};
+    }
   }
   *frame = f;
   return ADEM_OK;
