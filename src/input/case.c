@@ -1176,6 +1176,12 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   adem_status st = read_region(ctx, m, true, &reg, &word);
   if (!st) st = adem_yaml_get_uint(ctx, m, "count", &count, &count_node);
   if (!st) st = adem_yaml_get_number(ctx, m, "solid_fraction", &fraction, &fraction_node);
+  map_cursor fl; /* fill_level: the solid fraction of a bed to a level (case_walls.c) */
+  if (!st) st = adem_yaml_get_map(ctx, m, "fill_level", &fl);
+  if (!st && fl.node && (count_node || fraction_node))
+    st = adem_yaml_fail(ctx, fl.node, fl.path, "give one of `count`, `solid_fraction`, `fill_level`");
+  if (!st && fl.node && !(st = adem_case_fill_level(ctx, &fl, &reg, &fraction)))
+    fraction_node = fl.node;
   if (!st && count_node && fraction_node) {
     adem_yaml_join(path, sizeof path, m->path, "solid_fraction");
     st = adem_yaml_fail(ctx, fraction_node, path, "give either `count` or `solid_fraction`, not both");

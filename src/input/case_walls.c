@@ -82,3 +82,49 @@ adem_status adem_case_curved_wall(case_ctx *ctx, const map_cursor *m, const char
   }
   return ADEM_OK;
 }
+
+/* ---- particles[].fill_level: a fill sized by the bed it makes ---- */
+
+/* Volume of the region below height z: the region's volume times the share of an 80^3 grid of
+ * its bounding box's cell centres inside it that lie below z (exact for a box; a cylinder or a
+ * mesh to about a grid cell's share of its boundary). */
+static double volume_below(const adem_region *r, double z) {
+  if (r->kind == ADEM_REGION_BOX) {
+    double h = fmin(fmax(z - r->lo.z, 0.0), r->hi.z - r->lo.z);
+    return (r->hi.x - r->lo.x) * (r->hi.y - r->lo.y) * h;
+  }
+  enum { N = 80 };
+  size_t in = 0, below = 0;
+  adem_vec3 d = v3_sub(r->hi, r->lo);
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j)
+      for (int k = 0; k < N; ++k) {
+        adem_vec3 x = v3(r->lo.x + d.x * (i + 0.5) / N, r->lo.y + d.y * (j + 0.5) / N,
+                         r->lo.z + d.z * (k + 0.5) / N);
+        if (!adem_insert_region_contains(r, x)) continue;
+        ++in;
+        below += x.z < z;
+      }
+  return in ? r->volume * (double)below / (double)in : 0.0;
+}
+
+adem_status adem_case_fill_level(case_ctx *ctx, const map_cursor *fl, const adem_region *reg,
+                                 double *fraction) {
+  double level = NAN, share = NAN, packing = 0.6;
+  yaml_node_t *level_node, *share_node, *packing_node;
+  adem_status st = adem_yaml_get_number(ctx, fl, "level", &level, &level_node);
+  if (!st) st = adem_yaml_get_number(ctx, fl, "fraction", &share, &share_node);
+  if (!st) st = adem_yaml_get_number(ctx, fl, "packing", &packing, &packing_node);
+  if (st) return st;
+  if (!level_node == !share_node)
+    return adem_yaml_fail(ctx, fl->node, fl->path, "give either `level` or `fraction`");
+  double bulk = level_node ? volume_below(reg, level) : share * reg->volume;
+  *fraction = packing * bulk / reg->volume;
+  if (!(*fraction > 0.0) || *fraction >= 0.45)
+    return adem_yaml_fail(ctx, fl->node, fl->path,
+                          "asks for a solid fraction of %.3g of the region (a bed of %.3g m^3 at "
+                          "packing %.3g in %.3g m^3): a random fill places spheres up to about 0.4; "
+                          "use a larger region (the bed settles to its level) or a lower level",
+                          *fraction, bulk, packing, reg->volume);
+  return ADEM_OK;
+}
