@@ -63,6 +63,5 @@ typedef struct adem_world adem_world;
 #include "adem/studies.h"
 #include "adem/pile.h"
 #include "adem/frames.h"
-#include "adem/drum.h"
 
 #endif

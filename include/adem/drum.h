@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "adem/adem.h"
+#include "adem/frames.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -54,6 +55,16 @@ typedef struct adem_drum_report {
                                    the wall in a tenth of the frames or more: a smooth wall) */
   char csv[1024], png[1024];    /* written files */
 } adem_drum_report;
+
+/* One frame's measures for a drum given explicitly (mass: each particle's, kg): what
+ * adem_drum_analyze does with every frame. */
+typedef struct adem_drum_geometry {
+  adem_vec3 point, axis; /* a point of the axis, its direction */
+  double radius, omega;  /* m; rad/s, right-handed about axis */
+  adem_vec3 gravity;
+} adem_drum_geometry;
+adem_status adem_drum_measure(const adem_drum_geometry *geo, const adem_vtu_frame *f,
+                              const double *mass, adem_drum_frame *out, adem_error *err);
 
 adem_status adem_drum_analyze(const char *outdir, const adem_drum_options *opt,
                               adem_drum_report *rep, adem_error *err);

@@ -81,6 +81,8 @@ typedef struct drum_setup {
   double density;               /* the bed's mean, for particles without a known id */
 } drum_setup;
 
+static bool orient(drum_setup *s, adem_vec3 g);
+
 static adem_status load_setup(const char *outdir, const adem_drum_options *opt, drum_setup *s,
                               adem_error *err) {
   memset(s, 0, sizeof *s);
@@ -113,15 +115,8 @@ static adem_status load_setup(const char *outdir, const adem_drum_options *opt, 
     adem_vec3 rax;
     double om = adem_world_plane_rotation(w, found, &rax, NULL);
     s->omega = om * v3_dot(rax, s->axis);
-    adem_vec3 up = v3_axpy(v3_neg(g), v3_dot(g, s->axis), s->axis); /* -g across the axis */
-    s->g = v3_norm(up);
-    if (!(s->g > 0.0))
+    if (!orient(s, g))
       st = adem_error_set(err, ADEM_ERR_INPUT, "gravity is along the drum's axis (or zero): no free surface");
-    else {
-      s->up = v3_scale(up, 1.0 / s->g);
-      s->h = v3_cross(s->axis, s->up); /* the bottom moves along -omega (a x up) */
-      if (s->omega > 0.0) s->h = v3_neg(s->h);
-    }
   }
   size_t n = adem_world_particle_count(w);
   if (!st) {
@@ -163,8 +158,8 @@ static void fit_line(const double *u, const double *w, size_t n, double *a, doub
   *r2 = cuu > 0.0 && cww > 0.0 ? cuw * cuw / (cuu * cww) : NAN;
 }
 
-static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, adem_drum_frame *out,
-                                 double *bed_mass, adem_error *err) {
+static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, const double *pmass,
+                                 adem_drum_frame *out, double *bed_mass, adem_error *err) {
   size_t n = f->n;
   xs_particle *q = malloc((n ? n : 1) * sizeof *q);
   double *bu = NULL, *bw = NULL;
@@ -180,7 +175,9 @@ static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, a
     p->vw = v3_dot(v, s->up);
     p->r = f->radius[i];
     bool known = f->id && f->id[i] >= 0 && (size_t)f->id[i] < s->nmass;
-    p->m = known ? s->mass[f->id[i]] : s->density * 4.0 / 3.0 * 3.14159265358979323846 * p->r * p->r * p->r;
+    p->m = pmass ? pmass[i]
+           : known ? s->mass[f->id[i]]
+                   : s->density * 4.0 / 3.0 * 3.14159265358979323846 * p->r * p->r * p->r;
     M += p->m;
     mu += p->m * p->u;
     mw += p->m * p->w;
@@ -288,6 +285,31 @@ static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, a
   free(bw);
   free(top);
   return ADEM_OK;
+}
+
+/* The cross-section's directions of a drum (axis a, gravity g, rotation omega about a). */
+static bool orient(drum_setup *s, adem_vec3 g) {
+  adem_vec3 up = v3_axpy(v3_neg(g), v3_dot(g, s->axis), s->axis); /* -g across the axis */
+  s->g = v3_norm(up);
+  if (!(s->g > 0.0)) return false;
+  s->up = v3_scale(up, 1.0 / s->g);
+  s->h = v3_cross(s->axis, s->up); /* the bottom moves along -omega (a x up) */
+  if (s->omega > 0.0) s->h = v3_neg(s->h);
+  return true;
+}
+
+adem_status adem_drum_measure(const adem_drum_geometry *geo, const adem_vtu_frame *f,
+                              const double *mass, adem_drum_frame *out, adem_error *err) {
+  drum_setup s;
+  memset(&s, 0, sizeof s);
+  s.point = geo->point;
+  s.axis = v3_scale(geo->axis, 1.0 / v3_norm(geo->axis));
+  s.radius = geo->radius;
+  s.omega = geo->omega;
+  if (!orient(&s, geo->gravity))
+    return adem_error_set(err, ADEM_ERR_INPUT, "gravity is along the drum's axis (or zero): no free surface");
+  double M;
+  return measure_frame(&s, f, mass, out, &M, err);
 }
 
 /* Mean of the CSV column `name` over rows with t0 <= time <= t1; *rows: how many. */
@@ -435,7 +457,7 @@ adem_status adem_drum_analyze(const char *outdir, const adem_drum_options *opt,
     if (!f.vel) st = adem_error_set(err, ADEM_ERR_INPUT, "%s has no particle velocities", names[k]);
     if (!st && f.time >= from && f.n > 0) {
       double M = 0.0;
-      st = measure_frame(&s, &f, &rep->frames[rep->nframes], &M, err);
+      st = measure_frame(&s, &f, NULL, &rep->frames[rep->nframes], &M, err);
       if (!st) {
         rep->mass = M;
         rep->particles = f.n;
