@@ -165,7 +165,7 @@ static void test_import_errors(void **state) {
   assert_int_equal(adem_fileio_write_all(old, data, len, &err), ADEM_OK);
   free(data);
   t = replaced(import_case, "src/checkpoint", "old.ckpt");
-  expect_refused(t, WORDS("old.ckpt is not a usable adem checkpoint", "format version 6", "reads version 10"));
+  expect_refused(t, WORDS("old.ckpt is not a usable adem checkpoint", "format version 6", "reads version 11"));
   free(t);
   t = replaced(import_case, "name: glass", "name: sand");
   expect_refused(t, WORDS("particles[0].file", "material `glass`", "does not have"));
