@@ -1,11 +1,13 @@
 /* adem analyze: measurements on a run's output folder. `adem analyze repose OUTDIR` measures the
- * pile in the last frame (angle of repose by two methods, height, base radius). */
+ * pile in the last frame (angle of repose by two methods, height, base radius); `adem analyze
+ * drum OUTDIR` the free surface of a rotating drum over its frames (adem/drum.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "adem/adem.h"
+#include "adem/drum.h"
 #include "cli.h"
 
 const char *const analyze_help =
@@ -28,7 +30,19 @@ const char *const analyze_help =
     "Example:\n"
     "  adem run cases/irazabal/repose.yaml --out out/repose && adem analyze repose out/repose --zmax 0.65\n"
     "\n"
-    "Exit status: 0 measured; 2 bad options or no usable frame or pile.\n";
+    "Exit status: 0 measured; 2 bad options or no usable frame or pile.\n"
+    "\n"
+    "Usage: adem analyze drum OUTDIR [--from T] [--wall NAME]\n"
+    "\n"
+    "Measures the free surface of a rotating drum (a `type: cylinder` wall, from the run's\n"
+    "checkpoint) over the particle frames at or after T s (default: the last two thirds of the\n"
+    "run): the dynamic angle by a line fit of the surface particles over the middle half of the\n"
+    "chord and by the bed's centre of mass, the regime (rolling, or slumping: the angle's\n"
+    "sawtooth), the flowing layer's thickness on the normal to the surface through the axis\n"
+    "(where the velocity along the surface turns from downhill to uphill), the wall layer's\n"
+    "co-rotation (its mean tangential speed over the drum's at its centres) and slip speed, and\n"
+    "the drive torque (the CSV's WALL_t_axis_Nm) against the bed's gravity moment m g x_cm.\n"
+    "Writes OUTDIR/drum.csv (per frame) and OUTDIR/drum.png (docs/walls.md).\n";
 
 static int pair(const char *s, double *a, double *b) {
   char *end;
@@ -45,15 +59,58 @@ static int number(const char *s, double *x) {
   return end != s && *end == '\0' && isfinite(*x);
 }
 
+static int analyze_drum(int argc, char **argv) {
+  if (argc < 2) return fail(EXIT_INPUT, "adem analyze drum needs a run's output folder");
+  adem_drum_options opt = adem_drum_default_options();
+  for (int i = 2; i < argc; i += 2) {
+    const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+    int ok = v != NULL;
+    if (ok && !strcmp(a, "--from")) ok = number(v, &opt.from);
+    else if (ok && !strcmp(a, "--wall")) ok = snprintf(opt.wall, sizeof opt.wall, "%s", v) < (int)sizeof opt.wall;
+    else
+      return fail(EXIT_INPUT, "unknown option or missing value '%s' for adem analyze drum (see: "
+                              "adem analyze --help)", a);
+    if (!ok) return fail(EXIT_INPUT, "%s: bad value '%s'", a, v);
+  }
+  adem_error err;
+  memset(&err, 0, sizeof err);
+  adem_drum_report r;
+  adem_status st = adem_drum_analyze(argv[1], &opt, &r, &err);
+  if (st) return fail(exit_code(st), "%s", err.message);
+  const adem_drum_frame *f = r.frames;
+  printf("drum             R = %.4g m, omega = %.4g rad/s, Froude omega^2 R/g = %.3g\n", r.radius,
+         r.omega, r.froude);
+  printf("bed              %zu particles, %.6g kg; %zu frames, t = %.4g .. %.4g s\n", r.particles,
+         r.mass, r.nframes, f[0].time, f[r.nframes - 1].time);
+  printf("dynamic angle    surface fit %.2f +- %.2f deg, centre of mass %.2f +- %.2f deg\n",
+         r.angle_fit_deg, r.angle_fit_sd, r.angle_cm_deg, r.angle_cm_sd);
+  printf("regime           %s (angle excursion %.2f deg, skewness of its changes %.2f, %zu drops "
+         "> 1 deg, %zu of %zu frames with the wall layer below half the drum's rate)\n", r.regime,
+         r.excursion_deg, r.skewness, r.drops, r.slipping_frames, r.nframes);
+  printf("flowing layer    %.3g mm thick (mean over the frames that flow)\n", r.layer_m * 1000.0);
+  printf("wall layer       co-rotation %.3f (1: turns with the drum), slip %.4g m/s\n",
+         r.corotation, r.slip_m_s);
+  if (r.torque_rows)
+    printf("torque balance   drive torque %.6g N m (%zu CSV rows), gravity moment m g x_cm %.6g N m: "
+           "ratio %.4f\n", r.torque_Nm, r.torque_rows, r.moment_Nm, r.torque_Nm / r.moment_Nm);
+  else
+    printf("torque balance   gravity moment m g x_cm %.6g N m (no drive torque column in the CSV)\n",
+           r.moment_Nm);
+  printf("written          %s, %s\n", r.csv, r.png);
+  adem_drum_report_free(&r);
+  return EXIT_OK;
+}
+
 int cmd_analyze(int argc, char **argv) {
   if (argc < 1 || !strcmp(argv[0], "-h") || !strcmp(argv[0], "--help")) {
     fputs(analyze_help, argc < 1 ? stderr : stdout);
     return argc < 1 ? EXIT_INPUT : EXIT_OK;
   }
   if (strcmp(argv[0], "fields") == 0) return cmd_analyze_fields(argc - 1, argv + 1);
+  if (!strcmp(argv[0], "drum")) return analyze_drum(argc, argv);
   if (strcmp(argv[0], "repose") != 0)
-    return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields (see: adem analyze "
-                            "--help)", argv[0]);
+    return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields, drum (see: adem "
+                            "analyze --help)", argv[0]);
   if (argc < 2) return fail(EXIT_INPUT, "adem analyze repose needs a run's output folder");
   const char *dir = argv[1];
   adem_pile_options opt = adem_pile_default_options();

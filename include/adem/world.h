@@ -58,7 +58,24 @@ typedef struct adem_plane_def {
   adem_vec3 point, normal;
   adem_vec3 velocity; /* translation velocity, enters the contact's relative velocity */
   int material;
+  /* Shape (adem_wall_shape): 0, the default, is the infinite plane above. A cylinder: axis
+   * through point along normal, radius, length from point along the axis (0: infinite). A disc:
+   * the plane within radius of point (0: unbounded), less a hole of hole_radius about point.
+   * flags: ADEM_WALL_OUTSIDE, ADEM_WALL_CAPPED, ADEM_WALL_TWO_SIDED (src/core/cylinder.h). */
+  int shape;
+  double radius, length, hole_radius;
+  int flags;
 } adem_plane_def;
+typedef enum adem_wall_shape {
+  ADEM_WALL_PLANE = 0,
+  ADEM_WALL_CYLINDER = 1,
+  ADEM_WALL_DISC = 2
+} adem_wall_shape;
+enum {
+  ADEM_WALL_OUTSIDE = 1,  /* cylinder: the particles are outside it (default: inside) */
+  ADEM_WALL_CAPPED = 2,   /* cylinder: discs close its ends (its own rims are not touched) */
+  ADEM_WALL_TWO_SIDED = 4 /* disc: a sheet touched from both sides (default: one, like a plane) */
+};
 adem_plane_def adem_default_plane_def(void);
 
 /* Servo (force-controlled) motion of a wall along one axis, from the particles' force on the wall
@@ -172,6 +189,10 @@ adem_status adem_world_add_mesh(adem_world *w, const adem_vec3 *corners, size_t 
 int adem_world_plane_count(const adem_world *w);
 /* The plane where it is now. */
 const adem_plane_def *adem_world_plane(const adem_world *w, int index);
+/* A plane's (a cylinder's) rotation now: its rate, rad/s (0: none), with its unit axis and a point
+ * of the axis where they are now (either may be NULL). */
+double adem_world_plane_rotation(const adem_world *w, int index, adem_vec3 *axis, adem_vec3 *center);
+adem_vec3 adem_world_gravity(const adem_world *w);
 int adem_world_mesh_group_count(const adem_world *w);
 const char *adem_world_mesh_group_name(const adem_world *w, int group);
 int adem_world_find_mesh_group(const adem_world *w, const char *name); /* -1: none */

@@ -10,6 +10,7 @@
 #include "adem/vec3.h"
 #include "parallel.h"
 #include "contacts.h"
+#include "cylinder.h"
 
 typedef adem_contact_geometry contact_geometry;
 
@@ -619,14 +620,16 @@ static inline void wall_pair(const adem_force_scope *w, size_t k) {
     size_t i = l->a[k];
     const adem_plane_def *pl = &w->walls->planes[l->b[k]].def;
     double ri = p->radius[i];
-    double dist = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
+    /* the nearest point of the wall's surface (a plane: the plane formula's bits; cylinder.h) */
+    adem_wall_near near = adem_wall_nearest(pl, p->pos[i]);
+    double dist = adem_wall_contact_gap(&near, ri);
     bool was = l->touching[k];
     if (dist >= ri && !was) {
       forget_opened(l, k, w->balance);
       return;
     }
     contact_geometry g;
-    g.n = v3_neg(pl->normal);
+    g.n = near.n;
     g.delta = ri - dist;
     g.R = ri;
     g.mstar = 1.0 / p->inv_mass[i];

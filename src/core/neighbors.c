@@ -8,6 +8,7 @@
 #include "adem/vec3.h"
 #include "parallel.h"
 #include "neighbors.h"
+#include "cylinder.h"
 
 /* What one build works on (adem_neighbor_scope with the neighbour structure itself). */
 typedef struct build_ctx {
@@ -397,7 +398,7 @@ static size_t wall_pairs_of(const build_ctx *w, size_t i, adem_pair_list *out, s
   for (int k = 0; k < w->walls->nplanes; ++k) {
     const adem_plane_def *pl = &w->walls->planes[k].def;
     if (w->walls->planes[k].inactive) continue;
-    double d = v3_dot(v3_sub(x, pl->point), pl->normal);
+    double d = adem_wall_nearest(pl, x).gap; /* a plane: (x - p).n */
     if (d < reach) {
       if (out) {
         out->a[at + count] = (uint32_t)i;

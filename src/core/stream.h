@@ -78,7 +78,7 @@ size_t adem_reader_left(const adem_reader *rd);
                                 outlets' and mass flows' state, the per-particle external
                                 force, the rolling stiffness a contact's rolling spring was
                                 stored with, the tangential force a contact applied at the
-                                last pass */
+                                last pass, a plane's shape (cylinder, disc) */
 #define ADEM_CKPT_ENDIAN 0x01020304u
 #define ADEM_CKPT_HEADER_BYTES 40u
 /* Checks the header of checkpoint bytes of kind magic (hist_size: the build's contact-history

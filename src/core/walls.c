@@ -7,6 +7,7 @@
 #include "log.h"
 #include "adem/vec3.h"
 #include "walls.h"
+#include "cylinder.h"
 
 static void note_plane(adem_plane *pl, const adem_motion *m);
 
@@ -29,6 +30,7 @@ int adem_walls_add_plane(adem_walls *wl, const adem_plane_def *def, int nmateria
     adem_error_set(err, ADEM_ERR_INPUT, "wall '%s': material does not exist", def->name);
     return -1;
   }
+  if (adem_wall_check_shape(def, err)) return -1; /* a cylinder's or disc's sizes */
   adem_plane *pl = realloc(wl->planes, (size_t)(wl->nplanes + 1) * sizeof *pl);
   if (!pl) {
     adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -326,7 +328,8 @@ double adem_walls_shift(const adem_walls *wl, double t0, bool has_box, adem_vec3
   for (int k = 0; k < wl->nplanes; ++k) {
     const adem_motion *mo = &wl->planes[k].motion;
     if (!mo->moving) continue;
-    double reach = mo->omega != 0.0
+    /* a cylinder or disc turning about its own axis sweeps nothing (cylinder.h) */
+    double reach = mo->omega != 0.0 && !adem_wall_plane_turns_in_place(&wl->planes[k])
                        ? extent + v3_norm(v3_sub(mo->center, lo))
                        : 0.0;
     shift = fmax(shift, adem_motion_max_shift(mo, t0, t1, reach));

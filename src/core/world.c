@@ -12,6 +12,8 @@
 #include "rng.h"
 #include "step_limit.h"
 #include "world.h"
+#include "cylinder.h"
+#include "mesh_periodic.h"
 
 adem_world *adem_world_create(void) {
   adem_world *w = calloc(1, sizeof *w);
@@ -658,11 +660,12 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
       if (w->walls.planes[k].inactive || p->frozen[i]) continue; /* a frozen one is wall */
-      double d = v3_dot(v3_sub(p->pos[i], pl->point), pl->normal);
+      adem_wall_near near = adem_wall_nearest(pl, p->pos[i]);
+      double d = near.live ? near.gap : 0.0;
       if (d < 0.0)
         return adem_error_set(err, ADEM_ERR_INPUT,
                               "particle id %llu at (%g, %g, %g) is outside wall '%s' (its centre "
-                              "is %g m behind the plane)",
+                              "is %g m behind its surface)",
                               (unsigned long long)p->id[i], p->pos[i].x, p->pos[i].y, p->pos[i].z,
                               pl->name, -d);
     }
@@ -670,8 +673,8 @@ static adem_status check_initial_state(const adem_world *w, adem_error *err) {
 }
 
 /* Periodic boxes the run cannot use: a length below 2 (largest diameter + skin), where a pair
- * could touch through two images at once, and a plane cutting a periodic axis. A mesh wall
- * within reach of a periodic face is only warned about: it is not imaged. */
+ * could touch through two images at once, a plane cutting a periodic axis, a cylinder or plate
+ * or a mesh within reach of a periodic face unless it is the same all along the axis. */
 static adem_status check_periodic(const adem_world *w, adem_error *err) {
   const adem_periodic *pb = &w->periodic;
   if (!pb->axes) return ADEM_OK;
@@ -688,6 +691,11 @@ static adem_status check_periodic(const adem_world *w, adem_error *err) {
                             "xyz"[d], pb->len[d], dmax, skin, need);
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
+      if (pl->shape != ADEM_WALL_PLANE) { /* a cylinder or disc: cylinder.c */
+        adem_status st = adem_wall_check_periodic(pl, d, pb->lo[d], pb->len[d], rmax + skin, err);
+        if (st) return st;
+        continue;
+      }
       double n[3] = {pl->normal.x, pl->normal.y, pl->normal.z};
       if (fabs(n[d]) > 1e-12 * v3_norm(pl->normal))
         return adem_error_set(err, ADEM_ERR_INPUT,
@@ -696,22 +704,14 @@ static adem_status check_periodic(const adem_world *w, adem_error *err) {
                               pl->name, n[0], n[1], n[2], "xyz"[d]);
     }
   }
-  if (w->walls.mesh.nverts > 0) {
-    adem_vec3 mlo, mhi;
-    adem_mesh_bounds(&w->walls.mesh, &mlo, &mhi);
-    const double lo[3] = {mlo.x, mlo.y, mlo.z}, hi[3] = {mhi.x, mhi.y, mhi.z};
-    double reach = rmax + skin;
-    for (int d = 0; d < 3; ++d)
-      if ((pb->axes >> d) & 1u &&
-          (lo[d] < pb->lo[d] + reach || hi[d] > pb->lo[d] + pb->len[d] - reach)) {
-        adem_log(ADEM_LOG_WARN,
-                 "mesh walls reach within %g m of the periodic faces along %c (they span %g .. "
-                 "%g m, the box %g .. %g m): meshes are not imaged, a particle on the other "
-                 "side of a face does not touch them",
-                 reach, "xyz"[d], lo[d], hi[d], pb->lo[d], pb->lo[d] + pb->len[d]);
-        break;
-      }
-  }
+  /* meshes are not imaged: a shell the same along the axis past both faces, or kept inside them
+   * (mesh_periodic.c) */
+  for (int d = 0; d < 3; ++d)
+    if ((pb->axes >> d) & 1u) {
+      adem_status st = adem_mesh_check_periodic(&w->walls.mesh, d, pb->lo[d], pb->len[d],
+                                                rmax + skin, err);
+      if (st) return st;
+    }
   return ADEM_OK;
 }
 
@@ -728,9 +728,10 @@ static void default_domain(adem_world *w) {
     rmax = fmax(rmax, w->p.radius[i]);
   }
   for (int k = 0; k < w->walls.nplanes; ++k) {
-    adem_vec3 x = w->walls.planes[k].def.point;
-    lo = v3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
-    hi = v3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+    adem_vec3 x0, x1; /* a plane's point; a cylinder's or a disc's box (cylinder.c) */
+    adem_wall_bounds(&w->walls.planes[k].def, &x0, &x1);
+    lo = v3(fmin(lo.x, x0.x), fmin(lo.y, x0.y), fmin(lo.z, x0.z));
+    hi = v3(fmax(hi.x, x1.x), fmax(hi.y, x1.y), fmax(hi.z, x1.z));
   }
   if (w->walls.mesh.nverts > 0) { /* the meshes where they are now */
     adem_vec3 mlo, mhi;

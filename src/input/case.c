@@ -19,6 +19,7 @@
 #include "insert.h"
 #include "outlets.h"
 #include "case_yaml.h"
+#include "case_walls.h"
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
@@ -942,6 +943,19 @@ static adem_status build_walls(case_ctx *ctx, const map_cursor *root) {
       if ((st = plane_motion(ctx, &m, ctx->w->walls.nplanes - 1, velocity_node))) break;
     } else if (!strcmp(m.variant, "mesh")) {
       if ((st = build_mesh_wall(ctx, &m, mat, name_node ? names[i] : NULL))) break;
+    } else if (!strcmp(m.variant, "cylinder") || !strcmp(m.variant, "plate")) {
+      double reach = 0.0; /* case_walls.c; every part moves with the wall's `motion` */
+      bool cyl = !strcmp(m.variant, "cylinder");
+      if ((st = adem_case_curved_wall(ctx, &m, names[i], mat, cyl, &reach))) break;
+      adem_vec3 pt = ctx->w->walls.planes[planes_before].def.point, e = v3(reach, reach, reach);
+      box_include(ctx, v3_sub(pt, e), v3_add(pt, e));
+      for (int k = planes_before; !st && k < ctx->w->walls.nplanes; ++k) {
+        if ((st = plane_motion(ctx, &m, k, NULL))) break;
+        const adem_motion *mo = &ctx->w->walls.planes[k].motion; /* its points' largest speed */
+        double arm = reach + v3_norm(v3_sub(mo->center, pt));
+        ctx->vmax = fmax(ctx->vmax, fabs(mo->omega) * arm + v3_norm(adem_motion_velocity(mo, 0.0)));
+      }
+      if (st) break;
     } else {
       adem_vec3 lo, hi;
       yaml_node_t *hi_node;
@@ -1298,6 +1312,12 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   adem_status st = read_region(ctx, m, true, &reg, &word);
   if (!st) st = adem_yaml_get_uint(ctx, m, "count", &count, &count_node);
   if (!st) st = adem_yaml_get_number(ctx, m, "solid_fraction", &fraction, &fraction_node);
+  map_cursor fl; /* fill_level: the solid fraction of a bed to a level (case_walls.c) */
+  if (!st) st = adem_yaml_get_map(ctx, m, "fill_level", &fl);
+  if (!st && fl.node && (count_node || fraction_node))
+    st = adem_yaml_fail(ctx, fl.node, fl.path, "give one of `count`, `solid_fraction`, `fill_level`");
+  if (!st && fl.node && !(st = adem_case_fill_level(ctx, &fl, &reg, &fraction)))
+    fraction_node = fl.node;
   if (!st && count_node && fraction_node) {
     adem_yaml_join(path, sizeof path, m->path, "solid_fraction");
     st = adem_yaml_fail(ctx, fraction_node, path, "give either `count` or `solid_fraction`, not both");

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cylinder.h"
 #include "mesh_contact.h"
 #include "log.h"
 #include "adem/vec3.h"
@@ -695,7 +696,7 @@ static bool walls_clear(const wall_filter *f, adem_vec3 x, double r) {
   for (int k = 0; k < w->walls.nplanes; ++k) {
     if (w->walls.planes[k].inactive) continue;
     const adem_plane_def *pl = &w->walls.planes[k].def;
-    if (v3_dot(v3_sub(x, pl->point), pl->normal) < slack) return false;
+    if (adem_wall_nearest(pl, x).gap < slack) return false; /* a plane: (x - p).n */
   }
   const adem_mesh *m = &w->walls.mesh;
   for (size_t e = 0; e < f->ntri; ++e) {

@@ -15,6 +15,7 @@
 #include "fileio.h"
 #include "log.h"
 #include "world.h"
+#include "cylinder.h"
 
 
 _Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
@@ -513,6 +514,30 @@ static void motion_csv_row(strbuf *b, const adem_world *w) {
   free(gf);
 }
 
+/* Cylinders and plates (core/cylinder.h): the torque of the particles on each about its point (a
+ * cylinder: its axis point) and, for a cylinder, its component along the axis. After the motion
+ * columns, so that the columns before keep their places. */
+static void shape_csv_header(strbuf *b, const adem_world *w) {
+  char name[2 * ADEM_NAME_MAX];
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    const adem_plane_def *d = &w->walls.planes[k].def;
+    if (d->shape == ADEM_WALL_PLANE) continue;
+    csv_field_name(name, sizeof name, d->name);
+    if (!name[0]) snprintf(name, sizeof name, "plane%d", k);
+    sb_printf(b, ",%s_tx_Nm,%s_ty_Nm,%s_tz_Nm", name, name, name);
+    if (d->shape == ADEM_WALL_CYLINDER) sb_printf(b, ",%s_t_axis_Nm", name);
+  }
+}
+
+static void shape_csv_row(strbuf *b, const adem_world *w, const adem_vec3 *t) {
+  for (int k = 0; k < w->walls.nplanes; ++k) {
+    const adem_plane_def *d = &w->walls.planes[k].def;
+    if (d->shape == ADEM_WALL_PLANE) continue;
+    sb_printf(b, ",%.17g,%.17g,%.17g", t[k].x, t[k].y, t[k].z);
+    if (d->shape == ADEM_WALL_CYLINDER) sb_printf(b, ",%.17g", v3_dot(t[k], d->normal));
+  }
+}
+
 char *adem_output_csv_header(const adem_world *w, const adem_output_track *track,
                              const adem_output_extra *extra) {
   strbuf b = {0};
@@ -527,6 +552,7 @@ char *adem_output_csv_header(const adem_world *w, const adem_output_track *track
   }
   mesh_csv_header(&b, w);
   motion_csv_header(&b, w);
+  shape_csv_header(&b, w);
   for (int k = 0; track && k < track->n; ++k) {
     unsigned long long id = (unsigned long long)track->id[k];
     sb_printf(&b, ",p%llu_rolling_torque_x_Nm,p%llu_rolling_torque_y_Nm,p%llu_rolling_torque_z_Nm", id,
@@ -558,9 +584,11 @@ char *adem_output_csv_row(const adem_world *w, const adem_output_track *track,
   }
   adem_world_plane_forces(w, f);
   for (int k = 0; k < w->walls.nplanes; ++k) sb_printf(&b, ",%.17g,%.17g,%.17g", f[k].x, f[k].y, f[k].z);
-  free(f);
   mesh_csv_row(&b, w);
   motion_csv_row(&b, w);
+  adem_world_plane_torques(w, f); /* cylinders' and plates' torques */
+  shape_csv_row(&b, w, f);
+  free(f);
   const adem_particles *p = &w->p;
   for (int k = 0; track && k < track->n; ++k) {
     size_t i = 0; /* particles are reordered by cell: find the id (a few per row) */

@@ -100,12 +100,11 @@ static void test_api(void **state) {
   test_particle(w, 0, v3(0.5, 0.5, 0.5), v3_zero(), 0.025);
   const adem_vec3 tri[3] = {v3(-0.5, 0, 0.1), v3(1.5, 0, 0.1), v3(0.5, 1, 0.1)};
   assert_int_equal(adem_world_add_mesh(w, tri, 1, "floor", NULL, &err), ADEM_OK);
-  capture_setup(NULL);
-  assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
-  capture_teardown(NULL);
-  printf("# %s", logged);
-  assert_non_null(strstr(logged, "W mesh walls reach within"));
-  assert_non_null(strstr(logged, "not imaged"));
+  /* a triangle across the faces is not the same along x: refused (tests/physics/
+   * test_periodic_shell.c has the shells that are) */
+  assert_int_equal(adem_world_prepare(w, &err), ADEM_ERR_INPUT);
+  printf("# %s\n", err.message);
+  assert_non_null(strstr(err.message, "not imaged"));
   adem_world_free(w);
 }
 
