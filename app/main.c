@@ -28,6 +28,7 @@ static const char *const main_help =
     "  adem collide [--kind pair|wall] [--speed LIST] [--lambda LIST] [--ad LIST] ...\n"
     "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"
     "  adem analyze repose OUTDIR [--zmax Z]\n"
+    "  adem calibrate CASE.yaml --vary KEY=LO:HI --target KIND:WHAT=VALUE+-TOL [--jobs N]\n"
     "  adem reference\n"
     "  adem --help | --version\n"
     "\n"
@@ -43,7 +44,9 @@ static const char *const main_help =
     "  validate   reproduce the papers' figures and check their claims: CSV, PNG and a\n"
     "             summary per figure (see: adem validate --help)\n"
     "  analyze    measure a run's result: `repose` measures the pile in its last frame (angle\n"
-    "             by two methods, height, base radius) and draws its profile\n"
+    "             by five measures, height, base radius) and draws its profile\n"
+    "  calibrate  vary one case value over a range until a measured target (repose angle,\n"
+    "             bulk density, discharge rate, wall load) is met (see: adem calibrate --help)\n"
     "  reference  print the case-file reference (every key, unit, default, range) as Markdown\n"
     "\n"
     "Options:\n"
@@ -111,6 +114,7 @@ int main(int argc, char **argv) {
     else if (argc > 2 && strcmp(argv[2], "collide") == 0) fputs(collide_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "validate") == 0) fputs(validate_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "analyze") == 0) fputs(analyze_help, stdout);
+    else if (argc > 2 && strcmp(argv[2], "calibrate") == 0) fputs(calibrate_help, stdout);
     else fputs(main_help, stdout);
     return EXIT_OK;
   }
@@ -127,6 +131,7 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "validate") == 0) return cmd_validate(argc - 2, argv + 2);
   if (strcmp(cmd, "reference") == 0) return cmd_reference(argc - 2, argv + 2);
   if (strcmp(cmd, "analyze") == 0) return cmd_analyze(argc - 2, argv + 2);
+  if (strcmp(cmd, "calibrate") == 0) return cmd_calibrate(argc - 2, argv + 2);
   return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate, "
-                          "analyze and reference (see: adem --help)", cmd);
+                          "analyze, calibrate and reference (see: adem --help)", cmd);
 }

@@ -63,5 +63,6 @@ typedef struct adem_world adem_world;
 #include "adem/studies.h"
 #include "adem/pile.h"
 #include "adem/frames.h"
+#include "adem/calibrate.h"
 
 #endif
