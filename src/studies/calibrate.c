@@ -658,7 +658,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
              "plot %s skip 1 using 2:3 with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'runs', \\\n"
              " %.17g with lines lc rgb 'black' dt 2 title 'target %.6g +- %.6g (grey band)', \\\n"
              " '-' using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '#d62728' title 'best run'\n"
-             "%.17g %.17g\ne\n",
+             "%.17g,%.17g\ne\n",
              t->text, o->vary.key, o->vary.key, t->text, unit_of(t), o->vary.lo - pad,
              o->vary.hi + pad, t->value - t->tol, t->value + t->tol,
              adem_plot_quote(csv, q, sizeof q), t->value, t->value, t->tol, res->x_best,

@@ -109,7 +109,7 @@ static adem_status plot_profile(const char *png, const char *csv, const adem_pil
            "title 'ring-top line', \\\n"
            " '-' using 1:2 with linespoints pt 5 lw 2 lc rgb 'black' "
            "title 'laboratory: apex to base edge at the skirt level'\n"
-           "0 %.17g\n%.17g %.17g\ne\n",
+           "0,%.17g\n%.17g,%.17g\ne\n",
            r->angle_lab_deg, r->angle_surface_deg, r->surface.r2, r->angle_slices_deg,
            r->slices.r2, r->angle_ringtop_deg, adem_plot_quote(csv, q, sizeof q),
            (r->band_zmax - a) / b, (r->band_zmin - a) / b, a, b, c + k * r->band_zmax,
