@@ -647,7 +647,11 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
   }
   /* response.png: the runs, the target band, the best run */
   if (!st) {
-    char q[4200], body[8192];
+    char q[4200], body[8192], label[200];
+    static const char *const kinds[] = {"repose", "density", "rate", "load"};
+    snprintf(label, sizeof label, "measured %s:%s%s%s", kinds[t->kind], t->what,
+             t->kind == ADEM_CALIB_LOAD && t->component < 3 ? "." : "",
+             t->kind == ADEM_CALIB_LOAD && t->component < 3 ? (const char *[]){"x", "y", "z"}[t->component] : "");
     double pad = 0.05 * (o->vary.hi - o->vary.lo);
     snprintf(body, sizeof body,
              "set datafile separator ','\nset title \"adem calibrate: %s against %s\" noenhanced\n"
@@ -659,7 +663,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
              " %.17g with lines lc rgb 'black' dt 2 title 'target %.6g +- %.6g (grey band)', \\\n"
              " '-' using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '#d62728' title 'best run'\n"
              "%.17g,%.17g\ne\n",
-             t->text, o->vary.key, o->vary.key, t->text, unit_of(t), o->vary.lo - pad,
+             t->text, o->vary.key, o->vary.key, label, unit_of(t), o->vary.lo - pad,
              o->vary.hi + pad, t->value - t->tol, t->value + t->tol,
              adem_plot_quote(csv, q, sizeof q), t->value, t->value, t->tol, res->x_best,
              res->y_best);

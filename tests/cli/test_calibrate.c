@@ -40,7 +40,9 @@ static const char *const load_case =
     "output:\n"
     "  frame_interval: 0.2\n"
     "  csv_interval: 0.002\n"
-    "  checkpoint_interval: 0.2\n";
+    "  checkpoint_interval: 0.2\n"
+    "  regions:\n"
+    "    - {name: bed, shape: box, min: [-0.01, -0.01, 0], max: [0.07, 0.03, 0.01]}\n";
 
 static int setup(void **state) {
   (void)state;
@@ -141,6 +143,34 @@ static void test_recovers_density(void **state) {
   free(path);
 }
 
+/* Claim: a bulk-density target (the region's mass over its volume, 0.08 x 0.04 x 0.01 m holding
+ * the 8 spheres: 0.1309 rho) of 0.1309 x 2345 kg/m^3 +- 0.1 % is met at 2345 within 0.1 %. */
+static void test_density_target(void **state) {
+  (void)state;
+  char *path = write_case("load3.yaml", load_case);
+  char *out;
+  double frac = 8 * 4.0 / 3.0 * 3.14159265358979 * 0.005 * 0.005 * 0.005 / (0.08 * 0.04 * 0.01);
+  double target = frac * 2345.0;
+  assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
+                              "density:bed=%.9g+-%.9g --out '%s/dens'", path, target,
+                        0.001 * target, tmpdir), 0);
+  char *runs = path_in_tmp("dens/runs.csv");
+  double best = NAN;
+  for (int row = 1; row < 20; ++row) {
+    FILE *f = fopen(runs, "r");
+    char line[4096];
+    int lines = 0;
+    while (fgets(line, sizeof line, f)) ++lines;
+    fclose(f);
+    if (row >= lines) break;
+    if (csv_value(runs, row, "within") == 1.0) best = csv_value(runs, row, "value");
+  }
+  printf("# density target %.4f kg/m^3 (solid fraction %.4f): found %.4f\n", target, frac, best);
+  assert_true(fabs(best - 2345.0) < 0.001 * 2345.0);
+  free(runs);
+  free(path);
+}
+
 /* Claim: a --vary key that is not in the case, a value out of range and a bad --target are
  * refused with exit 2 before any run, and the message names the key or the target. */
 static void test_bad_options(void **state) {
@@ -173,6 +203,7 @@ static void test_bad_options(void **state) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_recovers_density),
+      cmocka_unit_test(test_density_target),
       cmocka_unit_test(test_bad_options),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
