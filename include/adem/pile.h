@@ -22,7 +22,8 @@
  *     spheres one layer high that rolled away is never base, however far it reaches. R_base:
  *     the mean over `lab_sectors` sectors of the largest distance from the axis of a base sphere
  *     whose top is at least h_e. Angle = atan((H - h_e) / R_base): height and base are both taken
- *     from the skirt's level, which cancels for spheres whose tops lie on a cone.
+ *     from the skirt's level, which cancels for spheres whose tops lie on a cone. NaN when fewer
+ *     than half the sectors have such a sphere (no pile two layers high: the spheres rolled away).
  * (d) the ring-top line: ordinary least squares of the ring tops against the rings' mid-radius
  *     over the rings of the continuous base whose top lies in [ring_lo, ring_hi] H.
  *

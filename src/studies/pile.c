@@ -237,16 +237,17 @@ static adem_status ring_measures(const pp *q, size_t m, const adem_pile_options 
     }
   free(far);
   if (nb == 0 || 2 * got < ns) {
-    free(top);
-    return fail(err, ADEM_ERR_INPUT,
-                "pile: the laboratory angle needs a base: %zu ring%s above the skirt level %g m, "
-                "%d of %d sectors with a sphere reaching it", nb, nb == 1 ? "" : "s", he, got, ns);
+    /* no base two layers high around the axis in most directions (the spheres rolled away,
+     * or a heap too flat): no laboratory angle (NaN); the other measures stand */
+    res->lab_base_radius = res->lab_base_sd = NAN;
+    res->angle_lab_deg = res->angle_lab_plain_deg = NAN;
+  } else {
+    res->lab_base_radius = sum / got;
+    double var = got > 1 ? (sum2 - sum * sum / got) / (got - 1) : 0.0;
+    res->lab_base_sd = var > 0.0 ? sqrt(var) : 0.0;
+    res->angle_lab_deg = atan((res->height - he) / res->lab_base_radius) * 180.0 / PI;
+    res->angle_lab_plain_deg = atan(res->height / res->lab_base_radius) * 180.0 / PI;
   }
-  res->lab_base_radius = sum / got;
-  double var = got > 1 ? (sum2 - sum * sum / got) / (got - 1) : 0.0;
-  res->lab_base_sd = var > 0.0 ? sqrt(var) : 0.0;
-  res->angle_lab_deg = atan((res->height - he) / res->lab_base_radius) * 180.0 / PI;
-  res->angle_lab_plain_deg = atan(res->height / res->lab_base_radius) * 180.0 / PI;
   /* (d) the ring tops of the base inside the band */
   size_t np = 0;
   const double lo = o->ring_lo * res->height, hi = o->ring_hi * res->height;

@@ -11,6 +11,7 @@
 #   (two instances with disjoint --only patterns may run side by side)
 #   cases/irazabal/repose-study/run.sh --list               # every run and whether it is done
 #   cases/irazabal/repose-study/run.sh --analyze            # measure every finished run again
+#                                                           # (with --bin, default build/adem)
 #   /usr/bin/python3 cases/irazabal/repose-study/summarize.py OUT   # table: mean, sd per point
 #
 # Options: --out DIR (default out/repose-study), --bin ADEM (default build/adem, copied into
@@ -83,6 +84,8 @@ if [ $list = 0 ] && [ $analyze = 0 ]; then
 fi
 adem=$out/adem
 [ -x "$adem" ] || adem=$bin
+# measuring again takes the given (or built) binary: the measures may have changed, not the runs
+if [ $analyze = 1 ]; then adem=$bin; fi
 
 measure() { # dir
   "$adem" analyze repose "$1" --zmax 0.65 > "$1/measure.txt" 2>&1 || echo "analyze failed: $1" >&2
