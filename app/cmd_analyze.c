@@ -18,7 +18,11 @@ const char *const analyze_help =
     "its profile as OUTDIR/repose_profile.csv and OUTDIR/repose_profile.png. The angle comes by\n"
     "two methods: (a) a fit of the surface particles' height against their distance from the\n"
     "pile's axis over the middle band of its height; (b) the slope of horizontal slices'\n"
-    "equivalent radii against height. Both with R^2, the pile's height and base radius.\n"
+    "equivalent radii against height; (c) the laboratory angle atan((H - h_e) / R_base), H the\n"
+    "height, R_base the radius of the continuous base (rings out to the first one whose top is\n"
+    "below the skirt level h_e: spheres that rolled away are not the base), the primary measure;\n"
+    "(d) the least-squares line of the ring tops over 20-80 % of H; (e) height over footprint.\n"
+    "Every measure goes to OUTDIR/repose_measures.csv (docs/validation.md, \"The measure\").\n"
     "\n"
     "Options:\n"
     "  --floor Z        height of the floor, m (default 0)\n"
@@ -143,7 +147,16 @@ int cmd_analyze(int argc, char **argv) {
          r->surface.r2, r->surface.n);
   printf("slice radii      %.2f deg (R^2 %.4f, %zu slices)\n", r->angle_slices_deg, r->slices.r2,
          r->slices.n);
-  printf("profile          %s, %s\n", rep.profile_csv, rep.profile_png);
+  printf("laboratory       %.2f deg = atan((H - h_e) / R_base), h_e %.4f m, R_base %.4f m (sd %.4f "
+         "over the sectors), %zu base rings; plain atan(H / R_base) %.2f deg  [primary]\n",
+         r->angle_lab_deg, r->skirt_level, r->lab_base_radius, r->lab_base_sd, r->base_rings,
+         r->angle_lab_plain_deg);
+  printf("ring-top line    %.2f deg (R^2 %.4f, %zu rings over 20-80 %% of H)\n",
+         r->angle_ringtop_deg, r->ringtop.r2, r->ringtop.n);
+  printf("height/footprint %.2f deg (footprint %.4f m, spheres that rolled away included)\n",
+         r->angle_footprint_deg, r->footprint_radius);
+  printf("profile          %s, %s\nmeasures         %s\n", rep.profile_csv, rep.profile_png,
+         rep.measures_csv);
   adem_repose_report_free(&rep);
   return EXIT_OK;
 }

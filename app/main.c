@@ -29,6 +29,7 @@ static const char *const main_help =
     "  adem validate [NAME ...] [--out DIR] [--quick] [--list]\n"
     "  adem analyze repose OUTDIR [--zmax Z]\n"
     "  adem analyze fields OUTDIR [--width 2d] [--average x,y] [--time T0:T1] ...\n"
+    "  adem calibrate CASE.yaml --vary KEY=LO:HI --target KIND:WHAT=VALUE+-TOL [--jobs N]\n"
     "  adem reference\n"
     "  adem --help | --version\n"
     "\n"
@@ -44,9 +45,11 @@ static const char *const main_help =
     "  validate   reproduce the papers' figures and check their claims: CSV, PNG and a\n"
     "             summary per figure (see: adem validate --help)\n"
     "  analyze    measure a run's result: `repose` measures the pile in its last frame (angle\n"
-    "             by two methods, height, base radius) and draws its profile; `fields`\n"
+    "             by five measures, height, base radius) and draws its profile; `fields`\n"
     "             makes coarse-grained fields (stress, density, ...) of its frames and\n"
     "             contact frames (see: adem analyze fields --help)\n"
+    "  calibrate  vary one case value over a range until a measured target (repose angle,\n"
+    "             bulk density, discharge rate, wall load) is met (see: adem calibrate --help)\n"
     "  reference  print the case-file reference (every key, unit, default, range) as Markdown\n"
     "\n"
     "Options:\n"
@@ -114,6 +117,7 @@ int main(int argc, char **argv) {
     else if (argc > 2 && strcmp(argv[2], "collide") == 0) fputs(collide_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "validate") == 0) fputs(validate_help, stdout);
     else if (argc > 2 && strcmp(argv[2], "analyze") == 0) fputs(analyze_help, stdout);
+    else if (argc > 2 && strcmp(argv[2], "calibrate") == 0) fputs(calibrate_help, stdout);
     else fputs(main_help, stdout);
     return EXIT_OK;
   }
@@ -130,6 +134,7 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "validate") == 0) return cmd_validate(argc - 2, argv + 2);
   if (strcmp(cmd, "reference") == 0) return cmd_reference(argc - 2, argv + 2);
   if (strcmp(cmd, "analyze") == 0) return cmd_analyze(argc - 2, argv + 2);
+  if (strcmp(cmd, "calibrate") == 0) return cmd_calibrate(argc - 2, argv + 2);
   return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate, "
-                          "analyze and reference (see: adem --help)", cmd);
+                          "analyze, calibrate and reference (see: adem --help)", cmd);
 }

@@ -65,5 +65,6 @@ typedef struct adem_world adem_world;
 #include "adem/frames.h"
 #include "adem/fields.h"
 #include "adem/binding.h"
+#include "adem/calibrate.h"
 
 #endif

@@ -81,6 +81,15 @@ adem_status adem_case_load_string_at(const char *text, const char *name_for_mess
                                      const char *base_dir, const char *const *sets, int nsets,
                                      adem_case **out, adem_error *err);
 void adem_case_free(adem_case *c);
+/* The volume (m^3) of the output.regions region called name; ADEM_ERR_INPUT naming the regions
+ * there are when there is none of that name. */
+adem_status adem_case_region_volume(const adem_case *c, const char *name, double *volume,
+                                    adem_error *err);
+/* The case text with the sets written into it, as YAML (comments are lost); *out a fresh
+ * string. Only the sets' syntax and paths are checked here, not the case (load it to check). */
+adem_status adem_case_text_with_sets(const char *text, const char *name_for_messages,
+                                     const char *const *sets, int nsets, char **out,
+                                     adem_error *err);
 
 /* Adds the triangles of an STL file (ASCII or binary) to the world as one mesh wall, one group
  * per solid (docs/meshes.md names them), moving with velocity

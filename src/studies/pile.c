@@ -39,6 +39,10 @@ adem_pile_options adem_pile_default_options(void) {
   o.slice_radius = ADEM_PILE_MEAN_RADIUS;
   o.zmax = 0.0;
   o.rmax = 0.0;
+  o.ring_lo = 0.2;
+  o.ring_hi = 0.8;
+  o.lab_sectors = 8;
+  o.skirt_level = 0.0;
   return o;
 }
 
@@ -46,17 +50,21 @@ void adem_pile_result_free(adem_pile_result *res) {
   if (!res) return;
   free(res->surface_pts);
   free(res->slice_pts);
+  free(res->ring_pts);
   memset(res, 0, sizeof *res);
 }
 
-/* Line through the points with used = 1. swap = 0: orthogonal least squares (the principal
+/* Line through the points with used = 1. FIT_ORTHO: orthogonal least squares (the principal
  * axis of the points, minimising their distances to the line) of z against rho, for the surface
  * particles, which scatter across the slope: ordinary least squares of z on rho would take the
  * scatter in rho as signal and flatten the slope by about var(scatter) / (var(along) cos^2)
- * (1 to 2 degrees on a ballast pile). swap = 1: ordinary least squares of rho on z, for the
- * slices, whose heights are exact. r2 is the squared correlation of rho and z. Centred sums, so
- * that offsets of metres cost no digits. */
-static adem_pile_fit fit_line(const adem_pile_point *p, size_t n, int swap) {
+ * (1 to 2 degrees on a ballast pile). FIT_RHO_ON_Z: ordinary least squares of rho on z, for the
+ * slices, whose heights are exact. FIT_Z_ON_RHO: ordinary least squares of z on rho, for the ring
+ * tops, whose radii are the rings' (exact). r2 is the squared correlation of rho and z. Centred
+ * sums, so that offsets of metres cost no digits. */
+enum { FIT_ORTHO = 0, FIT_RHO_ON_Z = 1, FIT_Z_ON_RHO = 2 };
+static adem_pile_fit fit_line(const adem_pile_point *p, size_t n, int mode) {
+  const int swap = mode == FIT_RHO_ON_Z;
   adem_pile_fit f = {0, 0.0, 0.0, 0.0};
   double sx = 0.0, sy = 0.0;
   size_t m = 0;
@@ -77,7 +85,7 @@ static adem_pile_fit fit_line(const adem_pile_point *p, size_t n, int swap) {
       syy += dy * dy;
     }
   if (sxx <= 0.0) return f;
-  if (swap || sxy == 0.0) {
+  if (mode != FIT_ORTHO || sxy == 0.0) {
     f.slope = sxy / sxx;
   } else {
     /* direction of the largest eigenvector of [[sxx, sxy], [sxy, syy]] */
@@ -118,6 +126,12 @@ static adem_status check_options(const adem_pile_options *o, adem_error *err) {
       (o->slice_radius != ADEM_PILE_MEAN_RADIUS && o->slice_radius != ADEM_PILE_AREA_RADIUS) ||
       (o->axis_given && !(isfinite(o->axis_x) && isfinite(o->axis_y))))
     return fail(err, ADEM_ERR_INPUT, "pile: an option is not a finite number");
+  if (!(o->ring_lo >= 0.0 && o->ring_lo < o->ring_hi && o->ring_hi <= 1.0) ||
+      !(o->lab_sectors >= 1 && o->lab_sectors <= 360) || !isfinite(o->skirt_level))
+    return fail(err, ADEM_ERR_INPUT,
+                "pile: the ring-top band [%g, %g] must satisfy 0 <= lo < hi <= 1, lab_sectors %d "
+                "must be in 1..360 and the skirt level finite", o->ring_lo, o->ring_hi,
+                o->lab_sectors);
   return ADEM_OK;
 }
 
@@ -168,6 +182,87 @@ static double slice_req(const pp *q, size_t n, double zs, int nr, adem_pile_slic
     sum2 += reach[j] * reach[j];
   }
   return kind == ADEM_PILE_AREA_RADIUS ? sqrt(sum2 / nr) : sum / nr; /* A = pi sum2 / nr */
+}
+
+/* Methods (c) and (d) of pile.h on the pile's particles q[0..m) (rings w wide). */
+static adem_status ring_measures(const pp *q, size_t m, const adem_pile_options *o, double w,
+                                 adem_pile_result *res, adem_error *err) {
+  double dmin = INFINITY, dmax = 0.0, rho_max = 0.0;
+  for (size_t i = 0; i < m; ++i) {
+    if (2.0 * q[i].r < dmin) dmin = 2.0 * q[i].r;
+    if (2.0 * q[i].r > dmax) dmax = 2.0 * q[i].r;
+    if (q[i].rho > rho_max) rho_max = q[i].rho;
+  }
+  const double he = o->skirt_level > 0.0 ? o->skirt_level : 0.5 * (dmax + 1.8 * dmin);
+  res->skirt_level = he;
+  if (rho_max / w > 1e6)
+    return fail(err, ADEM_ERR_INPUT, "pile: a sphere %g m from the axis is more than a million "
+                "rings out: give rmax", rho_max);
+  const size_t nring = (size_t)floor(rho_max / w) + 1;
+  double *top = malloc(nring * sizeof *top);
+  const int ns = o->lab_sectors;
+  double *far = calloc((size_t)ns, sizeof *far);
+  res->ring_pts = malloc(nring * sizeof *res->ring_pts);
+  if (!top || !far || !res->ring_pts) {
+    free(top);
+    free(far);
+    return fail(err, ADEM_ERR_NOMEM, "pile: out of memory");
+  }
+  for (size_t k = 0; k < nring; ++k) top[k] = -1.0; /* empty */
+  for (size_t i = 0; i < m; ++i) {
+    size_t k = (size_t)floor(q[i].rho / w);
+    if (k >= nring) k = nring - 1;
+    if (q[i].z + q[i].r > top[k]) top[k] = q[i].z + q[i].r;
+  }
+  size_t nb = 0; /* the continuous base: rings out to the first one whose top is below h_e */
+  while (nb < nring && top[nb] >= he) ++nb;
+  res->base_rings = nb;
+  /* R_base: per sector the farthest base sphere whose top reaches h_e */
+  for (size_t i = 0; i < m; ++i) {
+    size_t k = (size_t)floor(q[i].rho / w);
+    if (k >= nb || q[i].z + q[i].r < he) continue;
+    double phi = atan2(q[i].dy, q[i].dx);
+    int s = (int)floor((phi + PI) / (2.0 * PI) * ns);
+    if (s < 0) s = 0;
+    if (s >= ns) s = ns - 1;
+    if (q[i].rho > far[s]) far[s] = q[i].rho;
+  }
+  double sum = 0.0, sum2 = 0.0;
+  int got = 0;
+  for (int s = 0; s < ns; ++s)
+    if (far[s] > 0.0) {
+      sum += far[s];
+      sum2 += far[s] * far[s];
+      ++got;
+    }
+  free(far);
+  if (nb == 0 || 2 * got < ns) {
+    /* no base two layers high around the axis in most directions (the spheres rolled away,
+     * or a heap too flat): no laboratory angle (NaN); the other measures stand */
+    res->lab_base_radius = res->lab_base_sd = NAN;
+    res->angle_lab_deg = res->angle_lab_plain_deg = NAN;
+  } else {
+    res->lab_base_radius = sum / got;
+    double var = got > 1 ? (sum2 - sum * sum / got) / (got - 1) : 0.0;
+    res->lab_base_sd = var > 0.0 ? sqrt(var) : 0.0;
+    res->angle_lab_deg = atan((res->height - he) / res->lab_base_radius) * 180.0 / PI;
+    res->angle_lab_plain_deg = atan(res->height / res->lab_base_radius) * 180.0 / PI;
+  }
+  /* (d) the ring tops of the base inside the band */
+  size_t np = 0;
+  const double lo = o->ring_lo * res->height, hi = o->ring_hi * res->height;
+  for (size_t k = 0; k < nring; ++k)
+    if (top[k] >= 0.0)
+      res->ring_pts[np++] = (adem_pile_point){(k + 0.5) * w, top[k],
+                                              k < nb && top[k] >= lo && top[k] <= hi};
+  res->n_ring_pts = np;
+  free(top);
+  res->ringtop = fit_line(res->ring_pts, np, FIT_Z_ON_RHO);
+  /* too few rings in the band, or no descent: no line (NaN), the other measures stand */
+  res->angle_ringtop_deg = res->ringtop.n >= 3 && res->ringtop.slope < 0.0
+                               ? atan(-res->ringtop.slope) * 180.0 / PI
+                               : NAN;
+  return ADEM_OK;
 }
 
 adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t n,
@@ -267,7 +362,7 @@ adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t
    * leaves the scatter across it, the fit's noise, untouched (a selection on z would trim it
    * at the band's edges and bias the slope). */
   for (size_t i = 0; i < ns; ++i) sp[i].used = sp[i].z >= res->band_zmin && sp[i].z <= res->band_zmax;
-  adem_pile_fit f1 = fit_line(sp, ns, 0);
+  adem_pile_fit f1 = fit_line(sp, ns, FIT_ORTHO);
   if (f1.n < 3 || !(f1.slope < 0.0)) {
     free(q);
     size_t got = f1.n;
@@ -285,7 +380,7 @@ adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t
       sp[i].used = u >= u_in && u <= u_out;
     }
   }
-  res->surface = fit_line(sp, ns, 0);
+  res->surface = fit_line(sp, ns, FIT_ORTHO);
   if (res->surface.n < 3 || !(res->surface.slope < 0.0)) {
     free(q);
     adem_pile_result_free(res);
@@ -312,8 +407,14 @@ adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t
   res->n_slice_pts = nz;
   res->footprint_radius = slice_req(q, m, 0.5 * res->mean_diameter, o.rays, o.slice_radius, reach);
   free(reach);
+  st = ring_measures(q, m, &o, w, res, err);
   free(q);
-  res->slices = fit_line(res->slice_pts, nz, 1);
+  if (st) {
+    adem_pile_result_free(res);
+    return st;
+  }
+  res->angle_footprint_deg = atan(res->height / res->footprint_radius) * 180.0 / PI;
+  res->slices = fit_line(res->slice_pts, nz, FIT_RHO_ON_Z);
   if (res->slices.n < 3 || !(res->slices.slope < 0.0)) {
     size_t got = res->slices.n;
     adem_pile_result_free(res);

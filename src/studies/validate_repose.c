@@ -28,6 +28,7 @@ static const repose_config configs[] = {
     {"brof-eta0.30", 0.30, 17.7e9, 5e-6, "brof"},
     {"brof-eta0.25-E5.9", 0.25, 5.9e9, 8e-6, "brof"},
     {"brof-eta0.25-E23.6", 0.25, 23.6e9, 4e-6, "brof"},
+    {"brof-eta0.25-E11.8", 0.25, 11.8e9, 6e-6, "brof"},
     {"model_a-eta0.25", 0.25, 17.7e9, 5e-6, "model_a"},
     {"none", 0.0, 17.7e9, 5e-6, "none"},
 };
@@ -41,6 +42,7 @@ enum { NSEEDS = sizeof full_seeds / sizeof full_seeds[0] };
 typedef struct repose_point {
   double surface, slices, r2_surface, r2_slices, height, base_radius, footprint, wall_s;
   size_t n_pile;
+  double lab, ringtop, foot_angle, lab_base; /* docs/validation.md, "The measure" */
 } repose_point;
 
 static double now_s(void) {
@@ -59,10 +61,12 @@ static int read_row(const char *dir, repose_point *p) {
   char *path = adem_file_join(dir, "repose.row");
   char *text = NULL;
   size_t len = 0;
+  /* rows of before issue 30 (9 fields) lack the laboratory and ring-top angles: measured again */
   int ok = path && adem_file_read_all(path, &text, &len, NULL) == ADEM_OK &&
-           sscanf(text, "%lf %lf %lf %lf %lf %lf %lf %lf %zu", &p->surface, &p->slices,
-                  &p->r2_surface, &p->r2_slices, &p->height, &p->base_radius, &p->footprint,
-                  &p->wall_s, &p->n_pile) == 9;
+           sscanf(text, "%lf %lf %lf %lf %lf %lf %lf %lf %zu %lf %lf %lf %lf", &p->surface,
+                  &p->slices, &p->r2_surface, &p->r2_slices, &p->height, &p->base_radius,
+                  &p->footprint, &p->wall_s, &p->n_pile, &p->lab, &p->ringtop, &p->foot_angle,
+                  &p->lab_base) == 13;
   free(path);
   free(text);
   return ok;
@@ -71,9 +75,11 @@ static int read_row(const char *dir, repose_point *p) {
 static adem_status write_row(const char *dir, const repose_point *p, adem_error *err) {
   char *path = adem_file_join(dir, "repose.row");
   char text[512];
-  int n = snprintf(text, sizeof text, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %zu\n",
+  int n = snprintf(text, sizeof text,
+                   "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %zu %.17g %.17g %.17g %.17g\n",
                    p->surface, p->slices, p->r2_surface, p->r2_slices, p->height, p->base_radius,
-                   p->footprint, p->wall_s, p->n_pile);
+                   p->footprint, p->wall_s, p->n_pile, p->lab, p->ringtop, p->foot_angle,
+                   p->lab_base);
   adem_status st = path ? adem_fileio_write_all(path, text, (size_t)n, err)
                         : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   free(path);
@@ -139,6 +145,7 @@ static adem_status repose_point_run(const adem_validation_context *ctx, const ch
     memset(err, 0, sizeof *err);
     p->surface = p->slices = p->r2_surface = p->r2_slices = NAN;
     p->height = p->base_radius = p->footprint = NAN;
+    p->lab = p->ringtop = p->foot_angle = p->lab_base = NAN;
     p->n_pile = 0;
     p->wall_s = now_s() - t0;
     return write_row(dir, p, err);
@@ -157,10 +164,15 @@ static adem_status repose_point_run(const adem_validation_context *ctx, const ch
   p->base_radius = rep.pile.base_radius;
   p->footprint = rep.pile.footprint_radius;
   p->n_pile = rep.pile.n_pile;
+  p->lab = rep.pile.angle_lab_deg;
+  p->ringtop = rep.pile.angle_ringtop_deg;
+  p->foot_angle = rep.pile.angle_footprint_deg;
+  p->lab_base = rep.pile.lab_base_radius;
   p->wall_s = now_s() - t0;
   adem_repose_report_free(&rep);
-  adem_log(ADEM_LOG_INFO, "irazabal-fig11: %s seed %u: %.2f deg (surface), %.2f deg (slices), "
-           "%.0f s", cf->label, seed, p->surface, p->slices, p->wall_s);
+  adem_log(ADEM_LOG_INFO, "irazabal-fig11: %s seed %u: %.2f deg (laboratory), %.2f (surface), "
+           "%.2f (slices), %.2f (ring tops), %.0f s", cf->label, seed, p->lab, p->surface,
+           p->slices, p->ringtop, p->wall_s);
   return write_row(dir, p, err);
 }
 
@@ -204,26 +216,35 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   free(base);
   if (st) return st;
 
-  /* The table: every run, then the mean of the two methods over the seeds of each point. */
+  /* The table: every run, then the mean and sd over the seeds of each point by every measure
+   * (docs/validation.md, "The measure"); the claims are on the primary, the laboratory one. */
   adem_table tab;
-  if (adem_table_init(&tab, "config,eta_r,E_Pa,dt_s,rolling,seed,angle_surface_deg,r2_surface,"
-                            "angle_slices_deg,r2_slices,height_m,base_radius_m,footprint_m,"
-                            "particles,wall_s"))
+  if (adem_table_init(&tab, "config,eta_r,E_Pa,dt_s,rolling,seed,angle_lab_deg,angle_surface_deg,"
+                            "r2_surface,angle_slices_deg,r2_slices,angle_ringtop_deg,"
+                            "angle_footprint_deg,height_m,lab_base_radius_m,base_radius_m,"
+                            "footprint_m,particles,wall_s"))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  double mean[NCONFIG], sd[NCONFIG];
+  enum { NM = 4 }; /* lab, surface, slices, ring tops */
+  double mean[NCONFIG][NM], sd[NCONFIG][NM];
   for (int c = 0; c < nconf; ++c) {
-    double both[NSEEDS];
+    double v[NM][NSEEDS];
     for (int s = 0; s < nseed; ++s) {
       const repose_point *p = &pts[c][s];
-      both[s] = 0.5 * (p->surface + p->slices);
+      v[0][s] = p->lab;
+      v[1][s] = p->surface;
+      v[2][s] = p->slices;
+      v[3][s] = p->ringtop;
       double row[] = {c, configs[c].eta, configs[c].young, configs[c].dt,
                       !strcmp(configs[c].rolling, "brof") ? 0 : !strcmp(configs[c].rolling, "model_a") ? 1 : 2,
-                      full_seeds[s], p->surface, p->r2_surface, p->slices, p->r2_slices,
-                      p->height, p->base_radius, p->footprint, (double)p->n_pile, p->wall_s};
+                      full_seeds[s], p->lab, p->surface, p->r2_surface, p->slices, p->r2_slices,
+                      p->ringtop, p->foot_angle, p->height, p->lab_base, p->base_radius,
+                      p->footprint, (double)p->n_pile, p->wall_s};
       if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     }
-    mean[c] = mean_of(both, nseed);
-    sd[c] = sd_of(both, nseed);
+    for (int k = 0; k < NM; ++k) {
+      mean[c][k] = mean_of(v[k], nseed);
+      sd[c][k] = sd_of(v[k], nseed);
+    }
   }
   char *csv = adem_validate_path(ctx, name, "csv");
   if (!st) st = csv ? adem_table_write_csv(&tab, csv, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -231,13 +252,20 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   adem_table_free(&tab);
   if (st) return st;
 
-  /* Claims: rises with eta_r; 40 +- 3 deg at 0.25; E changes it by less than 2 deg. */
-  /* Quick: one pile of 400 spheres per point; piles differ by 2-3 deg from seed to seed (2.2-2.5
-   * measured at full scale), about what a step of 0.05 in eta_r changes, so only the rise over
-   * the whole range (0.2 to 0.3, ~6 deg at full scale) is resolved. */
-  bool rises = ctx->quick ? mean[0] < mean[2] : mean[0] < mean[1] && mean[1] < mean[2];
-  bool forty = fabs(mean[1] - 40.0) <= 3.0;
-  bool e_free = ctx->quick || (fabs(mean[3] - mean[1]) < 2.0 && fabs(mean[4] - mean[1]) < 2.0);
+  /* Claims on the primary measure: rises with eta_r; 40 +- 3 deg at 0.25; the means at E = 5.9,
+   * 11.8, 23.6 GPa within 2 deg of 17.7's. Quick: one pile of 400 spheres per point; piles
+   * differ by 2-3 deg from seed to seed, about what a step of 0.05 in eta_r changes, so only
+   * the rise over the whole range (0.2 to 0.3) is checked. */
+  double L0 = mean[0][0], L1 = mean[1][0], L2 = mean[2][0];
+  bool rises = ctx->quick ? L0 < L2 : L0 < L1 && L1 < L2;
+  bool forty = fabs(L1 - 40.0) <= 3.0;
+  double e_off = 0.0;
+  if (!ctx->quick) {
+    const int ec[3] = {3, 4, 7};
+    for (int k = 0; k < 3; ++k)
+      if (fabs(mean[ec[k]][0] - L1) > e_off) e_off = fabs(mean[ec[k]][0] - L1);
+  }
+  bool e_free = ctx->quick || e_off < 2.0;
   rep->pass = ctx->quick ? rises : rises && forty && e_free;
   snprintf(rep->claim, sizeof rep->claim,
            "I Fig. 11 and section 4.2: the angle of repose of a pile poured from a hopper (25 cm "
@@ -245,25 +273,30 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
            "0.25, 0.3); about 40 deg at eta_r = 0.25 (the ballast's); independent of E (5.9 to "
            "23.6 GPa).");
   int m = snprintf(rep->measured, sizeof rep->measured,
-                   "Mean of the two methods over %d seed%s: eta_r 0.2: %.1f, 0.25: %.1f, 0.3: %.1f "
-                   "deg (sd %.1f, %.1f, %.1f)", nseed, nseed == 1 ? "" : "s", mean[0], mean[1],
-                   mean[2], sd[0], sd[1], sd[2]);
+                   "Primary (laboratory) measure, mean (sd) over %d seed%s: eta_r 0.2: %.1f (%.1f), "
+                   "0.25: %.1f (%.1f), 0.3: %.1f (%.1f) deg; surface fit %.1f, %.1f, %.1f; slices "
+                   "%.1f, %.1f, %.1f; ring tops %.1f, %.1f, %.1f", nseed, nseed == 1 ? "" : "s",
+                   L0, sd[0][0], L1, sd[1][0], L2, sd[2][0], mean[0][1], mean[1][1], mean[2][1],
+                   mean[0][2], mean[1][2], mean[2][2], mean[0][3], mean[1][3], mean[2][3]);
   if (!ctx->quick)
     snprintf(rep->measured + m, sizeof rep->measured - (size_t)m,
-             "; at 0.25 with E = 5.9 and 23.6 GPa: %.1f and %.1f deg; model A %.1f, no rolling "
-             "resistance %.1f deg (nan: no pile, a sphere rolled out of the domain). Rises: %s; 40 +- 3 at 0.25: %s (off by %.1f deg); E within "
-             "2 deg: %s.", mean[3], mean[4], mean[5], mean[6], rises ? "yes" : "no",
-             forty ? "yes" : "no", mean[1] - 40.0, e_free ? "yes" : "no");
+             "; at 0.25 with E = 5.9, 11.8 and 23.6 GPa: %.1f, %.1f and %.1f deg (laboratory); "
+             "model A %.1f, no rolling resistance %.1f deg (nan: no pile, a sphere rolled out of "
+             "the domain). Rises: %s; 40 +- 3 at 0.25: %s (off by %+.1f deg); E within 2 deg: %s "
+             "(largest difference %.1f deg).", mean[3][0], mean[7][0], mean[4][0], mean[5][0],
+             mean[6][0], rises ? "yes" : "no", forty ? "yes" : "no", L1 - 40.0,
+             e_free ? "yes" : "no", e_off);
   else
     snprintf(rep->measured + m, sizeof rep->measured - (size_t)m, "; rises: %s.", rises ? "yes" : "no");
   snprintf(rep->notes, sizeof rep->notes,
-           "Detects: an angle that does not rise with eta_r, is off 40 +- 3 deg at 0.25 or moves "
-           "with E by 2 deg or more. Cannot detect: a slow creep after the measure. "
+           "Detects: a primary angle that does not rise with eta_r, is off 40 +- 3 deg at 0.25 or "
+           "moves with E by 2 deg or more. Cannot detect: a slow creep after the measure. "
            "cases/irazabal/repose.yaml (every choice is in its comments): 1,600 spheres of 0.04-"
            "0.06 m poured at 100/s into an open hopper (60 deg walls) so that no arch forms, a "
-           "frictional floor plane with BROF, Table 2 material and steps; each run to 19.5 s (at "
-           "rest 1.4-2.4 s after the pour). Angle: adem analyze repose (surface-particle fit and "
-           "slice radii over 25-75%% of the height; spheres above 0.65 m left out). %s",
+           "frictional floor plane with BROF, Table 2 material and steps; each run until at rest. "
+           "Angles: adem analyze repose (primary: atan((H - h_e) / R_base) over the continuous "
+           "base; surface fit and slices over 25-75%%, ring tops over 20-80%% of the height; "
+           "spheres above 0.65 m left out). %s",
            ctx->quick ? "Quick: 400 spheres at E/100 with the step it proposes, one seed, eta_r "
                         "0.2/0.25/0.3; only the rise from 0.2 to 0.3 is checked (one pile per "
                         "point cannot resolve a step of 0.05)."
@@ -277,9 +310,10 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
            "set xlabel 'rolling friction coefficient eta_r'\nset ylabel 'angle of repose (deg)'\n"
            "set xrange [0.15:0.35]\nset yrange [25:60]\nset grid\nset key bottom right\n"
            "set object 1 rect from 0.15,37 to 0.35,43 fc rgb '#eeeeee' behind\n"
-           "plot f skip 1 using ($5 == 0 && $3 == 1.77e10 ? $2 : 1/0):7 with points pt 7 lc rgb '#1f77b4' title 'surface fit (each seed)', \\\n"
-           "     f skip 1 using ($5 == 0 && $3 == 1.77e10 ? $2 : 1/0):9 with points pt 6 lc rgb '#d62728' title 'slice radii (each seed)', \\\n"
-           "     f skip 1 using ($5 == 0 && $3 != 1.77e10 ? $2 + 0.004 : 1/0):(($7+$9)/2) with points pt 9 ps 1.5 lc rgb '#2ca02c' title 'E = 5.9, 23.6 GPa', \\\n"
+           "plot f skip 1 using ($5 == 0 && $3 == 1.77e10 ? $2 : 1/0):7 with points pt 7 ps 1.4 lc rgb 'black' title 'laboratory, the primary (each seed)', \\\n"
+           "     f skip 1 using ($5 == 0 && $3 == 1.77e10 ? $2 - 0.003 : 1/0):8 with points pt 6 lc rgb '#1f77b4' title 'surface fit', \\\n"
+           "     f skip 1 using ($5 == 0 && $3 == 1.77e10 ? $2 + 0.003 : 1/0):10 with points pt 4 lc rgb '#d62728' title 'slice radii', \\\n"
+           "     f skip 1 using ($5 == 0 && $3 != 1.77e10 ? $2 + 0.006 : 1/0):7 with points pt 9 ps 1.5 lc rgb '#2ca02c' title 'laboratory, E = 5.9, 11.8, 23.6 GPa', \\\n"
            "     '-' using 1:2 with points pt 5 ps 2 lc rgb 'black' title 'paper: about 40 deg (grey: +- 3)'\n"
            "0.25 40\ne\n");
   (void)adem_validate_plot(ctx, name, 1000, 650, body, err);
