@@ -55,7 +55,7 @@ ADEM_LAW double adem_jkr_critical_force(double gamma, double R) {
 
 /* Equilibrium contact radius a0 = (9 pi gamma R^2 / E)^(1/3) (H7). */
 ADEM_LAW double adem_jkr_a0(double gamma, double R, double E) {
-  return adem_dmath_cbrt(9.0 * ADEM_PI * gamma * R * R / E);
+  return adem_jkr_cbrt(9.0 * ADEM_PI * gamma * R * R / E);
 }
 
 /* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration). packed: the
@@ -99,7 +99,7 @@ ADEM_LAW double adem_jkr_potential(double gamma, double R, double E, double a) {
          2.0 * ADEM_PI * gamma * a * a;
 }
 ADEM_LAW double adem_jkr_energy(double gamma, double R, double E, double a) {
-  double a_form = adem_dmath_cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
+  double a_form = adem_jkr_cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
   return adem_jkr_potential(gamma, R, E, a) - adem_jkr_potential(gamma, R, E, a_form);
 }
 
