@@ -11,7 +11,8 @@
 #include <string.h>
 
 /* The same bits everywhere needs each operation rounded to double as written. */
-_Static_assert(FLT_EVAL_METHOD == 0, "adem needs FLT_EVAL_METHOD == 0 (SSE2 or NEON doubles, no x87)");
+_Static_assert(FLT_EVAL_METHOD == 0,
+               "adem needs FLT_EVAL_METHOD == 0 (SSE2 or NEON doubles, no x87)");
 _Static_assert(DBL_MANT_DIG == 53, "adem needs IEEE binary64 doubles");
 
 typedef struct dd {
@@ -81,8 +82,8 @@ static double round_dd(dd a) { return a.h + a.l; }
 
 /* ------------------------------------------------------------------------------------ log */
 
-/* log(m) for m = num/den + 1 ... written as 2 atanh(s), s = (m - 1)/(m + 1) = num/den, |s| <= 0.172:
- * 2 (s + s^3/3 + s^5/5 + ...), the terms summed until they fall below 2^-110 of the sum. */
+/* log(m) for m = num/den + 1 ... written as 2 atanh(s), s = (m - 1)/(m + 1) = num/den, |s| <=
+ * 0.172: 2 (s + s^3/3 + s^5/5 + ...), the terms summed until they fall below 2^-110 of the sum. */
 static dd log_atanh(dd num, dd den) {
   if (num.h == 0.0) return (dd){0.0, 0.0};
   dd s = dd_div(num, den), s2 = dd_mul(s, s), term = s, sum = s;
@@ -117,9 +118,9 @@ static dd dd_log(dd x) {
   int k = (int)((bits >> 52) & 0x7ff) - 1023;
   bits = (bits & ((1ull << 52) - 1)) | (1023ull << 52);
   dd m;
-  memcpy(&m.h, &bits, sizeof m.h);  /* x.h 2^-k, in [1, 2) */
+  memcpy(&m.h, &bits, sizeof m.h);          /* x.h 2^-k, in [1, 2) */
   m.l = x.l == 0.0 ? 0.0 : scale2(x.l, -k); /* below an ulp of m.h: its rounding is harmless */
-  if (m.h > 0x1.6a09e667f3bcdp+0) { /* sqrt(2) */
+  if (m.h > 0x1.6a09e667f3bcdp+0) {         /* sqrt(2) */
     m.h *= 0.5;
     m.l *= 0.5;
     ++k;
@@ -149,7 +150,7 @@ double adem_dmath_log1p(double x) {
   if (x == -1.0) return -INFINITY;
   if (isinf(x)) return x;
   if (fabs(x) < 0x1p-54) return x; /* x - x^2/2 rounds to x */
-  if (x > -0.29 && x < 0.41) /* 1 + x in [sqrt(1/2), sqrt(2)): m - 1 = x exactly */
+  if (x > -0.29 && x < 0.41)       /* 1 + x in [sqrt(1/2), sqrt(2)): m - 1 = x exactly */
     return round_dd(log_atanh((dd){x, 0.0}, two_sum(2.0, x)));
   return round_dd(dd_log(two_sum(1.0, x)));
 }
@@ -223,8 +224,10 @@ double adem_dmath_pow(double x, double y) {
   if (x == 0.0) return sign * (y > 0.0 ? 0.0 : INFINITY);
   if (isinf(x)) return sign * (y > 0.0 ? INFINITY : 0.0);
   dd l;
-  if (x < DBL_MIN) l = dd_add(dd_log((dd){x * 0x1p54, 0.0}), dd_mul_d(LN2, -54.0));
-  else l = dd_log((dd){x, 0.0});
+  if (x < DBL_MIN)
+    l = dd_add(dd_log((dd){x * 0x1p54, 0.0}), dd_mul_d(LN2, -54.0));
+  else
+    l = dd_log((dd){x, 0.0});
   double p = y * l.h;
   if (!(fabs(p) < 800.0)) return sign * (p > 0.0 ? INFINITY : 0.0);
   dd z = dd_mul_d(l, y);
@@ -269,7 +272,8 @@ static int reduce_pio2(double a, dd *r) {
   uint64_t r0 = p0 + (uint64_t)(p1 >> 64) + (uint64_t)(mid >> 64);
   int n = (int)(r0 >> 62);
   /* the fraction: 128 bits after the two integer bits */
-  unsigned __int128 F = ((unsigned __int128)((r0 << 2) | (r1 >> 62)) << 64) | ((r1 << 2) | (r2 >> 62));
+  unsigned __int128 F =
+      ((unsigned __int128)((r0 << 2) | (r1 >> 62)) << 64) | ((r1 << 2) | (r2 >> 62));
   int neg = 0;
   if (F >> 127) { /* fraction >= 1/2: round n up, r negative */
     F = -F;

@@ -23,7 +23,8 @@ double adem_dmath_tan(double x);
 double adem_dmath_cbrt(double x);
 
 /* a * b - c evaluated as written: 2^-54 for (1 + 2^-27, 1 + 2^-27, 1 + 2^-26) where the compiler
- * fused it into an FMA, 0 where it did not (the build must not contract: tests/unit/test_dmath.c). */
+ * fused it into an FMA, 0 where it did not (the build must not contract: tests/unit/test_dmath.c).
+ */
 double adem_dmath_contraction_probe(double a, double b, double c);
 
 #endif

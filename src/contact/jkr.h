@@ -25,8 +25,8 @@
  * 3e-5, then 7e-15) and a Newton step (quadratic) finish. 32-bit integer arithmetic and no
  * branch, so that a loop of it packs (the force pass's block kernels). Outside [2^-1000,
  * 2^1000], x <= 0 and NaN: NaN, which the block kernels take as "do this contact one at a time",
- * where adem_jkr_cbrt gives libm's. The same operations in the same order everywhere: the same
- * bits for any thread count. */
+ * where adem_jkr_cbrt gives adem_dmath_cbrt's. The same operations in the same order
+ * everywhere: the same bits for any thread count and host. */
 ADEM_LAW double adem_jkr_cbrt_packed(double x) {
   uint64_t bits;
   memcpy(&bits, &x, sizeof bits);
@@ -42,7 +42,7 @@ ADEM_LAW double adem_jkr_cbrt_packed(double x) {
   return x >= 0x1p-1000 && x <= 0x1p1000 ? y : NAN;
 }
 
-/* The same, and libm's cbrt outside [2^-1000, 2^1000]. */
+/* The same, and adem_dmath_cbrt outside [2^-1000, 2^1000] (not libm's cbrt: dmath.h). */
 ADEM_LAW double adem_jkr_cbrt(double x) {
   if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return adem_dmath_cbrt(x);
   return adem_jkr_cbrt_packed(x);

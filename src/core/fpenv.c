@@ -31,9 +31,7 @@ static unsigned flush_bits(void) { return 0u; }
 static void clear_flush(void) {}
 #endif
 
-unsigned adem_fpenv_faults(void) {
-  return flush_bits() | (fegetround() != FE_TONEAREST ? 4u : 0u);
-}
+unsigned adem_fpenv_faults(void) { return flush_bits() | (fegetround() != FE_TONEAREST ? 4u : 0u); }
 
 /* resets this thread; returns what it found */
 static unsigned fix_thread(void) {

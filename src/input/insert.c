@@ -753,7 +753,8 @@ static adem_status place(const placer *pl, adem_rng *rng, const double *radii, s
   const adem_region *reg = pl->region;
   adem_vec3 lo = reg->lo, hi = reg->hi, size = v3_sub(hi, lo);
   double rnew = count ? radii[0] : 0.0;
-  double h = fmax(2.0 * rnew, adem_dmath_cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
+  double h =
+      fmax(2.0 * rnew, adem_dmath_cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
   /* Old spheres that reach the region's box, then the new ones, in one index space. */
   size_t near = 0;
   for (size_t i = 0; i < nold; ++i) {

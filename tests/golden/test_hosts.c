@@ -132,10 +132,14 @@ static uint64_t state_hash(const char *text, uint64_t steps, size_t *n_out) {
 static int child(const char *what) {
   size_t n = 0;
   uint64_t h;
-  if (!strcmp(what, "libm")) h = libm_hash();
-  else if (!strcmp(what, "bed")) h = state_hash(bed_case, BED_STEPS, &n);
-  else if (!strcmp(what, "drum")) h = state_hash(drum_case, DRUM_STEPS, &n);
-  else return 2;
+  if (!strcmp(what, "libm"))
+    h = libm_hash();
+  else if (!strcmp(what, "bed"))
+    h = state_hash(bed_case, BED_STEPS, &n);
+  else if (!strcmp(what, "drum"))
+    h = state_hash(drum_case, DRUM_STEPS, &n);
+  else
+    return 2;
   printf("%016llx %zu\n", (unsigned long long)h, n);
   return 0;
 }

@@ -37,7 +37,8 @@ static double ulps(double a, double b) {
   memcpy(&y, &b, sizeof y);
   if (x < 0) x = INT64_MIN - x;
   if (y < 0) y = INT64_MIN - y;
-  return x > y ? (double)(uint64_t)((uint64_t)x - (uint64_t)y) : (double)((uint64_t)y - (uint64_t)x);
+  return x > y ? (double)(uint64_t)((uint64_t)x - (uint64_t)y)
+               : (double)((uint64_t)y - (uint64_t)x);
 }
 
 typedef double (*fn1)(double);
@@ -127,7 +128,8 @@ static void test_special_values(void **state) {
   assert_true(adem_dmath_log1p(-1.0) == -inf && isnan(adem_dmath_log1p(-2.0)));
   assert_true(signbit(adem_dmath_log1p(-0.0)) && adem_dmath_log1p(0x1p-1074) == 0x1p-1074);
   assert_true(signbit(adem_dmath_sin(-0.0)) && signbit(adem_dmath_tan(-0.0)));
-  assert_true(isnan(adem_dmath_sin(inf)) && isnan(adem_dmath_cos(-inf)) && isnan(adem_dmath_tan(inf)));
+  assert_true(isnan(adem_dmath_sin(inf)) && isnan(adem_dmath_cos(-inf)) &&
+              isnan(adem_dmath_tan(inf)));
   assert_true(adem_dmath_cbrt(-inf) == -inf && signbit(adem_dmath_cbrt(-0.0)));
   assert_true(adem_dmath_pow(NAN, 0.0) == 1.0 && adem_dmath_pow(1.0, NAN) == 1.0);
   assert_true(isnan(adem_dmath_pow(-2.0, 0.5)) && isnan(adem_dmath_pow(NAN, 2.0)));
@@ -146,7 +148,8 @@ static void test_no_contraction(void **state) {
   volatile double a = 1.0 + 0x1p-27, c = 1.0 + 0x1p-26;
   double lib = adem_dmath_contraction_probe(a, a, c);
   double here = a * a - c;
-  printf("# a * b - c: %a in the library, %a in the test (0 unless fused into an FMA)\n", lib, here);
+  printf("# a * b - c: %a in the library, %a in the test (0 unless fused into an FMA)\n", lib,
+         here);
   assert_true(lib == 0.0);
   assert_true(here == 0.0);
 }

@@ -24,7 +24,7 @@ static void test_prepare_resets_flush_and_rounding(void **state) {
   (void)state;
   assert_int_equal(adem_fpenv_faults(), 0u);
 #if defined(__x86_64__)
-  _mm_setcsr(_mm_getcsr() | 0x8040u); /* FTZ | DAZ, as crtfastmath.o does */
+  _mm_setcsr(_mm_getcsr() | 0x8040u);   /* FTZ | DAZ, as crtfastmath.o does */
   assert_true(halve(0x1p-1022) == 0.0); /* flushed */
   unsigned expect = 3u | 4u;
 #else
