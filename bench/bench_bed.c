@@ -93,6 +93,8 @@ static adem_world *settled_bed(int n, double *settle_seconds) {
   return w;
 }
 
+static uint64_t state_hash(const adem_world *w);
+
 static int own_beds(int argc, char **argv) {
   int sizes[8] = {10000, 100000};
   int nsizes = 2;
@@ -122,6 +124,8 @@ static int own_beds(int argc, char **argv) {
              peak_rss_bytes() / n);
       fflush(stdout);
     }
+    /* equal on every host (docs/reliability.md#what-bitwise-covers) */
+    printf("# N = %d: state hash %016llx\n", sizes[k], (unsigned long long)state_hash(w));
     adem_world_free(w);
   }
   return 0;

@@ -4,6 +4,7 @@
 #define ADEM_CONTACT_HERTZ_H
 
 #include "law_inline.h"
+#include "dmath.h"
 
 #include <math.h>
 #include "adem/vec3.h"
@@ -29,7 +30,7 @@ ADEM_LAW double adem_hertz_tangential_stiffness(double G, double a) { return 8.0
 
 /* beta = ln e / sqrt(ln^2 e + pi^2) (H12); 0 for e = 1, negative otherwise. */
 ADEM_LAW double adem_damping_beta(double e) {
-  double l = log(e);
+  double l = adem_dmath_log(e);
   return l / sqrt(l * l + ADEM_PI * ADEM_PI);
 }
 

@@ -11,6 +11,7 @@
 #define ADEM_CONTACT_JKR_H
 
 #include "law_inline.h"
+#include "dmath.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -24,8 +25,8 @@
  * 3e-5, then 7e-15) and a Newton step (quadratic) finish. 32-bit integer arithmetic and no
  * branch, so that a loop of it packs (the force pass's block kernels). Outside [2^-1000,
  * 2^1000], x <= 0 and NaN: NaN, which the block kernels take as "do this contact one at a time",
- * where adem_jkr_cbrt gives libm's. The same operations in the same order everywhere: the same
- * bits for any thread count. */
+ * where adem_jkr_cbrt gives adem_dmath_cbrt's. The same operations in the same order
+ * everywhere: the same bits for any thread count and host. */
 ADEM_LAW double adem_jkr_cbrt_packed(double x) {
   uint64_t bits;
   memcpy(&bits, &x, sizeof bits);
@@ -41,9 +42,9 @@ ADEM_LAW double adem_jkr_cbrt_packed(double x) {
   return x >= 0x1p-1000 && x <= 0x1p1000 ? y : NAN;
 }
 
-/* The same, and libm's cbrt outside [2^-1000, 2^1000]. */
+/* The same, and adem_dmath_cbrt outside [2^-1000, 2^1000] (not libm's cbrt: dmath.h). */
 ADEM_LAW double adem_jkr_cbrt(double x) {
-  if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return cbrt(x);
+  if (!(x >= 0x1p-1000 && x <= 0x1p1000)) return adem_dmath_cbrt(x);
   return adem_jkr_cbrt_packed(x);
 }
 
@@ -54,7 +55,7 @@ ADEM_LAW double adem_jkr_critical_force(double gamma, double R) {
 
 /* Equilibrium contact radius a0 = (9 pi gamma R^2 / E)^(1/3) (H7). */
 ADEM_LAW double adem_jkr_a0(double gamma, double R, double E) {
-  return cbrt(9.0 * ADEM_PI * gamma * R * R / E);
+  return adem_jkr_cbrt(9.0 * ADEM_PI * gamma * R * R / E);
 }
 
 /* Contact radius for overlap delta >= -delta_c (closed form of H10, no iteration; sqrt(R delta)
@@ -96,11 +97,12 @@ ADEM_LAW double adem_jkr_force(double gamma, double R, double E, double a) {
  * the integral of the force over the overlap. */
 ADEM_LAW double adem_jkr_potential(double gamma, double R, double E, double a) {
   double k = sqrt(ADEM_PI * gamma * E);
-  return 8.0 * E * pow(a, 5.0) / (15.0 * R * R) - (8.0 / 3.0) * k * pow(a, 3.5) / R +
+  double a2 = a * a, a3 = a2 * a; /* a^5 and a^3.5 without pow: the same bits on every host */
+  return 8.0 * E * (a3 * a2) / (15.0 * R * R) - (8.0 / 3.0) * k * (a3 * sqrt(a)) / R +
          2.0 * ADEM_PI * gamma * a * a;
 }
 ADEM_LAW double adem_jkr_energy(double gamma, double R, double E, double a) {
-  double a_form = cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
+  double a_form = adem_jkr_cbrt(4.0 * ADEM_PI * gamma * R * R / E); /* a at delta = 0 */
   return adem_jkr_potential(gamma, R, E, a) - adem_jkr_potential(gamma, R, E, a_form);
 }
 

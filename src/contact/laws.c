@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "dmath.h"
 #include "hertz.h"
 #include "jkr.h"
 
@@ -161,8 +162,9 @@ static hz_state hz_rk4(hz_state s, double h, double g, int clamp) {
 double adem_hertz_restitution(double beta, int clamp) {
   const double g = -sqrt(5.0) * beta, h = 2e-4, t0 = 1e-3;
   /* series start: x' = 1 - 0.4 t^2.5 - 0.8 g t^1.25 (x^(1/4) is singular in its derivative) */
-  hz_state s = {t0 - 0.4 / 3.5 * pow(t0, 3.5) - 0.8 / 2.25 * g * pow(t0, 2.25),
-                1.0 - 0.4 * pow(t0, 2.5) - 0.8 * g * pow(t0, 1.25)};
+  hz_state s = {t0 - 0.4 / 3.5 * adem_dmath_pow(t0, 3.5) -
+                    0.8 / 2.25 * g * adem_dmath_pow(t0, 2.25),
+                1.0 - 0.4 * adem_dmath_pow(t0, 2.5) - 0.8 * g * adem_dmath_pow(t0, 1.25)};
   for (int k = 0; k < 200000; ++k) {
     hz_state n = hz_rk4(s, h, g, clamp);
     if (clamp && n.v < 0.0) {

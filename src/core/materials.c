@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dmath.h"
 #include "log.h"
 #include "materials.h"
 
@@ -93,7 +94,7 @@ static void finish_pair(adem_interaction *it) {
    * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give
    * E_mod/E = f, hence gamma f^(2/5)). */
   pp->gamma_real = pp->param[ADEM_PARAM_SURFACE_ENERGY];
-  pp->gamma = isfinite(pp->E_real) ? pp->gamma_real * pow(pp->E / pp->E_real, 0.4) : pp->gamma_real;
+  pp->gamma = isfinite(pp->E_real) ? pp->gamma_real * adem_dmath_pow(pp->E / pp->E_real, 0.4) : pp->gamma_real;
 }
 
 /* Whether the laws of an entry exist and fit together; NULL if so, else why not. */
@@ -317,7 +318,7 @@ int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_de
 }
 
 double adem_hertz_collision_time(double mstar, double R, double E, double v) {
-  return 2.86827 * pow(mstar * mstar / (R * E * E * v), 0.2);
+  return 2.86827 * adem_dmath_pow(mstar * mstar / (R * E * E * v), 0.2);
 }
 
 adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
@@ -339,12 +340,12 @@ adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gam
   s.pull_off = 8.0 / 9.0 * s.f_c;
   s.pull_off_mod = 8.0 / 9.0 * s.f_c_mod;
   const double D = ADEM_TABOR_DMIN;
-  s.tabor = cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D)); /* H1 */
+  s.tabor = adem_dmath_cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D)); /* H1 */
   s.t_c = adem_hertz_collision_time(mstar, R, E, v_ref);
   s.t_c_mod = adem_hertz_collision_time(mstar, R, E_mod, v_ref);
   s.dt = s.t_c / 50.0; /* about 50 steps a collision (Silbert et al. 2001, used by H) */
   s.dt_mod = s.t_c_mod / 50.0;
-  s.speedup = pow(E / E_mod, 0.4);
+  s.speedup = adem_dmath_pow(E / E_mod, 0.4);
   s.f_ext_max = ADEM_PULLOFF_SAFETY * s.pull_off_mod;
   return s;
 }

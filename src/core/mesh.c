@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dmath.h"
 #include "log.h"
 #include "adem/vec3.h"
 
@@ -35,8 +36,8 @@ static void cos_sin_deg(double deg, double *c, double *s) {
     return;
   }
   double r = deg * (ADEM_PI / 180.0);
-  *c = cos(r);
-  *s = sin(r);
+  *c = adem_dmath_cos(r);
+  *s = adem_dmath_sin(r);
 }
 
 adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, double angle_deg,
@@ -243,7 +244,7 @@ static int build_topology(adem_mesh *m, size_t *nonmanifold) {
   qsort(e, 3 * nt, sizeof *e, compare_edge);
 
   double flat = m->flat_angle > 0.0 ? m->flat_angle : ADEM_MESH_FLAT_ANGLE;
-  double tan_flat = tan(flat);
+  double tan_flat = adem_dmath_tan(flat);
   size_t nedges = 0, nonman = 0;
   for (size_t i = 0; i < 3 * nt;) {
     size_t j = i + 1;

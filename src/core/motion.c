@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "dmath.h"
 #include "log.h"
 #include "adem/vec3.h"
 
@@ -173,7 +174,14 @@ static adem_vec3 prescribed_displacement(const adem_motion *m, double t) {
 
 /* Rodrigues' rotation of v by angle about the unit axis. */
 static adem_vec3 rotate(adem_vec3 v, adem_vec3 axis, double angle) {
-  double c = cos(angle), s = sin(angle);
+  /* adem_dmath's cos and sin (the same bits on every host) cost about 50 times libm's: once per
+   * angle (bit for bit, so -0 is not 0), not once per vertex of a turning mesh */
+  static _Thread_local double last = NAN, c, s;
+  if (memcmp(&angle, &last, sizeof angle) != 0) {
+    c = adem_dmath_cos(angle);
+    s = adem_dmath_sin(angle);
+    last = angle;
+  }
   adem_vec3 r = v3_scale(v, c);
   r = v3_axpy(r, s, v3_cross(axis, v));
   return v3_axpy(r, v3_dot(axis, v) * (1.0 - c), axis);

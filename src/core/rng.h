@@ -5,6 +5,8 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "dmath.h"
+
 typedef struct adem_rng {
   uint64_t s[4];
 } adem_rng;
@@ -47,7 +49,7 @@ static inline double adem_rng_normal(adem_rng *r) {
   double u1 = adem_rng_uniform(r);
   double u2 = adem_rng_uniform(r);
   if (u1 < 1e-300) u1 = 1e-300;
-  return sqrt(-2.0 * log(u1)) * cos(6.283185307179586 * u2);
+  return sqrt(-2.0 * adem_dmath_log(u1)) * adem_dmath_cos(6.283185307179586 * u2);
 }
 
 #endif

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fpenv.h"
 #include "hertz.h"
 #include "history_switch.h"
 #include "jkr.h"
@@ -746,6 +747,7 @@ static void default_domain(adem_world *w) {
 }
 
 adem_status adem_world_prepare(adem_world *w, adem_error *err) {
+  adem_fpenv_ensure(w->nthreads); /* FTZ/DAZ or another rounding would change bits (fpenv.h) */
   adem_status st = adem_materials_derive(&w->mat, err);
   if (st) return st;
   if (!(w->dt > 0.0)) {

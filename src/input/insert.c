@@ -8,6 +8,7 @@
 
 #include "cylinder.h"
 #include "mesh_contact.h"
+#include "dmath.h"
 #include "log.h"
 #include "adem/vec3.h"
 #include "stl.h"
@@ -19,9 +20,9 @@
 #define Z_SMALL 3.09
 
 static void lognormal_params(const adem_size_dist *d, double *mu, double *sigma) {
-  double s2 = log1p(d->std * d->std / (d->mean * d->mean));
+  double s2 = adem_dmath_log1p(d->std * d->std / (d->mean * d->mean));
   *sigma = sqrt(s2);
-  *mu = log(d->mean) - 0.5 * s2;
+  *mu = adem_dmath_log(d->mean) - 0.5 * s2;
 }
 
 adem_status adem_insert_draw_radius(const adem_size_dist *d, adem_rng *rng, double *r,
@@ -48,7 +49,7 @@ adem_status adem_insert_draw_radius(const adem_size_dist *d, adem_rng *rng, doub
   if (lognormal) lognormal_params(d, &mu, &sigma);
   for (int tries = 0; tries < 1000; ++tries) {
     double z = adem_rng_normal(rng);
-    double x = lognormal ? exp(mu + sigma * z) : d->mean + d->std * z;
+    double x = lognormal ? adem_dmath_exp(mu + sigma * z) : d->mean + d->std * z;
     if (x > 0 && x <= d->limit) {
       *r = x;
       return ADEM_OK;
@@ -73,7 +74,7 @@ double adem_insert_dist_smallest(const adem_size_dist *d) {
     case ADEM_SIZE_LOGNORMAL: {
       double mu, sigma;
       lognormal_params(d, &mu, &sigma);
-      return exp(mu - Z_SMALL * sigma);
+      return adem_dmath_exp(mu - Z_SMALL * sigma);
     }
   }
   return 0.0;
@@ -92,7 +93,7 @@ double adem_insert_dist_largest(const adem_size_dist *d) {
     case ADEM_SIZE_LOGNORMAL: {
       double mu, sigma;
       lognormal_params(d, &mu, &sigma);
-      return fmin(exp(mu + Z_SMALL * sigma), d->limit);
+      return fmin(adem_dmath_exp(mu + Z_SMALL * sigma), d->limit);
     }
   }
   return 0.0;
@@ -753,7 +754,8 @@ static adem_status place(const placer *pl, adem_rng *rng, const double *radii, s
   const adem_region *reg = pl->region;
   adem_vec3 lo = reg->lo, hi = reg->hi, size = v3_sub(hi, lo);
   double rnew = count ? radii[0] : 0.0;
-  double h = fmax(2.0 * rnew, cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
+  double h =
+      fmax(2.0 * rnew, adem_dmath_cbrt(size.x * size.y * size.z / (double)(count ? count : 1)));
   /* Old spheres that reach the region's box, then the new ones, in one index space. */
   size_t near = 0;
   for (size_t i = 0; i < nold; ++i) {
