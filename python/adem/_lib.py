@@ -109,7 +109,8 @@ class ParticleDef(Structure):
 
 class PlaneDef(Structure):
     _fields_ = [("name", c_char * NAME_MAX), ("point", Vec3), ("normal", Vec3),
-                ("velocity", Vec3), ("material", c_int)]
+                ("velocity", Vec3), ("material", c_int), ("shape", c_int), ("radius", c_double),
+                ("length", c_double), ("hole_radius", c_double), ("flags", c_int)]
 
 
 class ServoDef(Structure):
@@ -146,7 +147,7 @@ class ContactInfo(Structure):
 
 class StepEstimate(Structure):
     _fields_ = [("v_ref", c_double), ("t_collision", c_double), ("t_rayleigh", c_double),
-                ("dt", c_double)]
+                ("dt", c_double), ("dt_stable", c_double), ("dt_limit", c_double)]
 
 
 class Progress(Structure):
