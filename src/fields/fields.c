@@ -50,19 +50,6 @@ struct adem_fields {
   double gl_x[GL_MAX + 1][GL_MAX], gl_w[GL_MAX + 1][GL_MAX]; /* Gauss-Legendre on [0, 1] */
 };
 
-static adem_status fail(adem_error *err, adem_status st, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static adem_status fail(adem_error *err, adem_status st, const char *fmt, ...) {
-  if (err) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    err->status = st;
-  }
-  return st;
-}
-
 static const struct {
   const char *name;
   int ncomp;
@@ -123,33 +110,33 @@ adem_status adem_fields_create(const adem_fields_options *opt, adem_fields **out
   *out = NULL;
   const adem_fields_options *o = opt;
   if (o->kernel != ADEM_KERNEL_GAUSSIAN && o->kernel != ADEM_KERNEL_LUCY)
-    return fail(err, ADEM_ERR_INPUT, "unknown kernel %d", (int)o->kernel);
+    return adem_error_set(err, ADEM_ERR_INPUT, "unknown kernel %d", (int)o->kernel);
   if (!(o->width > 0.0 && isfinite(o->width)))
-    return fail(err, ADEM_ERR_INPUT, "kernel width %g m: must be > 0", o->width);
+    return adem_error_set(err, ADEM_ERR_INPUT, "kernel width %g m: must be > 0", o->width);
   if (o->kernel == ADEM_KERNEL_GAUSSIAN && !(o->cutoff >= 1.0 && o->cutoff <= 10.0))
-    return fail(err, ADEM_ERR_INPUT, "Gaussian cut-off %g widths: must be in [1, 10]", o->cutoff);
+    return adem_error_set(err, ADEM_ERR_INPUT, "Gaussian cut-off %g widths: must be in [1, 10]", o->cutoff);
   if (!(o->cell > 0.0 && isfinite(o->cell)))
-    return fail(err, ADEM_ERR_INPUT, "cell size %g m: must be > 0", o->cell);
+    return adem_error_set(err, ADEM_ERR_INPUT, "cell size %g m: must be > 0", o->cell);
   int navg = 0;
   size_t n[3], nodes = 1;
   for (int a = 0; a < 3; ++a) {
     if (!(isfinite(o->lo[a]) && isfinite(o->hi[a]) && o->lo[a] < o->hi[a]))
-      return fail(err, ADEM_ERR_INPUT, "grid extent along %c: %g .. %g (needs lo < hi)", 'x' + a,
+      return adem_error_set(err, ADEM_ERR_INPUT, "grid extent along %c: %g .. %g (needs lo < hi)", 'x' + a,
                   o->lo[a], o->hi[a]);
     navg += o->average[a] != 0;
     double c = o->average[a] ? 1.0 : ceil((o->hi[a] - o->lo[a]) / o->cell - 1e-9);
     if (c < 1.0) c = 1.0;
     if (c > (double)ADEM_FIELDS_MAX_NODES)
-      return fail(err, ADEM_ERR_INPUT, "grid of more than %zu nodes", ADEM_FIELDS_MAX_NODES);
+      return adem_error_set(err, ADEM_ERR_INPUT, "grid of more than %zu nodes", ADEM_FIELDS_MAX_NODES);
     n[a] = (size_t)c;
     nodes *= n[a];
     if (nodes > ADEM_FIELDS_MAX_NODES)
-      return fail(err, ADEM_ERR_INPUT, "grid of more than %zu nodes (cell %g m): use a coarser "
+      return adem_error_set(err, ADEM_ERR_INPUT, "grid of more than %zu nodes (cell %g m): use a coarser "
                   "cell, a smaller box or average over an axis", ADEM_FIELDS_MAX_NODES, o->cell);
   }
-  if (navg > 2) return fail(err, ADEM_ERR_INPUT, "averaging over all three axes leaves no grid");
+  if (navg > 2) return adem_error_set(err, ADEM_ERR_INPUT, "averaging over all three axes leaves no grid");
   adem_fields *f = calloc(1, sizeof *f);
-  if (!f) return fail(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!f) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   f->o = *o;
   f->h = o->cell;
   f->vol = 1.0;
@@ -164,7 +151,7 @@ adem_status adem_fields_create(const adem_fields_options *opt, adem_fields **out
   f->cst = calloc(nodes * 9, sizeof *f->cst);
   if (!f->acc || !f->cst) {
     adem_fields_free(f);
-    return fail(err, ADEM_ERR_NOMEM, "out of memory for a grid of %zu nodes", nodes);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for a grid of %zu nodes", nodes);
   }
   for (int k = 1; k <= GL_MAX; ++k) gauss_legendre(k, f->gl_x[k], f->gl_w[k]);
   *out = f;
@@ -363,13 +350,13 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
   if (!map || !pc) {
     free(map);
     free(pc);
-    return fail(err, ADEM_ERR_NOMEM, "out of memory for %zu particles", np);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu particles", np);
   }
   for (size_t i = 0; i < np; ++i) {
     if (!(p->mass[i] > 0.0 && isfinite(p->mass[i]))) {
       free(map);
       free(pc);
-      return fail(err, ADEM_ERR_INPUT, "particle %zu: mass %g is not > 0", i, p->mass[i]);
+      return adem_error_set(err, ADEM_ERR_INPUT, "particle %zu: mass %g is not > 0", i, p->mass[i]);
     }
     map[i] = (id_at){p->id[i], i};
   }
@@ -389,7 +376,7 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
     long ia = find_id(map, np, c->id_a[k]);
     long ib = c->kind[k] == 0 ? find_id(map, np, c->id_b[k]) : -2;
     if (ia < 0 || ib == -1) {
-      st = fail(err, ADEM_ERR_INPUT, "contact %zu names particle %lld, which is not in the frame",
+      st = adem_error_set(err, ADEM_ERR_INPUT, "contact %zu names particle %lld, which is not in the frame",
                 k, (long long)(ia < 0 ? c->id_a[k] : c->id_b[k]));
       break;
     }
@@ -408,7 +395,7 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
     stencil s;
     const double *x = p->pos + 3 * i;
     if (!stencil_of(f, x, &s, &nomem)) {
-      if (nomem) st = fail(err, ADEM_ERR_NOMEM, "out of memory");
+      if (nomem) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
       continue; /* outside the grid's reach */
     }
     double m = p->mass[i], r = p->radius[i], V = 4.0 / 3.0 * CG_PI * r * r * r;
@@ -465,7 +452,7 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
     }
     if (!reach) continue;
     if (!grow(&f->wl, &f->wlcap, Usize)) {
-      st = fail(err, ADEM_ERR_NOMEM, "out of memory");
+      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
       break;
     }
     memset(f->wl, 0, Usize * sizeof *f->wl);
@@ -475,7 +462,7 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
       double y[3] = {a[0] - sg * l[0], a[1] - sg * l[1], a[2] - sg * l[2]}; /* p0 -> p1 */
       stencil s;
       if (!stencil_of(f, y, &s, &nomem)) {
-        if (nomem) st = fail(err, ADEM_ERR_NOMEM, "out of memory");
+        if (nomem) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
         continue;
       }
       any = 1;
@@ -540,11 +527,11 @@ static void node_fields(const adem_fields *f, size_t node, adem_cg_field field, 
 
 adem_status adem_fields_get(const adem_fields *f, adem_cg_field field, double *out, size_t capacity,
                             adem_error *err) {
-  if (field < 0 || field >= ADEM_CG_COUNT_) return fail(err, ADEM_ERR_INPUT, "no field %d", (int)field);
-  if (!f->frames) return fail(err, ADEM_ERR_INPUT, "no frame was added");
+  if (field < 0 || field >= ADEM_CG_COUNT_) return adem_error_set(err, ADEM_ERR_INPUT, "no field %d", (int)field);
+  if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   size_t nc = (size_t)field_def[field].ncomp;
   if (capacity < f->nodes * nc)
-    return fail(err, ADEM_ERR_INPUT, "%s needs %zu doubles, %zu given", field_def[field].name,
+    return adem_error_set(err, ADEM_ERR_INPUT, "%s needs %zu doubles, %zu given", field_def[field].name,
                 f->nodes * nc, capacity);
   for (size_t k = 0; k < f->nodes; ++k) node_fields(f, k, field, out + k * nc);
   return ADEM_OK;
@@ -552,8 +539,8 @@ adem_status adem_fields_get(const adem_fields *f, adem_cg_field field, double *o
 
 adem_status adem_fields_integral(const adem_fields *f, adem_cg_field field, double *out,
                                  adem_error *err) {
-  if (field < 0 || field >= ADEM_CG_COUNT_) return fail(err, ADEM_ERR_INPUT, "no field %d", (int)field);
-  if (!f->frames) return fail(err, ADEM_ERR_INPUT, "no frame was added");
+  if (field < 0 || field >= ADEM_CG_COUNT_) return adem_error_set(err, ADEM_ERR_INPUT, "no field %d", (int)field);
+  if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   int nc = field_def[field].ncomp;
   double v[9];
   for (int u = 0; u < nc; ++u) out[u] = 0.0;
@@ -581,7 +568,7 @@ static const char *byte_order(void) {
 #include "adem/output.h"
 
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err) {
-  if (!f->frames) return fail(err, ADEM_ERR_INPUT, "no frame was added");
+  if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   adem_afile af;
   adem_status st = adem_fileio_open(&af, path, err);
   if (st) return st;
@@ -625,13 +612,13 @@ adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_e
   fprintf(fp, "\n  </AppendedData>\n</VTKFile>\n");
   if (!ok || ferror(fp)) {
     adem_fileio_abort(&af);
-    return fail(err, ADEM_ERR_IO, "cannot write %s", path);
+    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
   }
   return adem_fileio_commit(&af, err);
 }
 
 adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_error *err) {
-  if (!f->frames) return fail(err, ADEM_ERR_INPUT, "no frame was added");
+  if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   adem_afile af;
   adem_status st = adem_fileio_open(&af, path, err);
   if (st) return st;
@@ -666,7 +653,7 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
   }
   if (ferror(fp)) {
     adem_fileio_abort(&af);
-    return fail(err, ADEM_ERR_IO, "cannot write %s", path);
+    return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
   }
   return adem_fileio_commit(&af, err);
 }

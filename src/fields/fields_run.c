@@ -11,19 +11,6 @@
 #include "adem/frames.h"
 #include "adem/output.h"
 
-static adem_status fail(adem_error *err, adem_status st, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
-static adem_status fail(adem_error *err, adem_status st, const char *fmt, ...) {
-  if (err) {
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(err->message, sizeof err->message, fmt, ap);
-    va_end(ap);
-    err->status = st;
-  }
-  return st;
-}
-
 adem_fields_run_options adem_fields_default_run_options(void) {
   adem_fields_run_options o;
   memset(&o, 0, sizeof o);
@@ -47,12 +34,12 @@ static adem_status read_pvd(const char *dir, const char *name, const char *prefi
   *out = NULL;
   *n = 0;
   char *path = adem_file_join(dir, name);
-  if (!path) return fail(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   char *text = NULL;
   size_t len = 0;
   adem_status st = adem_file_read_all(path, &text, &len, err);
   if (st) {
-    st = fail(err, ADEM_ERR_INPUT, "cannot read %s%s", path,
+    st = adem_error_set(err, ADEM_ERR_INPUT, "cannot read %s%s", path,
               strcmp(name, "contacts.pvd") ? "" : " (run the case with output.contacts: true)");
     free(path);
     return st;
@@ -73,7 +60,7 @@ static adem_status read_pvd(const char *dir, const char *name, const char *prefi
         if (!q) {
           free(e);
           free(text);
-          return fail(err, ADEM_ERR_NOMEM, "out of memory");
+          return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
         }
         e = q;
       }
@@ -102,15 +89,15 @@ typedef struct pick {
 static adem_status load(const char *dir, const pick *pk, adem_vtu_frame *fr,
                         adem_contact_frame *cf, adem_error *err) {
   char *pp = adem_file_join(dir, pk->p->file), *cp = adem_file_join(dir, pk->c->file);
-  adem_status st = pp && cp ? ADEM_OK : fail(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = pp && cp ? ADEM_OK : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st && strstr(pk->p->file, ".pvtu"))
-    st = fail(err, ADEM_ERR_INPUT, "%s: frames in pieces (output.pieces) are not read; run "
+    st = adem_error_set(err, ADEM_ERR_INPUT, "%s: frames in pieces (output.pieces) are not read; run "
               "without output.pieces for the fields", pp);
   if (!st) st = adem_vtu_read_file(pp, fr, err);
   if (!st && !fr->mass)
-    st = fail(err, ADEM_ERR_INPUT, "%s has no mass array (written by an adem older than the "
+    st = adem_error_set(err, ADEM_ERR_INPUT, "%s has no mass array (written by an adem older than the "
               "fields): run the case again", pp);
-  if (!st && !fr->id) st = fail(err, ADEM_ERR_INPUT, "%s has no id array", pp);
+  if (!st && !fr->id) st = adem_error_set(err, ADEM_ERR_INPUT, "%s has no id array", pp);
   if (!st) st = adem_contact_frame_read_file(cp, cf, err);
   free(pp);
   free(cp);
@@ -127,7 +114,7 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
   adem_status st = read_pvd(dir, "particles.pvd", "particles", &pe, &np, err);
   if (!st) st = read_pvd(dir, "contacts.pvd", "contacts", &ce, &nc, err);
   pick *pk = st ? NULL : malloc((np ? np : 1) * sizeof *pk);
-  if (!st && !pk) st = fail(err, ADEM_ERR_NOMEM, "out of memory");
+  if (!st && !pk) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   size_t m = 0;
   bool all = opt.t1 < opt.t0;
   for (size_t k = 0; !st && k < np; ++k) {
@@ -139,7 +126,7 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
     pk[m++] = (pick){&pe[k], c};
   }
   if (!st && m == 0)
-    st = fail(err, ADEM_ERR_INPUT, "%s: no particle frame with a contact frame %s%.6g .. %.6g s "
+    st = adem_error_set(err, ADEM_ERR_INPUT, "%s: no particle frame with a contact frame %s%.6g .. %.6g s "
               "(%zu particle frames, %zu contact frames)", dir, all ? "(any time) " : "in ",
               all ? 0.0 : opt.t0, all ? 0.0 : opt.t1, np, nc);
   if (!st && opt.last_only) {
@@ -173,7 +160,7 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
   }
   if (!st && opt.width_diameters > 0.0) {
     if (!(info->mean_diameter > 0.0))
-      st = fail(err, ADEM_ERR_INPUT, "the first frame has no particle to take a diameter from");
+      st = adem_error_set(err, ADEM_ERR_INPUT, "the first frame has no particle to take a diameter from");
     opt.grid.width = opt.width_diameters * info->mean_diameter;
   }
   if (!st && opt.cell_diameters > 0.0) opt.grid.cell = opt.cell_diameters * info->mean_diameter;
@@ -183,7 +170,7 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
                    opt.grid.width;
     for (int a = 0; a < 3; ++a) {
       if (!(lo[a] <= hi[a])) {
-        st = fail(err, ADEM_ERR_INPUT, "no particle in the frames used");
+        st = adem_error_set(err, ADEM_ERR_INPUT, "no particle in the frames used");
         break;
       }
       if (opt.grid.average[a]) {
