@@ -48,6 +48,38 @@ static const char *const turntable_case =
     "  csv_interval: 2.0e-6\n"
     "  checkpoint_interval: 0\n";
 
+/* The CSV's columns NAMES (n of them) row by row: rows[r * n + c]; returns the row count. */
+static int read_columns(const char *path, const char *const *names, int n, double **rows) {
+  FILE *g = fopen(path, "r");
+  assert_non_null(g);
+  static char line[1 << 14];
+  assert_non_null(fgets(line, sizeof line, g));
+  int col[8], k = 0;
+  assert_true(n <= 8);
+  for (int c = 0; c < n; ++c) col[c] = -1;
+  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
+    for (int c = 0; c < n; ++c)
+      if (!strcmp(tok, names[c])) col[c] = k;
+  for (int c = 0; c < n; ++c)
+    if (col[c] < 0) fail_msg("no column %s in %s", names[c], path);
+  int nrows = 0, cap = 0;
+  *rows = NULL;
+  while (fgets(line, sizeof line, g)) {
+    if (nrows == cap) {
+      cap = cap ? 2 * cap : 1024;
+      *rows = realloc(*rows, (size_t)cap * (size_t)n * sizeof **rows);
+      assert_non_null(*rows);
+    }
+    k = 0;
+    for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k)
+      for (int c = 0; c < n; ++c)
+        if (k == col[c]) (*rows)[nrows * n + c] = strtod(tok, NULL);
+    nrows++;
+  }
+  fclose(g);
+  return nrows;
+}
+
 static void test_turntable_drive_columns(void **state) {
   (void)state;
   assert_int_equal(tmpdir_make("adem_wallpower"), 0);
@@ -63,45 +95,22 @@ static void test_turntable_drive_columns(void **state) {
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out'", path, tmpdir), 0);
   char csv[700];
   snprintf(csv, sizeof csv, "%s/out/timeseries.csv", tmpdir);
-  /* read the columns by name once */
-  FILE *g = fopen(csv, "r");
-  assert_non_null(g);
-  static char line[1 << 14];
-  assert_non_null(fgets(line, sizeof line, g));
-  int c_t = -1, c_work = -1, c_p = -1, c_tq = -1, k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
-    if (!strcmp(tok, "time_s")) c_t = k;
-    if (!strcmp(tok, "wall_work_J")) c_work = k;
-    if (!strcmp(tok, "table_drive_power_W")) c_p = k;
-    if (!strcmp(tok, "table_axis_torque_Nm")) c_tq = k;
-  }
-  assert_true(c_t >= 0 && c_work >= 0 && c_p >= 0 && c_tq >= 0);
-  double t0 = NAN, p0 = 0.0, w0 = 0.0, integral = 0.0, work = 0.0, torque_integral = 0.0, q0 = 0.0;
+  const char *names[] = {"time_s", "wall_work_J", "table_drive_power_W", "table_axis_torque_Nm"};
+  double *v;
+  int rows = read_columns(csv, names, 4, &v);
+  double integral = 0.0, torque_integral = 0.0;
   double worst = 0.0, pmax = 0.0; /* largest |P + omega T_axis| and |P| */
-  int rows = 0;
-  while (fgets(line, sizeof line, g)) {
-    double v[4] = {0};
-    k = 0;
-    for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
-      if (k == c_t) v[0] = strtod(tok, NULL);
-      if (k == c_work) v[1] = strtod(tok, NULL);
-      if (k == c_p) v[2] = strtod(tok, NULL);
-      if (k == c_tq) v[3] = strtod(tok, NULL);
+  for (int r = 0; r < rows; ++r) {
+    const double *x = v + 4 * r, *y = x - 4;
+    if (r > 0) {
+      integral += 0.5 * (y[2] + x[2]) * (x[0] - y[0]);
+      torque_integral += 0.5 * (y[3] + x[3]) * (x[0] - y[0]);
     }
-    if (rows == 0) w0 = v[1];
-    else {
-      integral += 0.5 * (p0 + v[2]) * (v[0] - t0);
-      torque_integral += 0.5 * (q0 + v[3]) * (v[0] - t0);
-    }
-    worst = fmax(worst, fabs(v[2] + 20.0 * v[3]));
-    pmax = fmax(pmax, fabs(v[2]));
-    work = v[1] - w0;
-    t0 = v[0];
-    p0 = v[2];
-    q0 = v[3];
-    rows++;
+    worst = fmax(worst, fabs(x[2] + 20.0 * x[3]));
+    pmax = fmax(pmax, fabs(x[2]));
   }
-  fclose(g);
+  double work = v[4 * (rows - 1) + 1] - v[1];
+  free(v);
   printf("# %d rows: integral of the drive power %.9g J, wall work %.9g J (ratio %.6f); integral "
          "of the axis torque %.6g N m s; |P + omega T_axis| at most %.2e of the largest |P|\n", rows, integral, work,
          integral / work, torque_integral, worst / pmax);
@@ -176,34 +185,14 @@ static void test_brof_torque_balance(void **state) {
   }
   char csv[700];
   snprintf(csv, sizeof csv, "%s/out/timeseries.csv", tmpdir);
-  FILE *g = fopen(csv, "r");
-  assert_non_null(g);
-  static char line[1 << 14];
-  assert_non_null(fgets(line, sizeof line, g));
-  int c_t = -1, c_tq = -1, c_b = -1, k = 0;
-  for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
-    if (!strcmp(tok, "time_s")) c_t = k;
-    if (!strcmp(tok, "table_axis_torque_Nm")) c_tq = k;
-    if (!strcmp(tok, "brof_impulse_z_Nms")) c_b = k;
-  }
-  assert_true(c_t >= 0 && c_tq >= 0 && c_b >= 0);
-  double t0 = 0.0, q0 = 0.0, wall = 0.0, brof = 0.0;
-  int rows = 0;
-  while (fgets(line, sizeof line, g)) {
-    double v[3] = {0};
-    k = 0;
-    for (char *tok = strtok(line, ",\n"); tok; tok = strtok(NULL, ",\n"), ++k) {
-      if (k == c_t) v[0] = strtod(tok, NULL);
-      if (k == c_tq) v[1] = strtod(tok, NULL);
-      if (k == c_b) v[2] = strtod(tok, NULL);
-    }
-    if (rows > 0) wall -= 0.5 * (q0 + v[1]) * (v[0] - t0);
-    brof = v[2];
-    t0 = v[0];
-    q0 = v[1];
-    rows++;
-  }
-  fclose(g);
+  const char *names[] = {"time_s", "table_axis_torque_Nm", "brof_impulse_z_Nms"};
+  double *v;
+  int rows = read_columns(csv, names, 3, &v);
+  double wall = 0.0;
+  for (int r = 1; r < rows; ++r)
+    wall -= 0.5 * (v[3 * (r - 1) + 1] + v[3 * r + 1]) * (v[3 * r] - v[3 * (r - 1)]);
+  double brof = v[3 * (rows - 1) + 2];
+  free(v);
   printf("# %d rows: L_z %.6e, from the table %.6e, from BROF %.6e: balance %.2e of L_z (without "
          "BROF %.2e)\n", rows, lz, wall, brof, (wall + brof - lz) / lz, (wall - lz) / lz);
   assert_true(lz > 0.0);
