@@ -109,6 +109,11 @@ adem_status adem_fields_integral(const adem_fields *f, adem_cg_field field, doub
                                  adem_error *err);
 
 /* Every field as VTK ImageData (.vti, appended raw, point data on the nodes); atomic. */
+/* Adds the world's present state as one frame: its particles (adem_world_get_particles) and the
+ * contacts of its last force pass (adem_world_contact_frame), as adem_fields_add takes them. */
+typedef struct adem_world adem_world;
+adem_status adem_fields_add_world(adem_fields *f, const adem_world *w, adem_error *err);
+
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err);
 /* Every field as CSV, one row per node: x_m,y_m,z_m (the averaged axes left out), then the
  * fields' components (density_kg_m3, ..., contact_stress_zz_Pa, ...); atomic. */

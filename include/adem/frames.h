@@ -66,6 +66,13 @@ adem_status adem_contact_frame_read_file(const char *path, adem_contact_frame *f
                                          adem_error *err);
 void adem_contact_frame_free(adem_contact_frame *frame);
 
+/* The world's contacts of its last force pass as a contact frame: the same lines, forces and
+ * order as the frame output.contacts would write now (time and step the world's). Free with
+ * adem_contact_frame_free. */
+typedef struct adem_world adem_world;
+adem_status adem_world_contact_frame(const adem_world *w, adem_contact_frame *frame,
+                                     adem_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -18,10 +18,11 @@ order of particle id, with no Python loop per particle. See docs/python.md.
 from ._world import World, FIELDS, CONTACT_DTYPE
 from ._case import Case, run, Progress
 from ._results import Results
+from ._fields import Fields, FIELD_NAMES
 from ._errors import Error, InputError, SimulationError, OutputError
 
 __all__ = ["World", "Case", "run", "Progress", "Results", "Error", "InputError",
-           "SimulationError", "OutputError", "FIELDS", "CONTACT_DTYPE", "__version__",
+           "SimulationError", "OutputError", "FIELDS", "CONTACT_DTYPE", "Fields", "FIELD_NAMES", "__version__",
            "library_path"]
 
 __version__ = "0.1.0"

@@ -173,6 +173,23 @@ class VtuFrame(Structure):
                 ("mass", POINTER(c_double)), ("time", c_double), ("step", c_int64)]
 
 
+class FieldsOptions(Structure):
+    _fields_ = [("kernel", c_int), ("width", c_double), ("cutoff", c_double), ("cell", c_double),
+                ("lo", c_double * 3), ("hi", c_double * 3), ("average", c_int * 3)]
+
+
+class FieldsRunOptions(Structure):
+    _fields_ = [("grid", FieldsOptions), ("box_given", c_int), ("width_diameters", c_double),
+                ("cell_diameters", c_double), ("t0", c_double), ("t1", c_double),
+                ("last_only", c_int)]
+
+
+class FieldsRunInfo(Structure):
+    _fields_ = [("frames", c_size_t), ("t_first", c_double), ("t_last", c_double),
+                ("particles", c_size_t), ("contacts", c_size_t), ("width", c_double),
+                ("mean_diameter", c_double), ("mass", c_double)]
+
+
 _MIRRORS = {"adem_error": Error, "adem_vec3": Vec3, "adem_material_def": MaterialDef,
             "adem_interaction_def": InteractionDef, "adem_particle_def": ParticleDef,
             "adem_plane_def": PlaneDef, "adem_servo_def": ServoDef,
@@ -180,7 +197,8 @@ _MIRRORS = {"adem_error": Error, "adem_vec3": Vec3, "adem_material_def": Materia
             "adem_diagnostics": Diagnostics, "adem_contact_info": ContactInfo,
             "adem_step_estimate": StepEstimate, "adem_progress": Progress,
             "adem_run_options": RunOptions, "adem_vtu_frame": VtuFrame,
-            "adem_particle_field": c_int}
+            "adem_particle_field": c_int, "adem_fields_options": FieldsOptions,
+            "adem_fields_run_options": FieldsRunOptions, "adem_fields_run_info": FieldsRunInfo}
 for _name, _t in _MIRRORS.items():
     _c = lib.adem_abi_sizeof(_name.encode())
     if _c != ctypes.sizeof(_t):
@@ -279,6 +297,22 @@ _sig("adem_checkpoint_write", ST, C, c_char_p, E)
 _sig("adem_vtu_read_file", ST, c_char_p, POINTER(VtuFrame), E)
 _sig("adem_vtu_frame_free", None, POINTER(VtuFrame))
 _sig("adem_default_thread_count", c_int)
+F = c_void_p  # adem_fields *
+_sig("adem_fields_default_options", FieldsOptions)
+_sig("adem_fields_default_run_options", FieldsRunOptions)
+_sig("adem_fields_create", ST, POINTER(FieldsOptions), POINTER(F), E)
+_sig("adem_fields_free", None, F)
+_sig("adem_fields_add_world", ST, F, W, E)
+_sig("adem_fields_frames", c_size_t, F)
+_sig("adem_fields_grid", None, F, POINTER(c_size_t * 3), POINTER(c_double * 3), POINTER(c_double))
+_sig("adem_fields_get", ST, F, c_int, c_void_p, c_size_t, E)
+_sig("adem_fields_integral", ST, F, c_int, c_void_p, E)
+_sig("adem_fields_write_vti", ST, F, c_char_p, E)
+_sig("adem_fields_write_csv", ST, F, c_char_p, E)
+_sig("adem_fields_run", ST, c_char_p, POINTER(FieldsRunOptions), POINTER(F), POINTER(FieldsRunInfo),
+     E)
+_sig("adem_cg_field_components", c_int, c_int)
+_sig("adem_cg_field_name", c_char_p, c_int)
 
 
 class LawRow(Structure):

@@ -218,3 +218,34 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
   *out = f;
   return ADEM_OK;
 }
+
+/* ---------------------------------------------------------------- a live world */
+
+adem_status adem_fields_add_world(adem_fields *f, const adem_world *w, adem_error *err) {
+  size_t n = adem_world_particle_count(w);
+  size_t cap = n ? n : 1;
+  double *pos = malloc(3 * cap * sizeof *pos), *vel = malloc(3 * cap * sizeof *vel);
+  double *mass = malloc(cap * sizeof *mass), *radius = malloc(cap * sizeof *radius);
+  uint64_t *uid = malloc(cap * sizeof *uid);
+  int64_t *id = malloc(cap * sizeof *id);
+  adem_status st = ADEM_OK;
+  if (!pos || !vel || !mass || !radius || !uid || !id)
+    st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu particles", n);
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_POSITION, pos, 3 * n, err);
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_VELOCITY, vel, 3 * n, err);
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_MASS, mass, n, err);
+  if (!st) st = adem_world_get_particles(w, ADEM_FIELD_RADIUS, radius, n, err);
+  if (!st) st = adem_world_get_ids(w, uid, n, err);
+  for (size_t i = 0; !st && i < n; ++i) id[i] = (int64_t)uid[i];
+  adem_contact_frame cf = {0};
+  if (!st) st = adem_world_contact_frame(w, &cf, err);
+  if (!st) {
+    adem_fields_particles P = {n, pos, vel, mass, radius, id};
+    adem_fields_contacts C = {cf.n, (const double *)cf.p0, (const double *)cf.p1,
+                              (const double *)cf.force, cf.kind, cf.id_a, cf.id_b};
+    st = adem_fields_add(f, &P, &C, err);
+  }
+  adem_contact_frame_free(&cf);
+  free(pos), free(vel), free(mass), free(radius), free(uid), free(id);
+  return st;
+}

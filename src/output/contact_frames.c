@@ -365,3 +365,39 @@ adem_status adem_output_contacts_frame(adem_output *o, const adem_world *w, adem
   free(rec);
   return st;
 }
+
+adem_status adem_world_contact_frame(const adem_world *w, adem_contact_frame *frame,
+                                     adem_error *err) {
+  memset(frame, 0, sizeof *frame);
+  frame->time = adem_world_time(w);
+  frame->step = (int64_t)adem_world_step_count(w);
+  adem_contact_record *rec = NULL;
+  size_t n = 0;
+  adem_status st = adem_contact_records(w, &rec, &n, err);
+  if (st) return st;
+  size_t cap = n ? n : 1; /* a frame with no contact still owns its (empty) arrays */
+  frame->p0 = malloc(cap * sizeof *frame->p0);
+  frame->p1 = malloc(cap * sizeof *frame->p1);
+  frame->force = malloc(cap * sizeof *frame->force);
+  frame->kind = malloc(cap * sizeof *frame->kind);
+  frame->id_a = malloc(cap * sizeof *frame->id_a);
+  frame->id_b = malloc(cap * sizeof *frame->id_b);
+  if (!frame->p0 || !frame->p1 || !frame->force || !frame->kind || !frame->id_a || !frame->id_b) {
+    free(rec);
+    free(frame->p0), free(frame->p1), free(frame->force); /* the studies' free is above this layer */
+    free(frame->kind), free(frame->id_a), free(frame->id_b);
+    memset(frame, 0, sizeof *frame);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu contacts", n);
+  }
+  for (size_t k = 0; k < n; ++k) {
+    frame->p0[k] = rec[k].p0;
+    frame->p1[k] = rec[k].p1;
+    frame->force[k] = rec[k].force;
+    frame->kind[k] = rec[k].kind;
+    frame->id_a[k] = rec[k].a;
+    frame->id_b[k] = rec[k].b;
+  }
+  frame->n = n;
+  free(rec);
+  return ADEM_OK;
+}
