@@ -18,21 +18,11 @@
 #include "cylinder.h"
 #include "mesh_periodic.h"
 
-/* Collision time of a material pair (notes section 6). A simplified JKR contact speeds the
- * spheres up to sqrt(v_ref^2 + 2|U_min|/m*) as it pulls them in (U_min the JKR energy at
- * equilibrium, H7-H10), and once captured they oscillate about the equilibrium with the period
- * 2 pi sqrt(m* / (1.2 E a0)) (dF/d delta = 6 E a0/5 there): the shortest of t_c at that speed and
- * half that period. */
+/* Collision time of a material pair: its normal law's (the hook: Hertz's, notes section 6, by
+ * default; simplified JKR's at the speed its adhesion brings the spheres to). */
 static double pair_collision_time(const adem_interaction *it, double m_eff, double r_eff,
                                   double v_ref) {
-  const adem_pair_params *pp = &it->pp;
-  if (it->normal != ADEM_NORMAL_JKR || !(pp->gamma > 0.0))
-    return adem_hertz_collision_time(m_eff, r_eff, pp->E, v_ref);
-  double a0 = adem_jkr_a0(pp->gamma, r_eff, pp->E);
-  double u_min = adem_jkr_energy(pp->gamma, r_eff, pp->E, a0); /* < 0 */
-  double v = sqrt(v_ref * v_ref - 2.0 * u_min / m_eff);
-  double t_osc = 2.0 * ADEM_PI * sqrt(m_eff / (1.2 * pp->E * a0));
-  return fmin(adem_hertz_collision_time(m_eff, r_eff, pp->E, v), 0.5 * t_osc);
+  return adem_laws_collision_time(adem_interaction_laws(it), &it->pp, m_eff, r_eff, v_ref);
 }
 
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {

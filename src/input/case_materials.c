@@ -124,24 +124,25 @@ adem_status adem_case_build_materials(case_ctx *ctx, const map_cursor *root) {
   return ADEM_OK;
 }
 
-/* JKR adhesion needs a surface energy on both sides: the pair's is the geometric mean of the two
- * (materials.c), so a side without one (typically a wall material) silently makes it Hertz. */
-static adem_status check_jkr_pair(case_ctx *ctx, const map_cursor *m, const adem_interaction_def *d,
-                                  char names[2][ADEM_NAME_MAX]) {
+/* What the pair's laws need of its values (their check hooks, law_hooks.h: `jkr` a surface
+ * energy on both materials unless the interaction gives one), at load time: the message points
+ * at the key of the law that complains and names where the material it blames is defined. */
+static adem_status check_laws(case_ctx *ctx, const map_cursor *m, const adem_interaction_def *d,
+                              char names[2][ADEM_NAME_MAX]) {
   const int mats[2] = {d->material_a, d->material_b};
-  for (int s = 0; s < 2; ++s) {
-    if (ctx->w->mat.m[mats[s]].def.param[ADEM_PARAM_SURFACE_ENERGY] > 0.0) continue;
-    char path[KEY_PATH_MAX], at[LOC_MAX];
-    adem_yaml_join(path, sizeof path, m->path, "normal");
-    adem_yaml_where_short(ctx, ctx->mat_node[mats[s]], at, sizeof at);
-    yaml_node_t *node = adem_yaml_map_get(ctx, m->node, "normal");
-    return adem_yaml_fail(ctx, node ? node : m->node, path,
-                "`jkr` between `%s` and `%s` needs a surface energy on both materials, but `%s` "
-                "(at %s) has surface_energy 0; give it a `surface_energy` > 0 (for a wall, the "
-                "wall material's) or use `normal: hertz`",
-                names[0], names[1], ctx->mat_name[mats[s]], at);
-  }
-  return ADEM_OK;
+  char at[2][LOC_MAX];
+  for (int s = 0; s < 2; ++s) adem_yaml_where_short(ctx, ctx->mat_node[mats[s]], at[s], sizeof at[s]);
+  adem_law_check c = {ctx->w->mat.m[mats[0]].def.param, ctx->w->mat.m[mats[1]].def.param,
+                      d->param, {names[0], names[1]}, {at[0], at[1]}, NULL};
+  adem_law_set laws = {(int)d->normal, (int)d->damping, (int)d->tangential, (int)d->rolling};
+  char why[1024], path[KEY_PATH_MAX];
+  adem_law_slot slot;
+  int side;
+  if (!adem_laws_check(laws, &c, &slot, &side, why, sizeof why)) return ADEM_OK;
+  const char *key = adem_law_slot_name(slot); /* the slots are the interaction's keys */
+  adem_yaml_join(path, sizeof path, m->path, key);
+  yaml_node_t *node = adem_yaml_map_get(ctx, m->node, key);
+  return adem_yaml_fail(ctx, node ? node : m->node, path, "%s", why);
 }
 
 /* An interaction's optional `name` (so that `--set interactions.NAME.friction=0.3` and a stage's
@@ -238,7 +239,8 @@ static adem_rolling_model pair_rolling(const adem_interaction_def *defs, int nde
 }
 
 /* Whether a configuration lets BROF meet a turning wall: a wall whose motion turns, of a
- * material that has BROF with some material of the particles (any material: a pour may bring it). */
+ * material that has BROF (a rolling law that resists absolute spin, its row's .absolute_spin)
+ * with some material of the particles (any material: a pour may bring it). */
 static bool brof_meets_turning_wall(const adem_interaction_def *defs, int ndefs, int nmat,
                                     const adem_walls *wl, const adem_plane_setting *planes,
                                     const adem_mesh_setting *meshes) {
@@ -251,7 +253,7 @@ static bool brof_meets_turning_wall(const adem_interaction_def *defs, int ndefs,
                     : (meshes ? meshes[g].material : wl->mesh.groups[g].material);
     if (omega == 0.0) continue;
     for (int b = 0; b < nmat; ++b)
-      if (pair_rolling(defs, ndefs, mat, b) == ADEM_ROLLING_BROF) return true;
+      if (adem_laws_absolute_spin((int)pair_rolling(defs, ndefs, mat, b))) return true;
   }
   return false;
 }
@@ -347,10 +349,7 @@ adem_status adem_case_build_interactions(case_ctx *ctx, const map_cursor *root) 
                           lw->requires, slot_key[s], others);
     }
     if (st) break;
-    /* (an interaction's own surface energy is the pair's, whatever the materials') */
-    if (d.normal == ADEM_NORMAL_JKR && isnan(d.param[ADEM_PARAM_SURFACE_ENERGY]) &&
-        (st = check_jkr_pair(ctx, &m, &d, names)))
-      break;
+    if ((st = check_laws(ctx, &m, &d, names))) break;
     adem_error werr = {ADEM_OK, ""};
     if (adem_world_set_interaction(ctx->w, &d, &werr))
       st = werr.status == ADEM_ERR_NOMEM ? adem_yaml_nomem(ctx) : adem_yaml_fail(ctx, m.node, m.path, "%s", werr.message);

@@ -180,10 +180,11 @@ adem_status adem_case_choose_step(case_ctx *ctx, const map_cursor *time, adem_ve
   return ADEM_OK;
 }
 
-/* H section 6.2: with a reduced stiffness the force that breaks a JKR contact drops to
- * (8/9) 3 pi gamma_mod R. The group forces are constant, so one look at load time finds every
- * group whose force pulls hard enough, against any JKR pair its spheres can touch, to break
- * contacts the real material would keep. One warning per group, for its weakest pair. */
+/* H section 6.2: with a reduced stiffness the force that breaks an adhesive contact drops (JKR:
+ * to (8/9) 3 pi gamma_mod R; the normal law's pull_off hook). The group forces are constant, so
+ * one look at load time finds every group whose force pulls hard enough, against any adhesive
+ * pair its spheres can touch, to break contacts the real material would keep. One warning per
+ * group, for its weakest pair. */
 adem_status adem_case_warn_pulling_forces(case_ctx *ctx) {
   adem_world *w = ctx->w;
   size_t nm = (size_t)w->mat.n, ng = (size_t)w->ngroups;
@@ -214,14 +215,14 @@ adem_status adem_case_warn_pulling_forces(case_ctx *ctx) {
       if (!isfinite(ra)) continue;
       for (size_t b = 0; b < nm; ++b) {
         const adem_interaction *it = adem_world_interaction(w, (int)a, (int)b);
-        if (it->normal != ADEM_NORMAL_JKR || !(it->pp.gamma > 0.0)) continue;
         double rb = rmin[ng * nm + b];
         for (int side = 0; side < 2; ++side) { /* 0: a sphere of b, 1: a wall of b */
           if (side == 0 && !isfinite(rb)) continue;
           if (side == 1 && !wall[b]) continue;
           double R = side ? ra : ra * rb / (ra + rb);
-          double pull = 8.0 / 9.0 * adem_jkr_pair_summarize(it->pp.E_real, it->pp.E, it->pp.gamma_real,
-                                                            it->pp.gamma, R, 1.0, 1.0).f_c_mod;
+          /* the normal law's pull-off force (its hook; 0 for a law that holds nothing) */
+          double pull = adem_laws_pull_off(adem_interaction_laws(it), &it->pp, R);
+          if (!(pull > 0.0)) continue;
           if (force / pull > worst) {
             worst = force / pull;
             worst_pull = pull;
@@ -241,12 +242,13 @@ adem_status adem_case_warn_pulling_forces(case_ctx *ctx) {
     if (!loc[0]) snprintf(loc, sizeof loc, "%.500s", ctx->file);
     adem_log(ADEM_LOG_WARN,
              "%s: group `%s`: its external force of %.3g N is %.0f%% of the force that breaks a "
-             "`%s`-`%s`%s JKR contact, (8/9) 3 pi gamma_mod R = %.3g N (R = %.3g m, gamma_mod = "
-             "%.3g J/m^2%s); such forces can tear apart contacts the real material keeps. Keep "
-             "them below %.0f%% of it (%.3g N)%s (Haervig et al. section 6.2)",
+             "`%s`-`%s`%s `%s` contact, its pull-off force %.3g N (R = %.3g m%s); such forces can "
+             "tear apart contacts the real material keeps. Keep them below %.0f%% of it "
+             "(%.3g N)%s (Haervig et al. section 6.2)",
              loc, w->groups[g].name, force, 100.0 * worst, w->mat.m[wa].def.name,
-             w->mat.m[wb].def.name, worst_wall ? " (wall)" : "", worst_pull, worst_R,
-             it->pp.gamma, it->pp.E < it->pp.E_real ? ", reduced with the stiffness by H24" : "",
+             w->mat.m[wb].def.name, worst_wall ? " (wall)" : "",
+             adem_law_get(ADEM_SLOT_NORMAL, (int)it->normal)->name, worst_pull, worst_R,
+             it->pp.E < it->pp.E_real ? ", reduced with the stiffness by H24" : "",
              100.0 * ADEM_PULLOFF_SAFETY, ADEM_PULLOFF_SAFETY * worst_pull,
              it->pp.E < it->pp.E_real ? " or reduce the stiffness less" : "");
   }
