@@ -199,7 +199,6 @@ adem_status adem_insert_push_radius(double **a, size_t *n, size_t *cap, double r
   return ADEM_OK;
 }
 
-
 adem_status adem_insert_place(const adem_placer *pl, adem_rng *rng, const double *radii,
                               size_t count, const adem_vec3 *old_pos, const double *old_rad, size_t nold,
                               adem_vec3 **pos_out, double **rad_out, bool *keep, size_t *placed,
