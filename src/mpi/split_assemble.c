@@ -7,27 +7,6 @@
 
 #include "split_parts.h"
 
-/* Gathers the bytes of every rank to rank 0 (into *in there). Collective. */
-adem_status adem_split_gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
-  if (mine->n > INT_MAX) return adem_split_too_big(err);
-  int n = (int)mine->n;
-  MPI_Gather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, 0, s->comm);
-  size_t total = 0;
-  if (s->rank == 0)
-    for (int q = 0; q < s->size; ++q) {
-      s->bytes_b[q] = (int)total;
-      total += (size_t)s->bytes_a[q];
-    }
-  int ok = total <= INT_MAX && (in->d = malloc(total + 1)) != NULL;
-  in->n = in->cap = total;
-  MPI_Bcast(&ok, 1, MPI_INT, 0, s->comm);
-  if (!ok) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles");
-  MPI_Gatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE, 0,
-              s->comm);
-  if (s->rank != 0) tally(s, (double)n);
-  return ADEM_OK;
-}
-
 /* A mesh slot for the assembly: its particle's id, its place in the particle's range, its
  * triangle and key; then the pair record (adem_split_put_pair). */
 typedef struct mesh_head {

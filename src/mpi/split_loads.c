@@ -8,35 +8,6 @@
 
 #include "split_parts.h"
 
-/* Gathers the bytes of every rank to every rank, in rank order (into *in). Collective. */
-adem_status adem_split_allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
-  int n = mine->n > INT_MAX ? -1 : (int)mine->n;
-  MPI_Allgather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
-  size_t total = 0;
-  int ok = 1;
-  for (int q = 0; q < s->size; ++q) {
-    if (s->bytes_a[q] < 0) ok = 0;
-    s->bytes_b[q] = (int)(total <= INT_MAX ? total : 0);
-    total += s->bytes_a[q] > 0 ? (size_t)s->bytes_a[q] : 0;
-  }
-  if (total > INT_MAX) ok = 0;
-  in->d = ok ? malloc(total + 1) : NULL;
-  in->n = in->cap = total;
-  int mine_ok = in->d != NULL, all_ok = 0;
-  MPI_Allreduce(&mine_ok, &all_ok, 1, MPI_INT, MPI_LAND, s->comm);
-  if (!all_ok) {
-    free(in->d);
-    in->d = NULL;
-    in->n = in->cap = 0;
-    return ok ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles")
-              : adem_split_too_big(err);
-  }
-  MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
-                 s->comm);
-  tally(s, (double)n * (s->size - 1));
-  return ADEM_OK;
-}
-
 /* A wall contact's share of a plane force: the particle's id and the contact's place in its
  * gather list (the order the serial sum takes them in). */
 typedef struct wall_term {

@@ -76,7 +76,7 @@ typedef struct id_index {
   uint32_t i;
 } id_index;
 
-/* ---- byte buffers and the records they carry (split_records.c) ---- */
+/* ---- byte buffers, the records they carry, the collectives (split_records.c) ---- */
 bool adem_split_bytes_put(bytes *b, const void *x, size_t n);
 void adem_split_bytes_free_all(bytes *b, int n);
 int adem_split_mem_sink(void *ctx, const void *data, size_t n);
@@ -89,10 +89,13 @@ bool adem_split_put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t k
 void adem_split_get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
                          uint64_t *kb, bool bal);
 int adem_split_compare_id_index(const void *x, const void *y);
+/* The bytes of every rank gathered to every rank (allgather) or to rank 0 (gather), in rank
+ * order, into *in. Collective. */
+adem_status adem_split_allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
+adem_status adem_split_gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
 size_t adem_split_find_id(const id_index *m, size_t n, uint64_t id);
 
 /* ---- the walls' loads of the whole system, summed in the serial order (split_loads.c) ---- */
-adem_status adem_split_allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
 adem_status adem_split_plane_forces_hook(void *ctx, const adem_world *w, adem_vec3 *out,
                                          adem_error *err);
 adem_status adem_split_face_loads(adem_split *s, const adem_world *w, adem_walls *into,
@@ -100,9 +103,6 @@ adem_status adem_split_face_loads(adem_split *s, const adem_world *w, adem_walls
 adem_status adem_split_mesh_loads_hook(void *ctx, adem_world *w, adem_error *err);
 adem_status adem_split_sum_terms_hook(void *ctx, const adem_world *w, const adem_id_term *t,
                                       size_t n, double *out, int nout, adem_error *err);
-
-/* ---- the whole system gathered (split_assemble.c) ---- */
-adem_status adem_split_gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
 
 /* ---- exchanges (split.c) ---- */
 adem_status adem_split_too_big(adem_error *err);

@@ -1,5 +1,6 @@
-/* The MPI split's byte buffers and the records they carry: particles (every field of the
- * particle table) and pairs (their keys as ids, every field, the balance record); split_parts.h. */
+/* The MPI split's byte buffers, the records they carry (particles: every field of the particle
+ * table; pairs: their keys as ids, every field, the balance record) and the collectives that
+ * gather them (split_parts.h). */
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -109,4 +110,56 @@ size_t adem_split_find_id(const id_index *m, size_t n, uint64_t id) {
     else hi = mid;
   }
   return lo < n && m[lo].id == id ? m[lo].i : SIZE_MAX;
+}
+
+/* ---------------------------------------------------------------- collectives */
+
+/* Gathers the bytes of every rank to every rank, in rank order (into *in). Collective. */
+adem_status adem_split_allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
+  int n = mine->n > INT_MAX ? -1 : (int)mine->n;
+  MPI_Allgather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
+  size_t total = 0;
+  int ok = 1;
+  for (int q = 0; q < s->size; ++q) {
+    if (s->bytes_a[q] < 0) ok = 0;
+    s->bytes_b[q] = (int)(total <= INT_MAX ? total : 0);
+    total += s->bytes_a[q] > 0 ? (size_t)s->bytes_a[q] : 0;
+  }
+  if (total > INT_MAX) ok = 0;
+  in->d = ok ? malloc(total + 1) : NULL;
+  in->n = in->cap = total;
+  int mine_ok = in->d != NULL, all_ok = 0;
+  MPI_Allreduce(&mine_ok, &all_ok, 1, MPI_INT, MPI_LAND, s->comm);
+  if (!all_ok) {
+    free(in->d);
+    in->d = NULL;
+    in->n = in->cap = 0;
+    return ok ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles")
+              : adem_split_too_big(err);
+  }
+  MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
+                 s->comm);
+  tally(s, (double)n * (s->size - 1));
+  return ADEM_OK;
+}
+
+/* Gathers the bytes of every rank to rank 0 (into *in there). Collective. */
+adem_status adem_split_gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
+  if (mine->n > INT_MAX) return adem_split_too_big(err);
+  int n = (int)mine->n;
+  MPI_Gather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, 0, s->comm);
+  size_t total = 0;
+  if (s->rank == 0)
+    for (int q = 0; q < s->size; ++q) {
+      s->bytes_b[q] = (int)total;
+      total += (size_t)s->bytes_a[q];
+    }
+  int ok = total <= INT_MAX && (in->d = malloc(total + 1)) != NULL;
+  in->n = in->cap = total;
+  MPI_Bcast(&ok, 1, MPI_INT, 0, s->comm);
+  if (!ok) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles");
+  MPI_Gatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE, 0,
+              s->comm);
+  if (s->rank != 0) tally(s, (double)n);
+  return ADEM_OK;
 }
