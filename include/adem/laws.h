@@ -6,11 +6,13 @@
  * the reference docs and the dispatch in the force pass (src/core/contacts.c).
  *
  * Adding a law: write its kernel in src/contact/ (the signature of its slot, see
- * src/contact/laws_kernels.h), add one row to its slot's list here, and unit-test the kernel.
- * A build may add rows without editing this file: define ADEM_EXTRA_LAWS_HEADER to a header that
- * defines ADEM_EXTRA_ROLLING_LAWS(X) (or ADEM_EXTRA_NORMAL_LAWS, and ADEM_EXTRA_LAW_PARAMS(P) for
- * new parameters), and ADEM_EXTRA_KERNELS_HEADER to one with the kernels (tests/laws/ does this
- * for a test-only rolling law). */
+ * src/contact/laws_kernels.h), its cold-path hooks if the defaults do not fit it (its own file in
+ * src/contact/, src/contact/law_hooks.h), add one row to its slot's list here, and unit-test the
+ * kernel (docs/architecture.md, "Contact laws as rows"). A build may add rows without editing
+ * this file: define ADEM_EXTRA_LAWS_HEADER to a header that defines ADEM_EXTRA_ROLLING_LAWS(X)
+ * (or ADEM_EXTRA_NORMAL_LAWS, and ADEM_EXTRA_LAW_PARAMS(P) for new parameters), and
+ * ADEM_EXTRA_KERNELS_HEADER to one with the kernels (tests/laws/ does this for test-only rolling
+ * and normal laws). */
 #ifndef ADEM_LAWS_H
 #define ADEM_LAWS_H
 
@@ -67,87 +69,110 @@ typedef enum adem_law_param_id {
   ADEM_PARAM_COUNT
 } adem_law_param_id;
 
-/* Rows of each slot: X(ID, name in the case file, kernel, history doubles, requires (a normal law
- * name, or ""), per particle (1) or per contact (0), parameters read (keys, space separated),
- * equations, what it is). */
+/* Rows of each slot: X(ID, kernel, history doubles, descriptive columns...), the descriptive
+ * columns a designated initializer of adem_law (below): .name (in the case file), .requires (a
+ * normal law's name, or ""), .per_particle, .params (keys read, space separated), .equations,
+ * .doc, .absolute_spin, .history_kind, and .hooks, the law's cold-path hooks
+ * (src/contact/law_hooks.h: its pair's constants, collision time, checks, report lines...),
+ * NULL for none. A column left out is "" or 0, so a new column touches only the rows that set
+ * it. */
 #define ADEM_NORMAL_LAWS(X)                                                                       \
-  X(ADEM_NORMAL_HERTZ, "hertz", adem_normal_hertz_law, 0, "", 0, "", "H8-H9",                      \
-    "Hertz elastic force (4/3) E sqrt(R) delta^(3/2), no adhesion.")                              \
-  X(ADEM_NORMAL_JKR, "jkr", adem_normal_jkr_law, 0, "", 0, "surface_energy", "H7-H10",             \
-    "Simplified JKR adhesion: forms at delta = 0 with -(8/9) F_C, breaks at delta < 0; contact "   \
-    "radius in closed form.")                                                                      \
+  X(ADEM_NORMAL_HERTZ, adem_normal_hertz_law, 0, .name = "hertz", .equations = "H8-H9",           \
+    .doc = "Hertz elastic force (4/3) E sqrt(R) delta^(3/2), no adhesion.",                       \
+    .hooks = &adem_hertz_hooks)                                                                   \
+  X(ADEM_NORMAL_JKR, adem_normal_jkr_law, 0, .name = "jkr", .params = "surface_energy",           \
+    .equations = "H7-H10",                                                                        \
+    .doc = "Simplified JKR adhesion: forms at delta = 0 with -(8/9) F_C, breaks at delta < 0; "   \
+           "contact radius in closed form.",                                                      \
+    .hooks = &adem_jkr_hooks)                                                                     \
   ADEM_EXTRA_NORMAL_LAWS(X)
 
 #define ADEM_DAMPING_LAWS(X)                                                                      \
-  X(ADEM_DAMPING_VISCOELASTIC, "viscoelastic", adem_damping_viscoelastic_law, 0, "", 0, "",        \
-    "H11-H13, H16",                                                                                \
-    "-2 sqrt(5/6) beta sqrt(S m*) v, beta = ln e / sqrt(ln^2 e + pi^2): normal and tangential "    \
-    "dashpots that make a Hertz collision's restitution e; the normal force may pull at the end "  \
-    "of a collision.")                                                                             \
-  X(ADEM_DAMPING_CLAMPED, "clamped", adem_damping_clamped_law, 0, "", 0, "", "H11-H13, H16",       \
-    "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); the "      \
-    "normal beta is refitted so that a Hertz collision's restitution is still e.")
+  X(ADEM_DAMPING_VISCOELASTIC, adem_damping_viscoelastic_law, 0, .name = "viscoelastic",          \
+    .equations = "H11-H13, H16",                                                                  \
+    .doc = "-2 sqrt(5/6) beta sqrt(S m*) v, beta = ln e / sqrt(ln^2 e + pi^2): normal and "       \
+           "tangential dashpots that make a Hertz collision's restitution e; the normal force "   \
+           "may pull at the end of a collision.")                                                 \
+  X(ADEM_DAMPING_CLAMPED, adem_damping_clamped_law, 0, .name = "clamped",                         \
+    .equations = "H11-H13, H16",                                                                  \
+    .doc = "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); "   \
+           "the normal beta is refitted so that a Hertz collision's restitution is still e.",     \
+    .hooks = &adem_damping_clamped_hooks)
 
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
-  X(ADEM_TANGENTIAL_INCREMENTAL, "incremental", adem_tangential_incremental_law, 4, "", 0, "",     \
-    "H14-H17, Mindlin-Deresiewicz",                                                                \
-    "Spring force kept as history and changed by -S_t ds each step (S_t = 8 G sqrt(R delta)), "   \
-    "scaled down with S_t when the contact shrinks; dashpot; Coulomb limit mu |F_N + 2 F_C|. "     \
-    "Cannot create energy on a closed load path.")                                                 \
-  X(ADEM_TANGENTIAL_TOTAL, "total", adem_tangential_total_law, 3, "", 0, "", "H14-H17",            \
-    "Spring S_t = 8 G sqrt(R delta) on the accumulated tangential displacement (kept in the "     \
-    "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding; " \
-    "as H writes it (a load that rises at fixed displacement raises the force for free).")
+  X(ADEM_TANGENTIAL_INCREMENTAL, adem_tangential_incremental_law, 4, .name = "incremental",       \
+    .equations = "H14-H17, Mindlin-Deresiewicz", .history_kind = "spring_force",                  \
+    .doc = "Spring force kept as history and changed by -S_t ds each step (S_t = 8 G sqrt(R "     \
+           "delta)), scaled down with S_t when the contact shrinks; dashpot; Coulomb limit mu "   \
+           "|F_N + 2 F_C|. Cannot create energy on a closed load path.")                          \
+  X(ADEM_TANGENTIAL_TOTAL, adem_tangential_total_law, 3, .name = "total", .equations = "H14-H17",  \
+    .history_kind = "displacement",                                                               \
+    .doc = "Spring S_t = 8 G sqrt(R delta) on the accumulated tangential displacement (kept in "  \
+           "the tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring "         \
+           "rescaled on sliding; as H writes it (a load that rises at fixed displacement raises " \
+           "the force for free).")
 
 #define ADEM_ROLLING_LAWS(X)                                                                      \
-  X(ADEM_ROLLING_NONE, "none", adem_rolling_none_law, 0, "", 0, "", "", "No rolling resistance.") \
-  X(ADEM_ROLLING_DTK, "dtk", adem_rolling_dtk_law, 4, "jkr", 0, "adhesion_hysteresis",             \
-    "H18-H22",                                                                                     \
-    "Adhesive rolling resistance (Dominik-Tielens-Krijt): torque k_r xi, k_r = 4 F_C (a/a0)^(3/2), " \
-    "|xi| <= xi_crit; under reduced stiffness F_C, a0, xi_crit stay real (H section 3.2).")       \
-  X(ADEM_ROLLING_A, "model_a", adem_rolling_model_a_law, 0, "", 0, "rolling_friction", "I7-I8",   \
-    "Constant directional torque eta_r R_r |F_n| against the relative spin (oscillates at rest).") \
-  X(ADEM_ROLLING_C, "model_c", adem_rolling_model_c_law, 4, "", 0,                                 \
-    "rolling_friction rolling_damping", "Ai et al. 2011",                                          \
-    "Elastic-plastic spring k_r = 2.25 S_n eta_r^2 R_r^2 limited to eta_r R_r |F_n|, with a "      \
-    "dashpot while below the limit.")                                                             \
-  X(ADEM_ROLLING_C_CAPPED, "model_c_capped", adem_rolling_model_c_capped_law, 4, "", 0,         \
-    "rolling_friction rolling_damping", "Ai et al. 2011, capped",                                  \
-    "Model C with spring + dashpot limited to eta_r R_r |F_n| (model C's dashpot alone is not "   \
-    "bounded).")                                                                                   \
-  X(ADEM_ROLLING_BROF, "brof", adem_rolling_brof_law, 0, "", 1, "rolling_friction", "I9-I10",      \
-    "Bounded rolling friction: per particle, the torque that stops its spin within the step, "    \
-    "bounded by the sum of e_c |F_n| over its contacts; never reverses the rotation.")             \
-  X(ADEM_ROLLING_BROF_OBJECTIVE, "brof_objective", adem_rolling_brof_objective_law, 0, "", 1,      \
-    "rolling_friction", "I9-I10, objective",                                                       \
-    "BROF whose target spin is the capacity-weighted mean of all its partners' spins (walls' and " \
-    "particles'), not 0 for particle partners: I9-I10 when the partners are at rest; a cluster "  \
-    "turning rigidly with a drum or turntable is not braked.")                                     \
+  X(ADEM_ROLLING_NONE, adem_rolling_none_law, 0, .name = "none", .doc = "No rolling resistance.") \
+  X(ADEM_ROLLING_DTK, adem_rolling_dtk_law, 4, .name = "dtk", .requires = "jkr",                  \
+    .params = "adhesion_hysteresis", .equations = "H18-H22",                                      \
+    .doc = "Adhesive rolling resistance (Dominik-Tielens-Krijt): torque k_r xi, k_r = 4 F_C "     \
+           "(a/a0)^(3/2), |xi| <= xi_crit; under reduced stiffness F_C, a0, xi_crit stay real "   \
+           "(H section 3.2).",                                                                    \
+    .hooks = &adem_rolling_dtk_hooks)                                                             \
+  X(ADEM_ROLLING_A, adem_rolling_model_a_law, 0, .name = "model_a", .params = "rolling_friction", \
+    .equations = "I7-I8",                                                                         \
+    .doc = "Constant directional torque eta_r R_r |F_n| against the relative spin (oscillates "   \
+           "at rest).")                                                                           \
+  X(ADEM_ROLLING_C, adem_rolling_model_c_law, 4, .name = "model_c",                               \
+    .params = "rolling_friction rolling_damping", .equations = "Ai et al. 2011",                  \
+    .history_kind = "model_c",                                                                    \
+    .doc = "Elastic-plastic spring k_r = 2.25 S_n eta_r^2 R_r^2 limited to eta_r R_r |F_n|, with " \
+           "a dashpot while below the limit.",                                                    \
+    .hooks = &adem_rolling_model_c_hooks)                                                         \
+  X(ADEM_ROLLING_C_CAPPED, adem_rolling_model_c_capped_law, 4, .name = "model_c_capped",          \
+    .params = "rolling_friction rolling_damping", .equations = "Ai et al. 2011, capped",          \
+    .history_kind = "model_c",                                                                    \
+    .doc = "Model C with spring + dashpot limited to eta_r R_r |F_n| (model C's dashpot alone is " \
+           "not bounded).",                                                                       \
+    .hooks = &adem_rolling_model_c_hooks)                                                         \
+  X(ADEM_ROLLING_BROF, adem_rolling_brof_law, 0, .name = "brof", .per_particle = true,            \
+    .params = "rolling_friction", .equations = "I9-I10", .absolute_spin = true,                   \
+    .doc = "Bounded rolling friction: per particle, the torque that stops its spin within the "   \
+           "step, bounded by the sum of e_c |F_n| over its contacts; never reverses the "         \
+           "rotation.",                                                                           \
+    .hooks = &adem_rolling_brof_hooks)                                                            \
+  X(ADEM_ROLLING_BROF_OBJECTIVE, adem_rolling_brof_objective_law, 0, .name = "brof_objective",    \
+    .per_particle = true, .params = "rolling_friction", .equations = "I9-I10, objective",         \
+    .doc = "BROF whose target spin is the capacity-weighted mean of all its partners' spins "     \
+           "(walls' and particles'), not 0 for particle partners: I9-I10 when the partners are "  \
+           "at rest; a cluster turning rigidly with a drum or turntable is not braked.",          \
+    .hooks = &adem_rolling_brof_hooks)                                                            \
   ADEM_EXTRA_ROLLING_LAWS(X)
 
 typedef enum adem_normal_model {
-#define ADEM_X(ID, name, kernel, hist, req, pp, params, eq, doc) ID,
+#define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
   ADEM_NORMAL_COUNT
 } adem_normal_model;
 
 typedef enum adem_damping_model {
-#define ADEM_X(ID, name, kernel, hist, req, pp, params, eq, doc) ID,
+#define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
   ADEM_DAMPING_COUNT
 } adem_damping_model;
 
 typedef enum adem_tangential_model {
-#define ADEM_X(ID, name, kernel, hist, req, pp, params, eq, doc) ID,
+#define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
   ADEM_TANGENTIAL_COUNT
 } adem_tangential_model;
 
 typedef enum adem_rolling_model {
-#define ADEM_X(ID, name, kernel, hist, req, pp, params, eq, doc) ID,
+#define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
   ADEM_ROLLING_COUNT
@@ -163,6 +188,9 @@ typedef enum adem_law_slot {
   ADEM_SLOT_COUNT
 } adem_law_slot;
 
+/* A law's cold-path hooks (src/contact/law_hooks.h); opaque here. */
+struct adem_law_hooks;
+
 /* One row, as the registry gives it. */
 typedef struct adem_law {
   adem_law_slot slot;
@@ -174,6 +202,14 @@ typedef struct adem_law {
   const char *params;   /* keys of the parameters it reads, space separated */
   const char *equations;
   const char *doc;
+  bool absolute_spin;   /* rolling: resists a particle's absolute spin against particle partners
+                         * (BROF, I9-I10): brakes a bed turning with a wall and adds angular
+                         * impulse no partner takes back */
+  const char *history_kind; /* what its history holds; laws of a slot with the same kind keep
+                             * it when a stage switches between them (core/history_switch.c):
+                             * tangential "spring_force" or "displacement", rolling "model_c";
+                             * "": cleared on a switch */
+  const struct adem_law_hooks *hooks; /* or NULL: every hook's default */
 } adem_law;
 
 typedef struct adem_law_param {

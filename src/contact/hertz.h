@@ -52,4 +52,9 @@ double adem_hertz_restitution(double beta, int clamp);
  * e, secant method, |e_eff - e| < 1e-9); 0 for e = 1 (laws.c). */
 double adem_damping_beta_clamped(double e);
 
+/* The cold-path hooks of the Hertz normal law (hertz.c) and of the clamped damping (damping.c),
+ * named by their rows (include/adem/laws.h; law_hooks.h). */
+extern const struct adem_law_hooks adem_hertz_hooks;
+extern const struct adem_law_hooks adem_damping_clamped_hooks;
+
 #endif

@@ -106,4 +106,8 @@ ADEM_LAW double adem_jkr_energy(double gamma, double R, double E, double a) {
   return adem_jkr_potential(gamma, R, E, a) - adem_jkr_potential(gamma, R, E, a_form);
 }
 
+/* The cold-path hooks of the simplified JKR law (jkr.c), named by its row (include/adem/laws.h;
+ * law_hooks.h). */
+extern const struct adem_law_hooks adem_jkr_hooks;
+
 #endif

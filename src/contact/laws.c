@@ -7,27 +7,46 @@
 #include "dmath.h"
 #include "hertz.h"
 #include "jkr.h"
+#include "law_hooks.h"
 
+/* A row's descriptive columns are a designated initializer (adem/laws.h); those it leaves out
+ * take the defaults written first here, which the row's own override. */
+#define ROW(SLOT, ID, hist, ...)                                                             \
+  {.slot = SLOT, .id = ID, .history = hist, .requires = "", .params = "", .equations = "",   \
+   .doc = "", .history_kind = "", __VA_ARGS__},
+#if defined(__clang__)
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Winitializer-overrides"
+#elif defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Woverride-init"
+#endif
 static const adem_law normal_laws[] = {
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) {ADEM_SLOT_NORMAL, ID, nm, hist, req, pp, prm, eq, dc},
+#define ADEM_X(ID, kernel, hist, ...) ROW(ADEM_SLOT_NORMAL, ID, hist, __VA_ARGS__)
     ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
 };
 static const adem_law damping_laws[] = {
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) {ADEM_SLOT_DAMPING, ID, nm, hist, req, pp, prm, eq, dc},
+#define ADEM_X(ID, kernel, hist, ...) ROW(ADEM_SLOT_DAMPING, ID, hist, __VA_ARGS__)
     ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
 };
 static const adem_law tangential_laws[] = {
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) {ADEM_SLOT_TANGENTIAL, ID, nm, hist, req, pp, prm, eq, dc},
+#define ADEM_X(ID, kernel, hist, ...) ROW(ADEM_SLOT_TANGENTIAL, ID, hist, __VA_ARGS__)
     ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
 };
 static const adem_law rolling_laws[] = {
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) {ADEM_SLOT_ROLLING, ID, nm, hist, req, pp, prm, eq, dc},
+#define ADEM_X(ID, kernel, hist, ...) ROW(ADEM_SLOT_ROLLING, ID, hist, __VA_ARGS__)
     ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
 };
+#if defined(__clang__)
+#pragma clang diagnostic pop
+#elif defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+#undef ROW
 
 static const adem_law_param params[] = {
 #define ADEM_X(ID, key, unit, def, lo, mix, doc) {ID, key, unit, def, lo, mix, doc},
@@ -37,11 +56,11 @@ static const adem_law_param params[] = {
 
 /* History is kept in four doubles for the tangential and rolling slots (pairs.h), none for the
  * normal slot: a row cannot ask for more. */
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
+#define ADEM_X(ID, kernel, hist, ...) \
   _Static_assert((hist) == 0, "a normal law keeps no history");
 ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
-#define ADEM_X(ID, nm, kernel, hist, req, pp, prm, eq, dc) \
+#define ADEM_X(ID, kernel, hist, ...) \
   _Static_assert((hist) >= 0 && (hist) <= 4, "a law keeps at most 4 doubles of history");
 ADEM_ROLLING_LAWS(ADEM_X)
 ADEM_TANGENTIAL_LAWS(ADEM_X)

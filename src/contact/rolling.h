@@ -112,4 +112,10 @@ ADEM_LAW adem_vec3 adem_rolling_brof(adem_vec3 t_stop, double capacity) {
   return v3_scale(t_stop, capacity / mag);
 }
 
+/* The cold-path hooks of the rolling laws (rolling.c), named by their rows (include/adem/laws.h;
+ * law_hooks.h). */
+extern const struct adem_law_hooks adem_rolling_dtk_hooks;
+extern const struct adem_law_hooks adem_rolling_model_c_hooks;
+extern const struct adem_law_hooks adem_rolling_brof_hooks;
+
 #endif

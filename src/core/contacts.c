@@ -71,7 +71,7 @@ static inline adem_normal_result normal_law(const adem_interaction *it, int norm
   const adem_pair_params *pp = &it->pp;
   adem_normal_result nr;
   switch (normal) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+#define ADEM_X(ID, kernel, hist, ...)                                \
   case ID:                                                       \
     nr = kernel(pp, g, a);                                       \
     break;
@@ -144,7 +144,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   adem_damping_input din = {Sn, St, g->mstar, vn_d, nr.f_elastic, nr.f_critical};
   adem_damping_output dout = {nr.f_elastic, 0.0};
   switch (laws.damping) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+#define ADEM_X(ID, kernel, hist, ...)                                \
   case ID:                                                       \
     kernel(pp, &din, &dout);                                     \
     break;
@@ -163,7 +163,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit, g->mob_t};
   adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (laws.tangential) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc)        \
+#define ADEM_X(ID, kernel, hist, ...)                                       \
   case ID:                                                              \
     kernel(&tin, &h->tangential, &h->tangential_aux, &tout);            \
     break;
@@ -180,7 +180,7 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
   adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
   switch (laws.rolling) {
-#define ADEM_X(ID, name, kernel, hist, req, ppart, params, eq, doc) \
+#define ADEM_X(ID, kernel, hist, ...)                                \
   case ID:                                                       \
     kernel(&in, &h->rolling, &h->rolling_aux, &ro);                               \
     break;

@@ -1,28 +1,39 @@
 /* Contact histories across a change of laws (history_switch.h; docs/models.md, "Laws switched
  * under live contacts"). */
 #include <stdlib.h>
+#include <string.h>
 
 #include "adem/laws.h"
 #include "history_switch.h"
 #include "materials.h"
 
+/* What a law's history holds (its row's .history_kind; "" for none known). */
+static const char *kind(adem_law_slot slot, int law) {
+  const adem_law *row = adem_law_get(slot, law);
+  return row ? row->history_kind : "";
+}
+
 /* The tangential spring's energy as its law stores it (the same expressions as the laws':
- * tangential.h), with S_t the stiffness the history was stored with; 0 for a law it does not
- * know. */
+ * tangential.h), with S_t the stiffness the history was stored with: the spring force F_s
+ * (incremental) or the displacement xi (total); 0 for a history it does not know. */
 static double tangential_energy(const adem_contact_history *h, int law) {
   double S = h->tangential_aux;
   if (!(S > 0.0)) return 0.0;
-  if (law == ADEM_TANGENTIAL_INCREMENTAL) return 0.5 * v3_norm2(h->tangential) / S;
-  if (law == ADEM_TANGENTIAL_TOTAL) return 0.5 * S * v3_norm2(h->tangential);
+  const char *k = kind(ADEM_SLOT_TANGENTIAL, law);
+  if (!strcmp(k, "spring_force")) return 0.5 * v3_norm2(h->tangential) / S;
+  if (!strcmp(k, "displacement")) return 0.5 * S * v3_norm2(h->tangential);
   return 0.0;
 }
 
-/* Rolling laws whose histories are the same quantity: model C and its capped form keep the
- * spring torque with the same stiffness and limit. */
+/* Rolling laws whose histories are the same quantity: a kind in common (model C and its capped
+ * form keep the spring torque with the same stiffness and limit). */
 static bool same_rolling_history(int a, int b) {
-  bool ca = a == ADEM_ROLLING_C || a == ADEM_ROLLING_C_CAPPED;
-  bool cb = b == ADEM_ROLLING_C || b == ADEM_ROLLING_C_CAPPED;
-  return a == b || (ca && cb);
+  const char *ka = kind(ADEM_SLOT_ROLLING, a), *kb = kind(ADEM_SLOT_ROLLING, b);
+  return a == b || (ka[0] && !strcmp(ka, kb));
+}
+
+static bool tangential_known(const char *k) {
+  return !strcmp(k, "spring_force") || !strcmp(k, "displacement");
 }
 
 double adem_history_switch(adem_contact_history *h, int tangential_old, int tangential_new,
@@ -35,13 +46,12 @@ double adem_history_switch(adem_contact_history *h, int tangential_old, int tang
   if (tangential_old != tangential_new) {
     /* incremental: F_s = -S_t xi, with the S_t it was stored with (H14); exact both ways */
     double S = h->tangential_aux;
-    bool known = (tangential_old == ADEM_TANGENTIAL_INCREMENTAL ||
-                  tangential_old == ADEM_TANGENTIAL_TOTAL) &&
-                 (tangential_new == ADEM_TANGENTIAL_INCREMENTAL ||
-                  tangential_new == ADEM_TANGENTIAL_TOTAL);
-    if (known && S > 0.0) {
-      h->tangential = tangential_new == ADEM_TANGENTIAL_TOTAL ? v3_scale(h->tangential, -1.0 / S)
-                                                              : v3_scale(h->tangential, -S);
+    const char *ko = kind(ADEM_SLOT_TANGENTIAL, tangential_old);
+    const char *kn = kind(ADEM_SLOT_TANGENTIAL, tangential_new);
+    if (tangential_known(ko) && tangential_known(kn) && S > 0.0) {
+      if (strcmp(ko, kn)) /* xi = -F_s / S_t, F_s = -S_t xi */
+        h->tangential = !strcmp(kn, "displacement") ? v3_scale(h->tangential, -1.0 / S)
+                                                    : v3_scale(h->tangential, -S);
     } else if (v3_norm2(h->tangential) > 0.0 || e_t > 0.0) {
       h->tangential = v3_zero();
       h->tangential_aux = 0.0;

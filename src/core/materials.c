@@ -27,10 +27,11 @@ adem_interaction_def adem_default_interaction_def(void) {
   d.material_a = d.material_b = -1;
   d.restitution = -1.0;
   d.friction = -1.0;
-  d.normal = ADEM_NORMAL_HERTZ;
-  d.damping = ADEM_DAMPING_VISCOELASTIC;
-  d.tangential = ADEM_TANGENTIAL_INCREMENTAL;
-  d.rolling = ADEM_ROLLING_NONE;
+  /* each slot's first row is its default law (adem/laws.h) */
+  d.normal = (adem_normal_model)0;
+  d.damping = (adem_damping_model)0;
+  d.tangential = (adem_tangential_model)0;
+  d.rolling = (adem_rolling_model)0;
   for (int k = 0; k < ADEM_PARAM_COUNT; ++k) d.param[k] = NAN;
   d.dtk_rolling_modification = 1;
   return d;
@@ -47,10 +48,6 @@ static double shear_compliance(const adem_material *m, bool modified) {
   if (m->def.rigid) return 0.0;
   double G = modified ? m->shear_mod : m->def.young / (2.0 * (1.0 + m->def.poisson));
   return (2.0 - m->def.poisson) / G;
-}
-
-static double mix(adem_law_mixing rule, double a, double b) {
-  return rule == ADEM_MIX_GEOMETRIC ? sqrt(a * b) : 0.5 * (a + b);
 }
 
 /* The pair's values from its two materials (the mixing rules: the mean of the two unless a
@@ -72,29 +69,32 @@ static adem_interaction derive_pair(const adem_material *a, const adem_material 
   for (int k = 0; k < ADEM_PARAM_COUNT; ++k) {
     pp->param_a[k] = a->def.param[k];
     pp->param_b[k] = b->def.param[k];
-    pp->param[k] = mix(adem_law_param_get((adem_law_param_id)k)->mixing, pp->param_a[k], pp->param_b[k]);
+    pp->param[k] = adem_law_param_mix((adem_law_param_id)k, pp->param_a[k], pp->param_b[k]);
   }
-  it.normal = ADEM_NORMAL_HERTZ;
-  it.damping = ADEM_DAMPING_VISCOELASTIC;
-  it.tangential = ADEM_TANGENTIAL_INCREMENTAL;
-  it.rolling = ADEM_ROLLING_NONE;
+  adem_interaction_def d = adem_default_interaction_def();
+  it.normal = d.normal;
+  it.damping = d.damping;
+  it.tangential = d.tangential;
+  it.rolling = d.rolling;
   pp->dtk_rolling_modification = true;
   return it;
 }
 
-/* What follows from the pair's values once the entries have replaced some: beta (H12) and the
- * surface energy of the real and the modified material. */
+/* What follows from the pair's values once the entries have replaced some: beta (H12), the
+ * surface energy of the real and the modified material, and what its laws derive (their hooks:
+ * the clamped damping's beta). */
 static void finish_pair(adem_interaction *it) {
   adem_pair_params *pp = &it->pp;
   pp->beta = adem_damping_beta(pp->restitution);
-  pp->beta_clamped = it->damping == ADEM_DAMPING_CLAMPED ? adem_damping_beta_clamped(pp->restitution)
-                                                         : pp->beta;
+  pp->beta_clamped = pp->beta; /* unless the damping law refits it */
   /* Surface energy of a dissimilar pair: the geometric mean (Berthelot's rule). H24 applies to
    * the pair's effective values, gamma_mod = gamma (E_mod/E)^(2/5), so the separation energy is
    * kept whatever the stiffness factors of the two materials (spheres at f on a rigid wall give
    * E_mod/E = f, hence gamma f^(2/5)). */
   pp->gamma_real = pp->param[ADEM_PARAM_SURFACE_ENERGY];
   pp->gamma = isfinite(pp->E_real) ? pp->gamma_real * adem_dmath_pow(pp->E / pp->E_real, 0.4) : pp->gamma_real;
+  adem_laws_derive(adem_interaction_laws(it), pp);
+  it->rolling_inertia = adem_laws_need_rolling_inertia(adem_interaction_laws(it), pp);
 }
 
 /* Whether the laws of an entry exist and fit together; NULL if so, else why not. */
@@ -121,27 +121,18 @@ static const char *laws_conflict(const adem_interaction_def *d, char *buf, size_
   return NULL;
 }
 
-/* Whether a pair's laws have the surface energy they need; NULL if so, else why not. A `jkr` pair
- * whose materials lack one (the pair's is their geometric mean, so one side without makes it 0)
- * and whose interaction sets none is refused: typically a wall material left without it. An
- * interaction's own surface energy is the pair's, 0 included (simplified JKR without adhesion is
- * Hertz). DTK's stiffness and limit come from F_C and a0 (H18-H22): it needs gamma > 0. */
-static const char *surface_energy_conflict(const adem_materials *mt, const adem_interaction *it,
-                                           const adem_interaction_def *d, char *buf, size_t n) {
-  int k = ADEM_PARAM_SURFACE_ENERGY;
-  if (it->pp.gamma_real > 0.0) return NULL;
-  if (it->rolling == ADEM_ROLLING_DTK) {
-    snprintf(buf, n, "`dtk` rolling needs a surface energy > 0 (its stiffness and limit come from "
-             "F_C and a0), but the pair's is 0");
-    return buf;
-  }
-  if (it->normal != ADEM_NORMAL_JKR || it->set_param[k]) return NULL;
+/* Whether a pair's laws can run with its values (their check hooks: `jkr` needs a surface energy
+ * on both materials unless the interaction gives one, DTK a surface energy > 0); NULL if so,
+ * else why not. */
+static const char *laws_check(const adem_materials *mt, const adem_interaction_def *d, char *buf,
+                              size_t n) {
   const adem_material *ma = &mt->m[d->material_a], *mb = &mt->m[d->material_b];
-  const char *none = !(ma->def.param[k] > 0.0) ? ma->def.name : mb->def.name;
-  snprintf(buf, n, "`jkr` needs a surface energy, but '%s' has surface_energy 0 (the pair's is "
-           "the geometric mean of the two materials'); give both materials, or the interaction, a "
-           "`surface_energy` > 0, or use `normal: hertz`", none);
-  return buf;
+  adem_law_check c = {ma->def.param, mb->def.param, d->param, {ma->def.name, mb->def.name},
+                      {NULL, NULL}, NULL};
+  adem_law_set laws = {(int)d->normal, (int)d->damping, (int)d->tangential, (int)d->rolling};
+  adem_law_slot slot;
+  int side;
+  return adem_laws_check(laws, &c, &slot, &side, buf, n);
 }
 
 adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
@@ -191,11 +182,10 @@ adem_status adem_materials_derive(adem_materials *mt, adem_error *err) {
     }
   }
   for (size_t k = 0; k < (size_t)nm * nm; ++k) finish_pair(&mt->pairs[k]);
-  for (int k = 0; k < mt->ndefs; ++k) { /* the pair's surface energy, whoever gave it */
+  for (int k = 0; k < mt->ndefs; ++k) { /* what its laws need of the pair's values */
     const adem_interaction_def *d = &mt->defs[k];
-    char why[320];
-    if (surface_energy_conflict(mt, &mt->pairs[(size_t)d->material_a * nm + d->material_b], d, why,
-                                sizeof why))
+    char why[512];
+    if (laws_check(mt, d, why, sizeof why))
       return adem_error_set(err, ADEM_ERR_INPUT, "interaction of materials '%s' and '%s': %s",
                             mt->m[d->material_a].def.name, mt->m[d->material_b].def.name, why);
   }
@@ -315,39 +305,6 @@ int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_de
   memcpy(&d[mt->ndefs], def,
          offsetof(adem_interaction_def, dtk_rolling_modification) + sizeof def->dtk_rolling_modification);
   return mt->ndefs++;
-}
-
-double adem_hertz_collision_time(double mstar, double R, double E, double v) {
-  return 2.86827 * adem_dmath_pow(mstar * mstar / (R * E * E * v), 0.2);
-}
-
-adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
-                                              double gamma_mod, double R, double mstar,
-                                              double v_ref) {
-  adem_jkr_pair_summary s;
-  s.R = R;
-  s.mstar = mstar;
-  s.E = E;
-  s.E_mod = E_mod;
-  s.gamma = gamma;
-  s.gamma_mod = gamma_mod;
-  s.a0 = adem_jkr_a0(gamma, R, E); /* H7 */
-  s.a0_mod = adem_jkr_a0(gamma_mod, R, E_mod);
-  s.delta_eq = s.a0 * s.a0 / (3.0 * R);
-  s.delta_eq_mod = s.a0_mod * s.a0_mod / (3.0 * R);
-  s.f_c = adem_jkr_critical_force(gamma, R);
-  s.f_c_mod = adem_jkr_critical_force(gamma_mod, R);
-  s.pull_off = 8.0 / 9.0 * s.f_c;
-  s.pull_off_mod = 8.0 / 9.0 * s.f_c_mod;
-  const double D = ADEM_TABOR_DMIN;
-  s.tabor = adem_dmath_cbrt(4.0 * R * gamma * gamma / (E * E * D * D * D)); /* H1 */
-  s.t_c = adem_hertz_collision_time(mstar, R, E, v_ref);
-  s.t_c_mod = adem_hertz_collision_time(mstar, R, E_mod, v_ref);
-  s.dt = s.t_c / 50.0; /* about 50 steps a collision (Silbert et al. 2001, used by H) */
-  s.dt_mod = s.t_c_mod / 50.0;
-  s.speedup = adem_dmath_pow(E / E_mod, 0.4);
-  s.f_ext_max = ADEM_PULLOFF_SAFETY * s.pull_off_mod;
-  return s;
 }
 
 void adem_materials_free(adem_materials *mt) {

@@ -8,6 +8,7 @@
 
 #include "adem/adem.h"
 #include "adem/laws.h"
+#include "law_hooks.h"
 #include "laws_kernels.h"
 
 /* A material after derivation: the real values plus those the contact laws use. */
@@ -25,6 +26,7 @@ typedef struct adem_interaction {
   adem_tangential_model tangential;
   adem_rolling_model rolling;
   adem_pair_params pp;
+  bool rolling_inertia; /* its contacts need the rolling inertia I_r (the rolling law's hook) */
   bool set_restitution, set_friction; /* given by an interaction entry */
   bool set_param[ADEM_PARAM_COUNT];
 } adem_interaction;
@@ -51,6 +53,11 @@ int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_de
 /* Derives the modified moduli and the pair table. */
 adem_status adem_materials_derive(adem_materials *mt, adem_error *err);
 void adem_materials_free(adem_materials *mt);
+
+/* The pair's laws, one per slot, for the hooks (law_hooks.h). */
+static inline adem_law_set adem_interaction_laws(const adem_interaction *it) {
+  return (adem_law_set){(int)it->normal, (int)it->damping, (int)it->tangential, (int)it->rolling};
+}
 
 static inline const adem_interaction *adem_materials_pair(const adem_materials *mt, int a, int b) {
   return &mt->pairs[(size_t)a * (size_t)mt->n + (size_t)b];

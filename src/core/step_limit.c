@@ -22,38 +22,17 @@ double adem_step_limit_pair(const adem_interaction *it, double t_c, double m_i, 
   double w_t2 = 3.5 * 8.0 * pp->G * a / mstar;
   /* a rolling spring on the relative spin: couple k_theta theta, theta = (omega_i - omega_j) t */
   double inv_I = 1.0 / (0.4 * m_i * r_i * r_i) + (wall ? 0.0 : 1.0 / (0.4 * m_j * r_j * r_j));
-  double k_theta = 0.0, zeta_r = 0.0;
   const double *pa = pp->param_a, *pb = pp->param_b;
   int kf = ADEM_PARAM_ROLLING_FRICTION;
   double eta = wall ? pa[kf] : 0.5 * (pa[kf] + pb[kf]);
-  switch (it->rolling) {
-    case ADEM_ROLLING_C:
-    case ADEM_ROLLING_C_CAPPED: {
-      k_theta = 2.25 * Sn * eta * eta * R * R; /* Ai et al. 2011 */
-      /* its dashpot delta_r 2 sqrt(I_r k_r), I_r about the contact points, on the predicted spin */
-      double Ic_i = 1.4 * m_i * r_i * r_i, Ic_j = wall ? INFINITY : 1.4 * m_j * r_j * r_j;
-      double I_r = 1.0 / (1.0 / Ic_i + 1.0 / Ic_j);
-      zeta_r = pp->param[ADEM_PARAM_ROLLING_DAMPING] * sqrt(I_r * inv_I);
-      break;
-    }
-    case ADEM_ROLLING_DTK: {
-      /* k_r = 4 F_C (a/a0)^(3/2) (H20) at the collision's peak, at least a = a0, with F_C real
-       * under reduced stiffness (H section 3.2): the mode that stays fast when E is reduced */
-      bool keep_real = pp->dtk_rolling_modification;
-      double f_c = adem_jkr_critical_force(keep_real ? pp->gamma_real : pp->gamma, R);
-      double a0 = adem_jkr_a0(pp->gamma, R, pp->E);
-      double a_jkr = pp->gamma > 0.0 ? adem_jkr_contact_radius(pp->gamma, R, pp->E, a * a / R) : a;
-      double ratio = a0 > 0.0 ? fmax(1.0, a_jkr / a0) : 1.0;
-      k_theta = 4.0 * f_c * ratio * sqrt(ratio) * R; /* torque k_r xi, xi = R theta */
-      break;
-    }
-    default:
-      break;
-  }
+  /* the rolling law's mode (its hook: model C's spring and dashpot, DTK's H20 spring) */
+  adem_law_mode_input mode = {pp, Sn, a, R, eta, m_i, r_i, m_j, r_j, inv_I};
+  double k_theta, zeta_r;
+  adem_laws_rolling_mode(adem_interaction_laws(it), &mode, &k_theta, &zeta_r);
   double w_r2 = k_theta * inv_I;
   /* the normal dashpot on the predicted velocity (explicit), damping ratio sqrt(5/6) |beta| (H11;
-   * the clamped law's refitted beta) */
-  double beta = it->damping == ADEM_DAMPING_CLAMPED ? pp->beta_clamped : pp->beta;
+   * the damping law's own: the clamped law's refitted beta) */
+  double beta = adem_laws_normal_beta(adem_interaction_laws(it), pp);
   double dt = adem_step_limit_explicit(sqrt(5.0 / 6.0) * fabs(beta)) / w_n;
   /* the tangential and rolling springs act on the same two bodies: the largest eigenvalue of the
    * pair is at most the trace of M^-1 K, w_t^2 + w_r^2; the tangential dashpot is implicit in

@@ -197,6 +197,26 @@ void adem_insert_fill_result_free(adem_fill_result *res);
  * triangle of an active mesh group. */
 bool adem_insert_walls_clear(const adem_world *w, adem_vec3 x, double radius);
 
+/* ---- placing, shared by fills and pours (insert_fill.c) ---- */
+
+/* Places the radii (largest first) in the region; old spheres near it are obstacles. The placed
+ * spheres are appended to pos/rad after the old ones copied there. Returns ADEM_ERR_NOMEM or OK;
+ * *placed and *attempts say how it went. keep[k] (if not NULL) marks the radii placed. */
+typedef struct adem_placer {
+  const adem_region *region;
+  const adem_world *walls;
+  uint64_t max_attempts; /* in all (per_particle false) or per particle */
+  bool per_particle;
+} adem_placer;
+adem_status adem_insert_place(const adem_placer *pl, adem_rng *rng, const double *radii,
+                              size_t count, const adem_vec3 *old_pos, const double *old_rad, size_t nold,
+                              adem_vec3 **pos_out, double **rad_out, bool *keep, size_t *placed,
+                              uint64_t *attempts_out);
+/* Appends r to a growing array. */
+adem_status adem_insert_push_radius(double **a, size_t *n, size_t *cap, double r);
+/* qsort's comparison for radii largest first. */
+int adem_insert_compare_descending(const void *a, const void *b);
+
 /* ---- pours ---- */
 
 /* A pour: particles inserted into a region at a rate during a time window, in batches every

@@ -2,38 +2,12 @@
  * every pair with one of a process's own particles is on that process, between the same
  * inputs bit for bit (ghosts are copies of their owners' state), with the same history; a
  * particle sums its contacts by partner id; so its force is the serial one. */
-#include "split.h"
+#include "split_parts.h"
 
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "adem/vec3.h"
-
-struct adem_split {
-  MPI_Comm comm;
-  int rank, size;
-  int axis;    /* slabs along x, y or z */
-  bool wraps;  /* that axis is periodic: slab 0 and the last are neighbours across its faces */
-  double plo, plen; /* the periodic box along it */
-  double *cut; /* size - 1 cuts, ascending: slab r is [cut[r-1], cut[r]) */
-  double rmax; /* the whole system's largest radius */
-  adem_world_split hooks;
-  /* ghost refresh, each by id within each rank: the own particles whose copies rank q holds
-   * (send_idx[sdispl[q] ..]), and the copies here of rank r's (recv_idx[rdispl[r] ..]) */
-  int *scount, *sdispl, *rcount, *rdispl;
-  uint32_t *send_idx, *recv_idx;
-  unsigned char *sbuf, *rbuf;
-  size_t sbuf_cap, rbuf_cap;
-  int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
-  adem_split_stats stats; /* what the exchanges cost (split.h) */
-  double sent;            /* bytes this process has sent to others, every exchange */
-};
-
-/* Bytes sent to the other processes by a collective in which this process sends `bytes` to
- * each of `to` others. */
-static void tally(adem_split *s, double bytes) { s->sent += bytes; }
 
 bool adem_split_break(const char *what) {
   const char *b = getenv("ADEM_SPLIT_BREAK");
@@ -41,59 +15,6 @@ bool adem_split_break(const char *what) {
 }
 
 static bool split_broken(const char *what) { return adem_split_break(what); }
-
-/* ---------------------------------------------------------------- byte buffers */
-
-typedef struct bytes {
-  unsigned char *d;
-  size_t n, cap;
-} bytes;
-
-static bool bytes_put(bytes *b, const void *x, size_t n) {
-  if (b->n + n > b->cap) {
-    size_t c = 2 * (b->n + n) + 256;
-    unsigned char *q = realloc(b->d, c);
-    if (!q) return false;
-    b->d = q;
-    b->cap = c;
-  }
-  memcpy(b->d + b->n, x, n);
-  b->n += n;
-  return true;
-}
-
-static void bytes_free_all(bytes *b, int n) {
-  for (int k = 0; b && k < n; ++k) free(b[k].d);
-  free(b);
-}
-
-static int mem_sink(void *ctx, const void *data, size_t n) { return bytes_put(ctx, data, n); }
-
-/* ---------------------------------------------------------------- records */
-
-/* A particle: every field of ADEM_PARTICLE_FIELDS. */
-static size_t particle_bytes(void) { return adem_soa_item_bytes(adem_particles_layout()); }
-
-static bool put_particle(bytes *b, const adem_particles *p, size_t i) {
-  adem_soa_layout L = adem_particles_layout();
-  bool ok = true;
-  for (size_t k = 0; k < L.count; ++k) {
-    size_t e = L.fields[k].elem;
-    const char *a = *(char *const *)((const char *)p + L.fields[k].offset);
-    ok = ok && bytes_put(b, a + i * e, e);
-  }
-  return ok;
-}
-
-static void get_particle(adem_particles *p, size_t i, const unsigned char *src) {
-  adem_soa_layout L = adem_particles_layout();
-  for (size_t k = 0; k < L.count; ++k) {
-    size_t e = L.fields[k].elem;
-    char *a = *(char **)((char *)p + L.fields[k].offset);
-    memcpy(a + i * e, src, e);
-    src += e;
-  }
-}
 
 /* What a ghost takes from its owner every step. */
 typedef struct ghost_state {
@@ -116,77 +37,7 @@ static int compare_history(const void *x, const void *y) {
   return 0;
 }
 
-/* A pair for the assembly: its keys as ids (or id and plane), then every field of
- * ADEM_PAIR_FIELDS but the keys, then (bal: while the balance is on) its balance record. */
-static size_t pair_bytes(bool bal) {
-  size_t n = 2 * sizeof(uint64_t);
-#define ADEM_X(type, name, role, doc) if (role != ADEM_PAIR_KEY) n += sizeof(type);
-  ADEM_PAIR_FIELDS(ADEM_X)
-#undef ADEM_X
-  return n + (bal ? sizeof(adem_pair_balance) : 0);
-}
-
-static bool put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb,
-                     bool bal) {
-  bool ok = bytes_put(b, &ka, sizeof ka) && bytes_put(b, &kb, sizeof kb);
-#define ADEM_X(type, name, role, doc) \
-  if (role != ADEM_PAIR_KEY) ok = ok && bytes_put(b, &l->name[k], sizeof(type));
-  ADEM_PAIR_FIELDS(ADEM_X)
-#undef ADEM_X
-  if (bal) { /* records not made yet (no force pass since the balance came on) are zero */
-    adem_pair_balance zero;
-    memset(&zero, 0, sizeof zero);
-    ok = ok && bytes_put(b, l->bal ? &l->bal[k] : &zero, sizeof zero);
-  }
-  return ok;
-}
-
-static void get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
-                     uint64_t *kb, bool bal) {
-  memcpy(ka, src, sizeof *ka);
-  memcpy(kb, src + sizeof *ka, sizeof *kb);
-  src += 2 * sizeof(uint64_t);
-#define ADEM_X(type, name, role, doc)                  \
-  if (role != ADEM_PAIR_KEY) {                         \
-    memcpy(&l->name[k], src, sizeof(type));            \
-    src += sizeof(type);                               \
-  }
-  ADEM_PAIR_FIELDS(ADEM_X)
-#undef ADEM_X
-  if (bal && l->bal) memcpy(&l->bal[k], src, sizeof l->bal[k]);
-}
-
 /* ---------------------------------------------------------------- slabs */
-
-static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
-
-/* A centre's coordinate along the slabs' axis; along a periodic axis wrapped into the box as the
- * neighbour build wraps it (periodic.h), so that the slab a build sends a particle to is the
- * slab of its position after the build (pos_at_build). */
-static inline double coord(const adem_split *s, adem_vec3 v) {
-  double x = along(v, s->axis);
-  int32_t image = 0;
-  return s->wraps ? adem_periodic_wrap_component(x, s->plo, s->plen, &image) : x;
-}
-
-/* The slab holding coordinate x: the number of cuts at or below it. */
-static int slab_in(const double *cut, int size, double x) {
-  int lo = 0, hi = size - 1;
-  while (lo < hi) {
-    int mid = (lo + hi) / 2;
-    if (cut[mid] <= x) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo;
-}
-
-static int slab_of(const adem_split *s, double x) { return slab_in(s->cut, s->size, x); }
-
-/* Owner of local particle i: by its centre at the last build, so that owners change at builds
- * only, the same on every process. */
-static inline int owner(const adem_split *s, const adem_particles *p, size_t i) {
-  return slab_of(s, coord(s, p->pos_at_build[i]));
-}
 
 /* Reach of a pair: the cut-off of the largest two spheres and the skin the build takes (as
  * adem_neighbors_build: skin_fraction of the largest diameter), widened a little: a copy too
@@ -236,7 +87,7 @@ static void quantile_cuts(double *x, size_t n, int size, double *cut) {
 
 /* ---------------------------------------------------------------- exchanges */
 
-static adem_status too_big(adem_error *err) {
+adem_status adem_split_too_big(adem_error *err) {
   return adem_error_set(err, ADEM_ERR_NOMEM, "an MPI message would exceed 2 GiB");
 }
 
@@ -247,15 +98,15 @@ static adem_status exchange(adem_split *s, const bytes *out, bytes *in, adem_err
   int *sc = s->bytes_a, *sd = s->bytes_b, *rc = s->bytes_c, *rd = s->bytes_d;
   size_t total = 0;
   for (int q = 0; q < n; ++q) {
-    if (out[q].n > INT_MAX || total > (size_t)INT_MAX) return too_big(err);
+    if (out[q].n > INT_MAX || total > (size_t)INT_MAX) return adem_split_too_big(err);
     sc[q] = (int)out[q].n;
     total += out[q].n;
   }
-  if (total > INT_MAX) return too_big(err);
+  if (total > INT_MAX) return adem_split_too_big(err);
   bytes all = {0};
   for (int q = 0; q < n; ++q) {
     sd[q] = (int)all.n;
-    if (out[q].n && !bytes_put(&all, out[q].d, out[q].n)) {
+    if (out[q].n && !adem_split_bytes_put(&all, out[q].d, out[q].n)) {
       free(all.d);
       return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     }
@@ -393,7 +244,7 @@ static adem_status refresh_hook_work(adem_split *s, adem_world *w, adem_error *e
   size_t rec = sizeof(ghost_state);
   size_t ns = (size_t)(s->sdispl[s->size - 1] + s->scount[s->size - 1]);
   size_t nr = (size_t)(s->rdispl[s->size - 1] + s->rcount[s->size - 1]);
-  if (ns * rec > INT_MAX || nr * rec > INT_MAX) return too_big(err);
+  if (ns * rec > INT_MAX || nr * rec > INT_MAX) return adem_split_too_big(err);
   if (ns * rec + 1 > s->sbuf_cap) {
     free(s->sbuf);
     s->sbuf_cap = ns * rec + 1;
@@ -436,27 +287,6 @@ static adem_status refresh_hook_work(adem_split *s, adem_world *w, adem_error *e
     p->held[i] = g.held;
   }
   return ADEM_OK;
-}
-
-/* Index of id in ids sorted ascending (by[] the indices in that order), or SIZE_MAX. */
-typedef struct id_index {
-  uint64_t id;
-  uint32_t i;
-} id_index;
-
-static int compare_id_index(const void *x, const void *y) {
-  const id_index *a = x, *b = y;
-  return a->id < b->id ? -1 : a->id > b->id;
-}
-
-static size_t find_id(const id_index *m, size_t n, uint64_t id) {
-  size_t lo = 0, hi = n;
-  while (lo < hi) {
-    size_t mid = lo + (hi - lo) / 2;
-    if (m[mid].id < id) lo = mid + 1;
-    else hi = mid;
-  }
-  return lo < n && m[lo].id == id ? m[lo].i : SIZE_MAX;
 }
 
 /* Keeps the mesh slots of this process's own particles (a ghost's mesh contacts are its
@@ -590,8 +420,8 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     r.ka = p->id[a];
     r.kb = p->id[b];
     r.h = w->pp.hist[k];
-    if (da >= 0 && !bytes_put(&hout[da], &r, sizeof r)) st = ADEM_ERR_NOMEM;
-    if (db >= 0 && db != da && !bytes_put(&hout[db], &r, sizeof r)) st = ADEM_ERR_NOMEM;
+    if (da >= 0 && !adem_split_bytes_put(&hout[da], &r, sizeof r)) st = ADEM_ERR_NOMEM;
+    if (db >= 0 && db != da && !adem_split_bytes_put(&hout[db], &r, sizeof r)) st = ADEM_ERR_NOMEM;
   }
   for (size_t k = 0; k < w->pw.n && !st; ++k) {
     size_t a = w->pw.a[k];
@@ -599,7 +429,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     history_rec r;
     memset(&r, 0, sizeof r);
     r = (history_rec){p->id[a], w->pw.b[k], 1, w->pw.hist[k]};
-    if (!bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
+    if (!adem_split_bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
       st = ADEM_ERR_NOMEM;
   }
   const adem_mesh_pairs *pm = &w->pm;
@@ -611,7 +441,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     history_rec r;
     memset(&r, 0, sizeof r);
     r = (history_rec){p->id[a], pm->key[k], 2, pm->l.hist[k]};
-    if (!bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
+    if (!adem_split_bytes_put(&hout[slab_in(next, size, coord(s, p->pos[a]))], &r, sizeof r))
       st = ADEM_ERR_NOMEM;
   }
   for (size_t i = 0; i < p->n && !st; ++i) {
@@ -619,7 +449,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     double x = coord(s, p->pos[i]);
     int r = slab_in(next, size, x);
     for (int q = 0; q < size && !st; ++q)
-      if ((q == r || near_in(s, next, q, x, h)) && !put_particle(&pout[q], p, i))
+      if ((q == r || near_in(s, next, q, x, h)) && !adem_split_put_particle(&pout[q], p, i))
         st = ADEM_ERR_NOMEM;
   }
   if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
@@ -631,17 +461,17 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
   memcpy(s->cut, next, (size_t)(size - 1) * sizeof *next); /* owners by the new cuts from here */
 
   /* the particles here now: own and ghosts, in the order they came */
-  size_t rec = particle_bytes(), n = pin.n / rec;
+  size_t rec = adem_split_particle_bytes(), n = pin.n / rec;
   if (adem_particles_reserve(p, n) || !(map = malloc((n + 1) * sizeof *map))) {
     st = ADEM_ERR_NOMEM;
     goto done;
   }
   p->n = n;
   for (size_t i = 0; i < n; ++i) {
-    get_particle(p, i, pin.d + i * rec);
+    adem_split_get_particle(p, i, pin.d + i * rec);
     map[i] = (id_index){p->id[i], (uint32_t)i};
   }
-  qsort(map, n, sizeof *map, compare_id_index);
+  qsort(map, n, sizeof *map, adem_split_compare_id_index);
 
   /* the histories as touching pairs, for the build to carry over */
   size_t nh = hin.n / sizeof(history_rec), m[3] = {0, 0, 0};
@@ -659,8 +489,8 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     m[0] = m[1] = m[2] = 0;
     for (size_t k = 0; k < nh; ++k) {
       if (k > 0 && compare_history(&hr[k - 1], &hr[k]) == 0) continue; /* held on both sides */
-      size_t a = find_id(map, n, hr[k].ka);
-      size_t b = hr[k].wall ? (size_t)hr[k].kb : find_id(map, n, hr[k].kb);
+      size_t a = adem_split_find_id(map, n, hr[k].ka);
+      size_t b = hr[k].wall ? (size_t)hr[k].kb : adem_split_find_id(map, n, hr[k].kb);
       if (a == SIZE_MAX || b == SIZE_MAX) continue; /* a partner beyond reach: no candidate */
       int l = (int)hr[k].wall;
       adem_pair_list *L = lists[l];
@@ -691,199 +521,13 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
 done:
   if (st == ADEM_ERR_NOMEM) adem_error_set(err, st, "out of memory moving the particles");
 out:
-  bytes_free_all(pout, size);
-  bytes_free_all(hout, size);
+  adem_split_bytes_free_all(pout, size);
+  adem_split_bytes_free_all(hout, size);
   free(pin.d);
   free(hin.d);
   free(map);
   free(hr);
   free(next);
-  return st;
-}
-
-/* Gathers the bytes of every rank to every rank, in rank order (into *in). Collective. */
-static adem_status allgather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
-  int n = mine->n > INT_MAX ? -1 : (int)mine->n;
-  MPI_Allgather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, s->comm);
-  size_t total = 0;
-  int ok = 1;
-  for (int q = 0; q < s->size; ++q) {
-    if (s->bytes_a[q] < 0) ok = 0;
-    s->bytes_b[q] = (int)(total <= INT_MAX ? total : 0);
-    total += s->bytes_a[q] > 0 ? (size_t)s->bytes_a[q] : 0;
-  }
-  if (total > INT_MAX) ok = 0;
-  in->d = ok ? malloc(total + 1) : NULL;
-  in->n = in->cap = total;
-  int mine_ok = in->d != NULL, all_ok = 0;
-  MPI_Allreduce(&mine_ok, &all_ok, 1, MPI_INT, MPI_LAND, s->comm);
-  if (!all_ok) {
-    free(in->d);
-    in->d = NULL;
-    in->n = in->cap = 0;
-    return ok ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles")
-              : too_big(err);
-  }
-  MPI_Allgatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE,
-                 s->comm);
-  tally(s, (double)n * (s->size - 1));
-  return ADEM_OK;
-}
-
-/* A wall contact's share of a plane force: the particle's id and the contact's place in its
- * gather list (the order the serial sum takes them in). */
-typedef struct wall_term {
-  uint64_t id;
-  uint32_t seq, wall;
-  adem_vec3 f;
-} wall_term;
-
-static int compare_wall_term(const void *x, const void *y) {
-  const wall_term *a = x, *b = y;
-  if (a->id != b->id) return a->id < b->id ? -1 : 1;
-  return a->seq < b->seq ? -1 : a->seq > b->seq;
-}
-
-/* The plane forces of the whole system on every process, the serial sum's bits: every process
- * sends every process its own particles' wall contact forces, and each sums all of them in the
- * serial order (particles by id, each one's contacts as its gather list has them). An
- * MPI_Allreduce would add in another order. Collective. */
-static adem_status plane_forces_hook(void *ctx, const adem_world *w, adem_vec3 *out,
-                                     adem_error *err) {
-  adem_split *s = ctx;
-  const adem_particles *p = &w->p;
-  const adem_neighbors *nb = &w->nb;
-  const adem_pair_list *l = &w->pw;
-  bytes mine = {0}, all = {0};
-  adem_status st = ADEM_OK;
-  bool alone = split_broken("plane_forces"); /* the test's control: this part's only */
-  for (size_t i = 0; i < nb->gathered && !st; ++i) {
-    if (owner(s, p, i) != s->rank) continue;
-    for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1] && !st; ++e) {
-      size_t k = nb->pw_entries[e];
-      wall_term t;
-      memset(&t, 0, sizeof t);
-      t.id = p->id[i];
-      t.seq = (uint32_t)(e - nb->pw_start[i]);
-      t.wall = l->b[k];
-      t.f = l->res[k].force_a;
-      if (!bytes_put(&mine, &t, sizeof t)) st = ADEM_ERR_NOMEM;
-    }
-  }
-  if (st) adem_error_set(err, st, "out of memory summing the plane forces");
-  st = adem_split_agree(s, st, err);
-  if (!st && alone) {
-    all = mine;
-    mine = (bytes){0};
-  } else if (!st) {
-    st = allgather(s, &mine, &all, err);
-  }
-  for (int k = 0; k < w->walls.nplanes; ++k) out[k] = v3_zero();
-  if (!st) {
-    size_t m = all.n / sizeof(wall_term);
-    wall_term *t = (wall_term *)(void *)all.d;
-    qsort(t, m, sizeof *t, compare_wall_term);
-    for (size_t k = 0; k < m; ++k)
-      if (t[k].wall < (uint32_t)w->walls.nplanes) out[t[k].wall] = v3_sub(out[t[k].wall], t[k].f);
-  }
-  free(mine.d);
-  free(all.d);
-  return st;
-}
-
-static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err);
-
-/* A touching mesh contact's load on its face (the opposite of the particle's force, and its
- * moment about the face's group's reference point less the rolling couple), by the particle's
- * id and the contact's slot: the order of the serial sum (contacts.c, mesh_pairs). */
-typedef struct face_term {
-  uint64_t id;
-  uint32_t seq, tri;
-  adem_vec3 f, t;
-} face_term;
-
-static int compare_face_term(const void *x, const void *y) {
-  const face_term *a = x, *b = y;
-  if (a->id != b->id) return a->id < b->id ? -1 : 1;
-  return a->seq < b->seq ? -1 : a->seq > b->seq;
-}
-
-/* The face loads of the whole system, the serial sum's bits, into `into` (on rank 0, or on
- * every process): each process computes its own particles' terms as the serial pass does, and
- * the receivers add them all in the serial order. Collective. */
-static adem_status face_loads(adem_split *s, const adem_world *w, adem_walls *into,
-                              bool everywhere, adem_error *err) {
-  const adem_particles *p = &w->p;
-  const adem_mesh_pairs *pm = &w->pm;
-  const adem_pair_list *l = &pm->l;
-  const adem_walls *wl = &w->walls;
-  bytes mine = {0}, all = {0};
-  adem_status st = ADEM_OK;
-  for (size_t i = 0; i < p->n && pm->start && !st; ++i) {
-    if (owner(s, p, i) != s->rank) continue;
-    for (size_t k = pm->start[i]; k < pm->start[i + 1] && l->touching[k] && !st; ++k) {
-      face_term t;
-      memset(&t, 0, sizeof t);
-      size_t tri = pm->owner[k];
-      t.id = p->id[i];
-      t.seq = (uint32_t)(k - pm->start[i]);
-      t.tri = (uint32_t)tri;
-      t.f = v3_neg(l->res[k].force_a);
-      adem_vec3 arm = v3_sub(pm->found[k].point, wl->mesh_ref[wl->mesh.group[tri]]);
-      t.t = v3_sub(v3_cross(arm, t.f), l->res[k].rolling_a);
-      if (!bytes_put(&mine, &t, sizeof t)) st = ADEM_ERR_NOMEM;
-    }
-  }
-  if (st) adem_error_set(err, st, "out of memory summing the face loads");
-  st = adem_split_agree(s, st, err);
-  if (!st) st = everywhere ? allgather(s, &mine, &all, err) : gather(s, &mine, &all, err);
-  if (!st && into) {
-    size_t m = all.n / sizeof(face_term);
-    face_term *t = (face_term *)(void *)all.d;
-    qsort(t, m, sizeof *t, compare_face_term);
-    adem_walls_clear_face_loads(into);
-    for (size_t k = 0; k < m; ++k) adem_walls_add_face_load(into, t[k].tri, t[k].f, t[k].t);
-  }
-  free(mine.d);
-  free(all.d);
-  return st;
-}
-
-/* After a force pass: the face loads the mesh servos move by, the whole system's. */
-static adem_status mesh_loads_hook(void *ctx, adem_world *w, adem_error *err) {
-  adem_split *s = ctx;
-  if (split_broken("face_loads")) return ADEM_OK; /* the control of the test: this part's only */
-  return face_loads(s, w, &w->walls, true, err);
-}
-
-static int compare_id_term(const void *x, const void *y) {
-  const adem_id_term *a = x, *b = y;
-  if (a->id != b->id) return a->id < b->id ? -1 : 1;
-  return a->seq < b->seq ? -1 : a->seq > b->seq;
-}
-
-/* Sums of terms over every process's own particles, in the serial order (id, then seq), on
- * every process. Collective. */
-static adem_status sum_terms_hook(void *ctx, const adem_world *w, const adem_id_term *t,
-                                  size_t n, double *out, int nout, adem_error *err) {
-  adem_split *s = ctx;
-  bytes mine = {0}, all = {0};
-  adem_status st = ADEM_OK;
-  for (size_t k = 0; k < n && !st; ++k)
-    if (owner(s, &w->p, t[k].i) == s->rank && !bytes_put(&mine, &t[k], sizeof t[k]))
-      st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  st = adem_split_agree(s, st, err);
-  if (!st) st = allgather(s, &mine, &all, err);
-  for (int k = 0; k < nout; ++k) out[k] = 0.0;
-  if (!st) {
-    size_t m = all.n / sizeof(adem_id_term);
-    adem_id_term *a = (adem_id_term *)(void *)all.d;
-    qsort(a, m, sizeof *a, compare_id_term);
-    for (size_t k = 0; k < m; ++k)
-      if (a[k].slot < (uint32_t)nout) out[a[k].slot] += a[k].v;
-  }
-  free(mine.d);
-  free(all.d);
   return st;
 }
 
@@ -898,7 +542,7 @@ const char *adem_split_refusal(const adem_world *w) {
 /* A copy of a prepared world, through its checkpoint bytes. */
 static adem_status world_copy(const adem_world *w, adem_world **out, adem_error *err) {
   bytes b = {0};
-  adem_writer wr = adem_writer_make(mem_sink, &b);
+  adem_writer wr = adem_writer_make(adem_split_mem_sink, &b);
   adem_world_save_setup(&wr, w);
   adem_world_save(&wr, w);
   adem_world *c = adem_world_create();
@@ -1039,8 +683,9 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   if (!st && trim(s, w)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st) {
     w->nb.rmax_floor = s->rmax;
-    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook, plane_forces_hook,
-                                 mesh_loads_hook, sum_terms_hook};
+    s->hooks = (adem_world_split){s, refresh_hook, any_hook, build_hook,
+                                  adem_split_plane_forces_hook, adem_split_mesh_loads_hook,
+                                  adem_split_sum_terms_hook};
     w->split = &s->hooks;
     st = make_lists(s, w, err);
   }
@@ -1052,201 +697,6 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   *out = s;
   *local = w;
   return ADEM_OK;
-}
-
-/* Gathers the bytes of every rank to rank 0 (into *in there). Collective. */
-static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_error *err) {
-  if (mine->n > INT_MAX) return too_big(err);
-  int n = (int)mine->n;
-  MPI_Gather(&n, 1, MPI_INT, s->bytes_a, 1, MPI_INT, 0, s->comm);
-  size_t total = 0;
-  if (s->rank == 0)
-    for (int q = 0; q < s->size; ++q) {
-      s->bytes_b[q] = (int)total;
-      total += (size_t)s->bytes_a[q];
-    }
-  int ok = total <= INT_MAX && (in->d = malloc(total + 1)) != NULL;
-  in->n = in->cap = total;
-  MPI_Bcast(&ok, 1, MPI_INT, 0, s->comm);
-  if (!ok) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory gathering the particles");
-  MPI_Gatherv(mine->d ? mine->d : in->d, n, MPI_BYTE, in->d, s->bytes_a, s->bytes_b, MPI_BYTE, 0,
-              s->comm);
-  if (s->rank != 0) tally(s, (double)n);
-  return ADEM_OK;
-}
-
-/* A mesh slot for the assembly: its particle's id, its place in the particle's range, its
- * triangle and key; then the pair record (put_pair). */
-typedef struct mesh_head {
-  uint64_t id;
-  uint32_t seq, owner;
-  uint64_t key;
-} mesh_head;
-
-typedef struct mesh_slot_ref {
-  uint64_t id;
-  uint32_t seq;
-  const unsigned char *at;
-} mesh_slot_ref;
-
-static int compare_mesh_slot(const void *x, const void *y) {
-  const mesh_slot_ref *a = x, *b = y;
-  if (a->id != b->id) return a->id < b->id ? -1 : 1;
-  return a->seq < b->seq ? -1 : a->seq > b->seq;
-}
-
-/* The gathered mesh slots into pm of the whole (its n particles stored by id: map), each
- * particle's range in its order. */
-static adem_status put_mesh_slots(adem_mesh_pairs *pm, const bytes *in, const id_index *map,
-                                  size_t n, bool bal) {
-  size_t rec = sizeof(mesh_head) + pair_bytes(bal), m = in->n / rec;
-  mesh_slot_ref *r = malloc((m + 1) * sizeof *r);
-  if (!r) return ADEM_ERR_NOMEM;
-  for (size_t k = 0; k < m; ++k) {
-    mesh_head h;
-    memcpy(&h, in->d + k * rec, sizeof h);
-    r[k] = (mesh_slot_ref){h.id, h.seq, in->d + k * rec};
-  }
-  qsort(r, m, sizeof *r, compare_mesh_slot);
-  adem_status st = adem_pairs_keep_balance(&pm->l, bal);
-  if (!st) st = adem_pairs_reserve(&pm->l, m);
-  if (!st) st = adem_mesh_pairs_reserve(pm);
-  if (!st) {
-    pm->l.n = m;
-    memset(pm->start, 0, (n + 1) * sizeof *pm->start);
-    for (size_t k = 0; k < m; ++k) {
-      mesh_head h;
-      memcpy(&h, r[k].at, sizeof h);
-      uint64_t ka, kb;
-      get_pair(&pm->l, k, r[k].at + sizeof h, &ka, &kb, bal);
-      size_t i = find_id(map, n, ka);
-      if (i == SIZE_MAX) {
-        st = ADEM_ERR_RUNTIME;
-        break;
-      }
-      pm->l.a[k] = (uint32_t)i;
-      pm->l.b[k] = (uint32_t)kb;
-      pm->key[k] = h.key;
-      pm->owner[k] = h.owner;
-      pm->start[i + 1]++;
-    }
-    for (size_t i = 0; i < n; ++i) pm->start[i + 1] += pm->start[i];
-  }
-  free(r);
-  return st;
-}
-
-/* The walls' state (servo positions and speeds, the meshes' reference points) from one world
- * into another of the same set-up, as a checkpoint carries it. */
-static adem_status copy_wall_state(const adem_world *from, adem_world *to) {
-  bytes b = {0};
-  adem_writer wr = adem_writer_make(mem_sink, &b);
-  adem_walls_save_state(&wr, &from->walls);
-  adem_reader rd = {b.d, b.d + b.n, 0};
-  if (!wr.failed) adem_walls_load_state(&rd, &to->walls);
-  adem_status st = wr.failed || rd.failed ? ADEM_ERR_NOMEM : ADEM_OK;
-  free(b.d);
-  return st;
-}
-
-adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_world *whole,
-                                bool everywhere, adem_error *err) {
-  const adem_particles *p = &local->p;
-  bool bal = local->energy_balance; /* the pairs carry their balance records (pairs.h) */
-  bytes mine[4] = {{0}, {0}, {0}, {0}}, in[4] = {{0}, {0}, {0}, {0}};
-  adem_status st = ADEM_OK;
-  const adem_mesh_pairs *lpm = &local->pm;
-  for (size_t i = 0; i < p->n && lpm->start && !st; ++i) { /* every mesh slot of its own */
-    if (owner(s, p, i) != s->rank) continue;
-    for (size_t k = lpm->start[i]; k < lpm->start[i + 1] && !st; ++k) {
-      mesh_head h;
-      memset(&h, 0, sizeof h);
-      h = (mesh_head){p->id[i], (uint32_t)(k - lpm->start[i]), lpm->owner[k], lpm->key[k]};
-      if (!bytes_put(&mine[3], &h, sizeof h) ||
-          !put_pair(&mine[3], &lpm->l, k, p->id[i], lpm->l.b[k], bal))
-        st = ADEM_ERR_NOMEM;
-    }
-  }
-  for (size_t i = 0; i < p->n && !st; ++i)
-    if (owner(s, p, i) == s->rank && !put_particle(&mine[0], p, i)) st = ADEM_ERR_NOMEM;
-  for (size_t k = 0; k < local->pp.n && !st; ++k)
-    if (owner(s, p, local->pp.a[k]) == s->rank &&
-        !put_pair(&mine[1], &local->pp, k, p->id[local->pp.a[k]], p->id[local->pp.b[k]], bal))
-      st = ADEM_ERR_NOMEM;
-  for (size_t k = 0; k < local->pw.n && !st; ++k)
-    if (owner(s, p, local->pw.a[k]) == s->rank &&
-        !put_pair(&mine[2], &local->pw, k, p->id[local->pw.a[k]], local->pw.b[k], bal))
-      st = ADEM_ERR_NOMEM;
-  if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
-  st = adem_split_agree(s, st, err);
-  for (int k = 0; k < 4 && !st; ++k)
-    st = everywhere ? allgather(s, &mine[k], &in[k], err) : gather(s, &mine[k], &in[k], err);
-  if (!st && (everywhere || s->rank == 0)) {
-    adem_particles *q = &whole->p;
-    size_t rec = particle_bytes(), n = in[0].n / rec;
-    uint32_t *order = malloc((n + 1) * sizeof *order);
-    size_t *perm = malloc((n + 1) * sizeof *perm);
-    if (!order || !perm || adem_particles_reserve(q, n)) st = ADEM_ERR_NOMEM;
-    if (!st) {
-      q->n = n;
-      for (size_t i = 0; i < n; ++i) get_particle(q, i, in[0].d + i * rec);
-      st = adem_particles_id_order(q, order); /* stored by id, as a serial world starts */
-    }
-    for (size_t i = 0; i < n && !st; ++i) perm[i] = order[i];
-    if (!st) st = adem_particles_permute(q, perm);
-    free(order);
-    free(perm);
-    id_index *map = st ? NULL : malloc((n + 1) * sizeof *map);
-    if (!st && !map) st = ADEM_ERR_NOMEM;
-    for (size_t i = 0; i < n && !st; ++i) map[i] = (id_index){q->id[i], (uint32_t)i};
-    adem_pair_list *lists[2] = {&whole->pp, &whole->pw};
-    size_t prec = pair_bytes(bal);
-    for (int l = 0; l < 2 && !st; ++l) {
-      adem_pair_list *L = lists[l];
-      size_t m = in[l + 1].n / prec;
-      if (adem_pairs_keep_balance(L, bal) || adem_pairs_reserve(L, m)) {
-        st = ADEM_ERR_NOMEM;
-        break;
-      }
-      L->n = m;
-      for (size_t k = 0; k < m; ++k) {
-        uint64_t ka, kb;
-        get_pair(L, k, in[l + 1].d + k * prec, &ka, &kb, bal);
-        L->a[k] = (uint32_t)find_id(map, n, ka);
-        L->b[k] = l == 0 ? (uint32_t)find_id(map, n, kb) : (uint32_t)kb;
-      }
-    }
-    adem_mesh_pairs *pm = &whole->pm;
-    if (!st && pm->start_cap < n + 1) {
-      size_t *z = realloc(pm->start, (n + 1) * sizeof *z);
-      if (!z) st = ADEM_ERR_NOMEM;
-      else {
-        pm->start = z;
-        pm->start_cap = n + 1;
-      }
-    }
-    if (!st) st = put_mesh_slots(pm, &in[3], map, n, bal);
-    free(map);
-    if (!st) {
-      whole->time = local->time;
-      whole->step = local->step;
-      whole->nb.skin = local->nb.skin;
-      whole->nb.rebuilds = local->nb.rebuilds;
-      whole->nb.time_at_build = local->nb.time_at_build;
-      st = copy_wall_state(local, whole); /* servos: every process moves them alike */
-      adem_world_place_walls(whole, local->time);
-      if (!st) st = adem_world_gather(whole);
-    }
-    if (st) st = adem_error_set(err, st, "out of memory gathering the particles");
-  }
-  for (int k = 0; k < 4; ++k) {
-    free(mine[k].d);
-    free(in[k].d);
-  }
-  st = adem_split_agree(s, st, err);
-  if (!st && local->walls.mesh.ntris > 0)
-    st = face_loads(s, local, everywhere || s->rank == 0 ? &whole->walls : NULL, everywhere, err);
-  return adem_split_agree(s, st, err);
 }
 
 adem_status adem_split_agree(adem_split *s, adem_status st, adem_error *err) {
@@ -1273,7 +723,7 @@ adem_status adem_split_own_by_id(const adem_split *s, const adem_world *local, u
   size_t k = 0;
   for (size_t i = 0; i < p->n; ++i)
     if (owner(s, p, i) == s->rank) m[k++] = (id_index){p->id[i], (uint32_t)i};
-  qsort(m, k, sizeof *m, compare_id_index);
+  qsort(m, k, sizeof *m, adem_split_compare_id_index);
   for (size_t j = 0; j < k; ++j) x[j] = m[j].i;
   free(m);
   *idx = x;

@@ -24,16 +24,25 @@ static const char *mem_text(char *buf, size_t n, double bytes) {
 }
 
 
-/* What a JKR pair implies, at its smallest spheres (notes sections 1, 5, 6; H section 6.2). */
-static void print_jkr(FILE *f, const adem_world *w, int a, int b, bool wall, const double *rmin,
-                      double v_ref) {
+/* The report hooks' sink: lines indented under the pair's row, warnings to the log. */
+typedef struct report_sink {
+  FILE *f;
+} report_sink;
+
+static void sink_line(void *ctx, const char *text) {
+  fprintf(((report_sink *)ctx)->f, "  %-26s %s\n", "", text);
+}
+
+static void sink_warn(void *ctx, const char *text) {
+  fflush(((report_sink *)ctx)->f);
+  adem_log(ADEM_LOG_WARN, "%s", text);
+}
+
+/* What the pair's laws say of it at its smallest spheres (their report hooks: a JKR pair's real
+ * and modified values, notes sections 1, 5, 6; H section 6.2). */
+static void print_laws(FILE *f, const adem_world *w, int a, int b, bool wall, const double *rmin,
+                       double v_ref, const char *pair) {
   const adem_interaction *it = adem_world_interaction(w, a, b);
-  if (it->normal != ADEM_NORMAL_JKR) return;
-  const char *pad = "";
-  if (!(it->pp.gamma_real > 0.0)) {
-    fprintf(f, "  %-26s jkr without surface energy: the contact is Hertz\n", pad);
-    return;
-  }
   double ra = rmin[a], ma = w->mat.m[a].def.density * (4.0 / 3.0) * ADEM_PI * ra * ra * ra;
   double R = ra, mstar = ma;
   if (!wall) {
@@ -41,47 +50,16 @@ static void print_jkr(FILE *f, const adem_world *w, int a, int b, bool wall, con
     R = ra * rb / (ra + rb);
     mstar = ma * mb / (ma + mb);
   }
-  adem_jkr_pair_summary s =
-      adem_jkr_pair_summarize(it->pp.E_real, it->pp.E, it->pp.gamma_real, it->pp.gamma, R, mstar, v_ref);
-  char mod[64];
-  snprintf(mod, sizeof mod, "modified (E_mod/E = %.3g)", it->pp.E / it->pp.E_real);
-  fprintf(f, "  %-26s simplified JKR (H7-H10) for the smallest spheres: R* = %.4g m, m* = %.4g kg\n",
-         pad, R, mstar);
-  fprintf(f, "  %-26s   %-36s %-12s %s\n", pad, "", "real", mod);
-  const struct {
-    const char *label;
-    double real, modified;
-  } rows[] = {
-      {"E* (Pa)", s.E, s.E_mod},
-      {"gamma (J/m^2)", s.gamma, s.gamma_mod},
-      {"a0 = (9 pi gamma R^2/E)^(1/3) (m)", s.a0, s.a0_mod},
-      {"delta_eq = a0^2/(3R) (m)", s.delta_eq, s.delta_eq_mod},
-      {"F_C = 3 pi gamma R (N)", s.f_c, s.f_c_mod},
-      {"pull-off force (8/9) F_C (N)", s.pull_off, s.pull_off_mod},
-      {"Hertz t_c at v_ref (s)", s.t_c, s.t_c_mod},
-      {"time step t_c/50 (s)", s.dt, s.dt_mod},
-  };
-  for (size_t k = 0; k < sizeof rows / sizeof rows[0]; ++k)
-    fprintf(f, "  %-26s   %-36s %-12.4g %.4g\n", pad, rows[k].label, rows[k].real, rows[k].modified);
-  fprintf(f, "  %-26s   step speed-up (E/E_mod)^(2/5) = %.4g\n", pad, s.speedup);
-  fprintf(f, "  %-26s   Tabor parameter lambda_T = %.3g (real material, D_min = 1.65e-10 m)%s\n", pad,
-         s.tabor, s.tabor < 3.0 ? ": below 3, JKR is outside its range (H1)" : ", JKR valid (> 3)");
-  fprintf(f, "  %-26s   external forces pulling these spheres apart must stay below %.3g N (%.0f%% "
-         "of the modified pull-off force)\n",
-         pad, s.f_ext_max, 100.0 * ADEM_PULLOFF_SAFETY);
-  if (s.tabor < 3.0) {
-    fflush(f);
-    adem_log(ADEM_LOG_WARN,
-             "%s-%s%s: Tabor parameter %.3g is below 3: the JKR model is outside its range (H1); "
-             "the contact is closer to DMT/Maugis",
-             w->mat.m[a].def.name, w->mat.m[b].def.name, wall ? " (wall)" : "", s.tabor);
-  }
+  report_sink sink = {f};
+  adem_law_report r = {&it->pp, R, mstar, v_ref, wall, pair, NULL, 0.0, 0.0, "",
+                       sink_line, sink_warn, &sink};
+  adem_laws_report(adem_interaction_laws(it), &r);
 }
 
 /* The rolling friction eta_r a pair's rolling law uses (the rule of the rolling_friction row in
- * adem/laws.h): BROF's e_c = min(eta_i r_i, eta_j r_j), models A and C the mean eta_r with
- * R_r = r_i r_j/(r_i + r_j); on a wall the particle's eta_r with r_i, the wall material's unused;
- * an interaction entry's value replaces both sides'. */
+ * adem/laws.h): the law's combination of the two sides (by default the mean eta_r with
+ * R_r = r_i r_j/(r_i + r_j)); on a wall the particle's eta_r with r_i, the wall material's
+ * unused; an interaction entry's value replaces both sides'. */
 static void print_rolling_friction(FILE *f, const adem_world *w, int a, int b, bool wall) {
   const adem_interaction *it = adem_world_interaction(w, a, b);
   const adem_law *law = adem_law_get(ADEM_SLOT_ROLLING, (int)it->rolling);
@@ -89,7 +67,6 @@ static void print_rolling_friction(FILE *f, const adem_world *w, int a, int b, b
   const int k = ADEM_PARAM_ROLLING_FRICTION;
   double ea = it->pp.param_a[k], eb = it->pp.param_b[k];
   const char *na = w->mat.m[a].def.name, *nb = w->mat.m[b].def.name;
-  bool brof = it->rolling == ADEM_ROLLING_BROF || it->rolling == ADEM_ROLLING_BROF_OBJECTIVE;
   char from[2 * ADEM_NAME_MAX + 96];
   if (it->set_param[k])
     snprintf(from, sizeof from, "the interaction entry's value, for both sides");
@@ -100,14 +77,15 @@ static void print_rolling_friction(FILE *f, const adem_world *w, int a, int b, b
     snprintf(from, sizeof from, "`%s`'s value", na);
   else
     snprintf(from, sizeof from, "`%s`'s and `%s`'s values", na, nb);
-  if (wall)
+  if (wall) {
     fprintf(f, "  %-26s rolling friction eta_r = %g, e_c = %g r_i (%s)\n", "", ea, ea, from);
-  else if (brof)
-    fprintf(f, "  %-26s rolling friction e_c = min(%g r_i, %g r_j) (BROF, I9: %s)\n", "", ea, eb,
-            from);
-  else
-    fprintf(f, "  %-26s rolling friction eta_r = %g%s, R_r = r_i r_j/(r_i + r_j) (%s)\n", "",
-            0.5 * (ea + eb), ea == eb ? "" : " (the mean)", from);
+    return;
+  }
+  /* how the law combines the two sides (its hook: BROF's min(eta_i r_i, eta_j r_j)) */
+  report_sink sink = {f};
+  adem_law_report r = {&it->pp, 0.0, 0.0, 0.0, wall, "", NULL, ea, eb, from,
+                       sink_line, sink_warn, &sink};
+  adem_laws_friction_line(adem_interaction_laws(it), &r);
 }
 
 static void print_pair(FILE *f, const adem_world *w, int a, int b, bool wall, const double *rmin,
@@ -137,7 +115,7 @@ static void print_pair(FILE *f, const adem_world *w, int a, int b, bool wall, co
   if (it->set_restitution || it->set_friction)
     fprintf(f, "  %-26s %s from the interaction entry (not the materials' mean)\n", "",
             !it->set_friction ? "e" : !it->set_restitution ? "mu" : "e and mu");
-  print_jkr(f, w, a, b, wall, rmin, v_ref);
+  print_laws(f, w, a, b, wall, rmin, v_ref, name);
 }
 
 /* ---------------------------------------------------------------- geometry */

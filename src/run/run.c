@@ -179,14 +179,16 @@ static void region_columns_free(region_columns *rc) {
   memset(rc, 0, sizeof *rc);
 }
 
-/* Whether some configuration of the case (its own, or a stage's) gives a pair BROF. */
+/* Whether some configuration of the case (its own, or a stage's) gives a pair BROF: a rolling
+ * law that resists absolute spin (its row's .absolute_spin), whose angular impulse the CSV
+ * reports. */
 static bool case_uses_brof(const adem_case *c) {
   const adem_materials *mt = &c->world->mat;
   for (int j = 0; j < mt->ndefs; ++j)
-    if (mt->defs[j].rolling == ADEM_ROLLING_BROF) return true;
+    if (adem_laws_absolute_spin((int)mt->defs[j].rolling)) return true;
   for (int k = 0; c->stages && k < c->stages->n; ++k)
     for (int j = 0; j < c->stages->s[k].config.ninteractions; ++j)
-      if (c->stages->s[k].config.interactions[j].rolling == ADEM_ROLLING_BROF) return true;
+      if (adem_laws_absolute_spin((int)c->stages->s[k].config.interactions[j].rolling)) return true;
   return false;
 }
 

@@ -76,4 +76,11 @@ static inline adem_normal_result adem_normal_test_jkr_epull_law(const adem_pair_
   return adem_normal_jkr_law(&q, g, a_hertz);
 }
 
+/* Simplified JKR under another name (test_law_rows.h: its cold path is JKR's hooks). */
+static inline adem_normal_result adem_normal_test_jkr_like_law(const adem_pair_params *pp,
+                                                               const adem_contact_geometry *g,
+                                                               double a_hertz) {
+  return adem_normal_jkr_law(pp, g, a_hertz);
+}
+
 #endif
