@@ -13,8 +13,8 @@
 # Each hash is FNV-1a over every position, velocity and spin by id (bench_bed.c, state_hash).
 #
 # Environment: HASHES_BEDS_DIR [bench/peers/beds] (bed10000.data), HASHES_BIG_BED
-# [/work/beds/bed100000.data], HASHES_NICE [10], HASHES_OWN [1] (0: skip the own bed, about
-# 40 s of one core), HASHES_PEERS [1] (0: skip the peer beds).
+# [/work/beds/bed100000.data], HASHES_NICE [10], HASHES_OWN [1] (0: skip the own bed, a few
+# minutes of one core), HASHES_PEERS [1] (0: skip the peer beds).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 build=${1:-$here/../build}
@@ -51,7 +51,7 @@ matrix "$tmp/dense.data" dense4k 10 190
 if [ "${HASHES_OWN:-1}" = 1 ]; then
   # bench_bed's own bed: 0.25 s of falling and settling, then 200 steps on 1 and 2 threads
   h=$(ADEM_BENCH_STEPS=200 nice -n "$nice" "$bench" 10000 | awk '/state hash/ { print $NF }')
-  printf 'own10k hertz  %-15s balance=default threads=1,2 %s\n' default "${h:-FAILED}"
+  printf 'own10k hertz  %-15s balance=1 threads=1,2 %s\n' default "${h:-FAILED}"
 fi
 if [ "${HASHES_PEERS:-1}" = 1 ] && [ -f "$beds/bed10000.data" ]; then
   matrix "$beds/bed10000.data" bed10k 20 180

@@ -795,7 +795,7 @@ static adem_status gather(adem_split *s, const bytes *mine, bytes *in, adem_erro
 
 /* A touching mesh contact's load on its face (the opposite of the particle's force, and its
  * moment about the face's group's reference point less the rolling couple), by the particle's
- * id and the contact's slot: the order of the serial sum (contacts.c, mesh_pairs). */
+ * id and the contact's slot: the order of the serial sum (force_pass.c, mesh_pairs). */
 typedef struct face_term {
   uint64_t id;
   uint32_t seq, tri;
