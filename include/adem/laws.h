@@ -3,7 +3,7 @@
  * yet), chosen per material pair. The rows below are the single source of: the case file's
  * choices (interactions[].normal, .damping, .tangential, .rolling), their validation (the
  * parameters each law reads, what it requires of the normal law), the names `adem check` prints,
- * the reference docs and the dispatch in the force pass (src/core/contacts.c).
+ * the reference docs and the dispatch in the force pass (src/core/contact_force.h).
  *
  * Adding a law: write its kernel in src/contact/ (the signature of its slot, see
  * src/contact/laws_kernels.h), its cold-path hooks if the defaults do not fit it (its own file in

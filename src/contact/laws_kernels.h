@@ -1,6 +1,6 @@
 /* The kernels behind the rows of include/adem/laws.h: one function per law with its slot's
  * signature, pure (inputs in, force out, history updated in place). The force pass
- * (src/core/contacts.c) calls them through a switch generated from the rows, so a law costs no
+ * (src/core/contact_force.h) calls them through a switch generated from the rows, so a law costs no
  * function pointer per contact. Conventions (physics notes 2-3): n points from i to j (or from the
  * particle into the wall), the overlap is positive in contact, positive normal force is
  * repulsive, w = v_i,c - v_j,c is the velocity of i's contact point relative to j's. */
@@ -177,7 +177,7 @@ ADEM_LAW double adem_rolling_radius(const adem_contact_geometry *g) {
   return g->R; /* r_i r_j/(r_i + r_j), a wall's r_i: the effective radius, computed once */
 }
 /* (Both values are read whatever the branch: a load under a branch keeps the force pass's block
- * loops from packing, contacts.c.) */
+ * loops from packing, pair_blocks.c.) */
 ADEM_LAW double adem_rolling_eta(const adem_rolling_input *in) {
   int k = ADEM_PARAM_ROLLING_FRICTION;
   double eta_a = in->pp->param_a[k], eta_b = in->pp->param_b[k];
@@ -249,7 +249,7 @@ ADEM_LAW void adem_rolling_brof_law(const adem_rolling_input *in, adem_vec3 *his
 }
 
 /* The same capacity; the force pass's per-particle sum takes the partners' spins into the target
- * (contacts.c). */
+ * (force_sums.c). */
 ADEM_LAW void adem_rolling_brof_objective_law(const adem_rolling_input *in, adem_vec3 *hist,
                                               double *aux, adem_rolling_output *out) {
   adem_rolling_brof_law(in, hist, aux, out); /* I9 */

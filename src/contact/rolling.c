@@ -20,7 +20,7 @@ static void model_c_mode(const adem_law_mode_input *in, double *k_theta, double 
   *zeta_r = in->pp->param[ADEM_PARAM_ROLLING_DAMPING] * sqrt(I_r * in->inv_I);
 }
 
-/* The dashpot of model C needs I_r (contacts.c computes it per contact). */
+/* The dashpot of model C needs I_r (contact_force.h computes it per contact). */
 static bool model_c_inertia(const adem_pair_params *pp) {
   return pp->param[ADEM_PARAM_ROLLING_DAMPING] != 0.0;
 }

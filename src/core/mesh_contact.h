@@ -130,7 +130,7 @@ static inline adem_mesh_contact_kind adem_mesh_contact_key_kind(uint64_t key) {
   return (adem_mesh_contact_kind)(key >> 32);
 }
 
-/* One sphere-mesh contact, in the conventions of contacts.c (n from the particle into the wall). */
+/* One sphere-mesh contact, in the conventions of contact_force.h (n from the particle into the wall). */
 typedef struct adem_mesh_contact {
   adem_vec3 point;  /* on the mesh surface */
   adem_vec3 normal; /* unit, from the sphere centre towards point */
@@ -216,7 +216,7 @@ static inline size_t adem_triangle_sphere_contacts(const adem_mesh *m, adem_vec3
     c.feature = f;
     adem_vec3 nt = m->normal[t];
     if (plane) {
-      /* As contacts.c does for a plane: signed distance of the centre, normal into the wall. */
+      /* As force_pass.c does for a plane: signed distance of the centre, normal into the wall. */
       double h = v3_dot(v3_sub(centre, m->vert[m->tri[t][0]]), nt);
       double dist = fabs(h);
       if (!(dist < radius)) continue;

@@ -628,7 +628,7 @@ adem_status adem_neighbors_gather(adem_neighbors *nb, const adem_particles *p,
   for (size_t i = n; i > 0; --i) s[i] = s[i - 1];
   s[0] = 0;
 
-  /* The pair lists follow the storage order; a particle's sum must not (contacts.c). */
+  /* The pair lists follow the storage order; a particle's sum must not (force_sums.c). */
   const uint64_t *id = p->id;
   const size_t *ps = nb->pp_start, *ws = nb->pw_start;
   uint32_t *pe = nb->pp_entries, *we = nb->pw_entries;

@@ -25,7 +25,7 @@ typedef struct adem_contact_history {
   double rolling_aux;    /* models C and DTK: the rolling stiffness their spring was stored with */
   /* the tangential force on i the contact applied at the last pass, N (second-order scheme: its
    * dashpot takes the slip velocity at the full step implicitly, with the contact's own force of
-   * this pass in place of this one, contacts.c) */
+   * this pass in place of this one, contact_force.h) */
   adem_vec3 tangential_force;
   double elastic;        /* energy the history's springs (tangential, rolling) stored at the
                           * last force pass, J: what is lost when the contact opens or a mesh
@@ -35,7 +35,7 @@ typedef struct adem_contact_history {
 
 /* What a force pass writes for a pair and the per-particle sums read back: one record, so that
  * the sums gather one or two cache lines per pair rather than one per quantity. Zero when the
- * pair does not touch (but see forget_opened in contacts.c). Only what every pass needs is here;
+ * pair does not touch (but see forget_opened in contact_force.h). Only what every pass needs is here;
  * the stored energy and the energy balance's terms are apart (elastic, adem_pair_balance), written
  * only by the passes that want them. */
 typedef struct adem_pair_result {

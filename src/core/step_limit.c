@@ -36,7 +36,7 @@ double adem_step_limit_pair(const adem_interaction *it, double t_c, double m_i, 
   double dt = adem_step_limit_explicit(sqrt(5.0 / 6.0) * fabs(beta)) / w_n;
   /* the tangential and rolling springs act on the same two bodies: the largest eigenvalue of the
    * pair is at most the trace of M^-1 K, w_t^2 + w_r^2; the tangential dashpot is implicit in
-   * its contact (contacts.c) and leaves velocity Verlet's omega dt < 2 */
+   * its contact (contact_force.h) and leaves velocity Verlet's omega dt < 2 */
   dt = fmin(dt, 2.0 / sqrt(w_t2 + w_r2));
   if (zeta_r > 0.0 && w_r2 > 0.0) dt = fmin(dt, adem_step_limit_explicit(zeta_r) / sqrt(w_r2));
   /* the linear limits at the peak stiffness; a sticking oblique impact rings from 0.78-0.91 of

@@ -3,7 +3,7 @@
  * tangential spring acting through the contact point's mass m-star/3.5 together with a rolling
  * spring (models C and DTK), and the dashpots that act on the predicted velocity explicitly
  * (the normal one, model C's): each lowers its mode's limit. The tangential dashpot is implicit
- * in its own contact (contacts.c) and does not. */
+ * in its own contact (contact_force.h) and does not. */
 #ifndef ADEM_CORE_STEP_LIMIT_H
 #define ADEM_CORE_STEP_LIMIT_H
 

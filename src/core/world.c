@@ -250,7 +250,7 @@ static void compute_forces(adem_world *w, bool energy, bool hold_history) {
                         &w->overlap_exceeded, w->predicted, w->pair_blocks,
                         &w->pair_block_pairs, 0, NULL, hold_history};
   w->overlap_exceeded = 0;
-  adem_contacts_compute(&s);
+  adem_force_pass_run(&s);
 }
 
 /* The pass of prepare and of the public call: the forces of the state as it is, every history

@@ -8,7 +8,7 @@
 
 #include "adem/adem.h"
 #include "adem/vec3.h"
-#include "contacts.h"
+#include "force_pass.h"
 #include "materials.h"
 #include "mesh.h"
 #include "mesh_contact.h"
@@ -71,11 +71,11 @@ struct adem_world {
   adem_neighbors nb;
   adem_pair_list pp, pw;
   adem_mesh_pairs pm;
-  /* scratch of the force pass: each particle's predicted velocity and spin (contacts.c), 2 per
+  /* scratch of the force pass: each particle's predicted velocity and spin (force_pass.c), 2 per
    * particle for predicted_cap particles; not saved (every pass writes it before reading) */
   adem_vec3 *predicted;
   size_t predicted_cap;
-  /* the force pass takes touching particle pairs of the common laws in block kernels (contacts.c);
+  /* the force pass takes touching particle pairs of the common laws in block kernels (pair_blocks.c);
    * false: every pair one at a time, the same bits (tests/golden/test_pair_blocks.c compares) */
   bool pair_blocks;
   uint64_t pair_block_pairs; /* pairs the block kernels took, since the world was made (not saved) */
@@ -86,7 +86,7 @@ struct adem_world {
 
   /* safety limits */
   double max_overlap_ratio; /* stop when a contact overlaps more than this fraction */
-  int overlap_exceeded;     /* the last force pass saw an overlap above it (contacts.c) */
+  int overlap_exceeded;     /* the last force pass saw an overlap above it (force_pass.c) */
   double initial_overlap;   /* overlap allowed at prepare, fraction of the smaller radius */
   bool has_domain;
   adem_vec3 domain_lo, domain_hi;

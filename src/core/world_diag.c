@@ -68,7 +68,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
                          p->ext_force[i]);
     adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
     adem_block_sum_add(&sum[POTENTIAL], -v3_dot(f, xi));
-    /* accumulated per particle every step (contacts.c): the dissipative forces' work and the
+    /* accumulated per particle every step (force_sums.c): the dissipative forces' work and the
      * laws' own losses, and the work of moving walls */
     adem_block_sum_add(&sum[DISSIPATED], p->dissipated[i]);
     adem_block_sum_add(&sum[WALL_WORK], p->wall_work[i]);

@@ -71,7 +71,7 @@ adem_status adem_split_plane_forces_hook(void *ctx, const adem_world *w, adem_ve
 
 /* A touching mesh contact's load on its face (the opposite of the particle's force, and its
  * moment about the face's group's reference point less the rolling couple), by the particle's
- * id and the contact's slot: the order of the serial sum (contacts.c, mesh_pairs). */
+ * id and the contact's slot: the order of the serial sum (force_pass.c, mesh_pairs). */
 typedef struct face_term {
   uint64_t id;
   uint32_t seq, tri;

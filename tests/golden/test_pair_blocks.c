@@ -1,8 +1,9 @@
 /* Claim: the force pass's block kernels (touching particle pairs of the common laws, packed
- * arithmetic: src/core/contacts.c, pair_block) give every pair the bits the one-at-a-time path
- * gives it. The settle case with each law combination that has a kernel, run with the blocks
- * and without them, must reach the same state bit for bit, and the blocks must have taken
- * pairs (else the comparison would hold by construction). */
+ * arithmetic: src/core/pair_blocks.c) give every pair the bits the one-at-a-time path gives it.
+ * The settle case with each law combination that has a kernel (every row of
+ * ADEM_PAIR_BLOCK_LAWS, the list the kernels are built from), run with the blocks and without
+ * them, must reach the same state bit for bit, and the blocks must have taken pairs (else the
+ * comparison would hold by construction). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -13,6 +14,7 @@
 #include <cmocka.h>
 
 #include "golden/settle_case.h"
+#include "pair_block_laws.h"
 #include "world.h"
 
 /* The settle case with glass-glass contacts under the given laws (and glass on the walls under
@@ -78,19 +80,26 @@ static void compare_as(const char *normal, const char *rolling, bool damped) {
   free(text);
 }
 
-/* The law combinations with a block kernel, and BROF with a rolling damping (which only model
- * C reads: its kernels leave I_r 0, so BROF keeps its kernel). */
 typedef struct laws {
   const char *normal, *rolling;
   bool damped;
 } laws;
-static const laws combinations[] = {
-    {"hertz", "none", false},           {"hertz", "model_a", false}, {"hertz", "model_c", false},
-    {"hertz", "model_c_capped", false}, {"hertz", "brof", false}, {"hertz", "brof", true},
-    {"jkr", "none", false},             {"jkr", "model_c", false},   {"jkr", "brof", false},
-    /* jkr without surface energy (the interaction's own 0): Hertz's radius by a select */
+/* Every law combination with a block kernel, by its rows' names ... */
+static const int block_laws[][2] = {
+#define BLOCK_ROW(name, normal, rolling) {normal, rolling},
+    ADEM_PAIR_BLOCK_LAWS(BLOCK_ROW)
+#undef BLOCK_ROW
+};
+enum { NBLOCK = sizeof block_laws / sizeof block_laws[0] };
+/* ... and BROF with a rolling damping (which only model C reads: its kernels leave I_r 0, so
+ * BROF keeps its kernel), JKR without surface energy (the interaction's own 0: Hertz's radius
+ * by a select) */
+static const laws extras[] = {
+    {"hertz", "brof", true},
     {"jkr, surface_energy: 0", "none", false},
 };
+enum { NEXTRA = sizeof extras / sizeof extras[0] };
+static laws combinations[NBLOCK + NEXTRA];
 
 static void test_combination(void **state) {
   const laws *l = *state;
@@ -98,7 +107,11 @@ static void test_combination(void **state) {
 }
 
 int main(void) {
-  enum { N = sizeof combinations / sizeof combinations[0] };
+  enum { N = NBLOCK + NEXTRA };
+  for (int k = 0; k < NBLOCK; ++k)
+    combinations[k] = (laws){adem_law_get(ADEM_SLOT_NORMAL, block_laws[k][0])->name,
+                             adem_law_get(ADEM_SLOT_ROLLING, block_laws[k][1])->name, false};
+  for (int k = 0; k < NEXTRA; ++k) combinations[NBLOCK + k] = extras[k];
   struct CMUnitTest tests[N];
   for (int k = 0; k < N; ++k)
     tests[k] = (struct CMUnitTest)cmocka_unit_test_prestate(test_combination,

@@ -6,7 +6,7 @@
  *    bit unchanged, and its image counter counts each crossing with its sign;
  *  - a sliding pair carried through a face keeps its tangential history: its force follows, to
  *    round-off, the force of the same pair carried through the middle of the box (checked to
- *    fail: without the minimum image in contacts.c both the first and this test fail; with the
+ *    fail: without the minimum image in force_pass.c both the first and this test fail; with the
  *    history dropped for a pair whose centres sit on two sides of the face, this one does). */
 #include <setjmp.h>
 #include <stdarg.h>

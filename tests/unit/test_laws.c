@@ -48,7 +48,7 @@ static adem_pair_params params(bool swapped) {
   return pp;
 }
 
-/* The contact as the force pass sets it up (core/contacts.c), from i's side. */
+/* The contact as the force pass sets it up (core/contact_force.h), from i's side. */
 static adem_contact_geometry geometry(const body *i, const body *j) {
   adem_contact_geometry g;
   adem_vec3 d = v3_sub(j->x, i->x);

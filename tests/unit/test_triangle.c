@@ -152,7 +152,7 @@ static size_t all_candidates(const adem_mesh *m, uint32_t **cand) {
 /* Claim: on a 20 x 20 plate (800 triangles) a sphere (r = 0.04, overlap 0.004) with its centre
  * over (a) a face interior, (b) a shared grid edge and a shared diagonal, (c) a vertex where 6
  * triangles meet gets exactly one contact, keyed by the plate's flat region (0), equal to the
- * infinite plane's contact (n = -plane normal, overlap = r - (x - p).n_plane as contacts.c
+ * infinite plane's contact (n = -plane normal, overlap = r - (x - p).n_plane as force_pass.c
  * computes it) to 1e-12 relative. Checked for the plate at z = 0 and turned by 37 degrees about
  * (1, 2, 3) and moved: there the plane's own rounding (coordinates of order 1, 1e-16) against an
  * overlap of 4e-3 allows 1e-13, so 1e-12 is a real bound. */
@@ -191,7 +191,7 @@ static void test_plate_one_contact(void **state) {
         adem_vec3 x = apply(tfs[w]->rotation, local, moves[w]);
         size_t n = adem_triangle_sphere_contacts(&m, x, r, cand, nc, out);
         assert_int_equal(n, 1);
-        double d = v3_dot(v3_sub(x, pp), pn); /* contacts.c: dist = (x - point).normal */
+        double d = v3_dot(v3_sub(x, pp), pn); /* force_pass.c: dist = (x - point).normal */
         adem_vec3 n_plane = d >= 0 ? v3_neg(pn) : pn;
         double overlap_plane = r - fabs(d);
         assert_true(fabs(out[0].overlap - overlap_plane) <= 1e-12 * overlap_plane);

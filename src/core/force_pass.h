@@ -1,7 +1,9 @@
 /* The force pass: every candidate pair's force and torques into the pair lists, then the sums per
- * particle in a fixed order (the same for any thread count or storage order), BROF included. */
-#ifndef ADEM_CONTACTS_H
-#define ADEM_CONTACTS_H
+ * particle in a fixed order (the same for any thread count or storage order), BROF included.
+ * force_pass.c holds the loops over pairs and walls, contact_force.h one contact's force,
+ * pair_blocks.c the packed blocks, force_sums.c the ordered per-particle sums. */
+#ifndef ADEM_FORCE_PASS_H
+#define ADEM_FORCE_PASS_H
 
 #include "adem/adem.h"
 #include "materials.h"
@@ -24,7 +26,7 @@ typedef struct adem_force_scope {
   double dt;
   int nthreads;
   bool second_order; /* predicted dashpot velocities, adhesive jumps at the interpolated crossing
-                      * time (contacts.c) */
+                      * time (force_pass.c) */
   bool energy;       /* the normal laws' stored energies are wanted (diagnostics after the pass) */
   bool balance;      /* accumulate the dissipation and wall work (the energy balance) */
   const adem_periodic *periodic; /* particle separations are minimum images (periodic.h) */
@@ -34,14 +36,14 @@ typedef struct adem_force_scope {
                          * velocity and spin; NULL: predicted per contact (the same bits) */
   bool pair_blocks;        /* touching particle pairs of the common laws in block kernels */
   uint64_t *block_pairs;   /* counts the pairs they took */
-  size_t pair_chunk;       /* pairs per chunk of the pair pass (contacts.c sets it) */
+  size_t pair_chunk;       /* pairs per chunk of the pair pass (force_pass.c sets it) */
   int *break_forces; /* the pass sets it when a pair that opened carries a break correction;
-                      * only then do the sums read the forces of pairs apart (contacts.c sets
+                      * only then do the sums read the forces of pairs apart (force_pass.c sets
                       * it up: callers leave it NULL) */
   bool hold_history; /* a pass that advances no history (prepare, adem_world_compute_forces):
                       * the laws see a step of length 0, the forces of the state as it is */
 } adem_force_scope;
 
-void adem_contacts_compute(const adem_force_scope *s);
+void adem_force_pass_run(const adem_force_scope *s);
 
 #endif
