@@ -8,9 +8,9 @@
  *     runs it without the 150);
  *   - hopper: the flagship hopper's meshes (cases/meshes) with 300 spheres of 6 mm, the gate
  *     pulled aside at 30 ms and switched off by a stage at 60 ms;
- *   - mesh servo: golden/test_servo.c's case, a mesh plate pressed by a servo (face loads
+ *   - mesh servo: bitwise/test_servo.c's case, a mesh plate pressed by a servo (face loads
  *     every step), with stages;
- *   - silo: golden/test_outlets.c's 300 spheres through a 24 mm orifice (cases/silo), removed by
+ *   - silo: bitwise/test_outlets.c's 300 spheres through a 24 mm orifice (cases/silo), removed by
  *     a region outlet and a domain-face outlet, with mass flows through a plane and of a region. */
 #ifndef ADEM_TEST_FEATURE_CASES_H
 #define ADEM_TEST_FEATURE_CASES_H

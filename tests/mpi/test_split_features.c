@@ -19,7 +19,7 @@
  * pieces together hold every particle once, with the serial frame's bits (press on 2, 3, 4
  * processes, hopper on 3); control: pieces with the ghosts too ("pieces") are caught.
  *
- * Periodic axes (periodic): golden/periodic_case.h's bed, periodic along x and y (the slabs
+ * Periodic axes (periodic): bitwise/periodic_case.h's bed, periodic along x and y (the slabs
  * are cut along z, which does not wrap), with a plate that a stage lowers and drags; control
  * "periodic_axis" (slabs along x, a periodic axis, without images across its faces) must
  * differ (the plain bed: the run fails).

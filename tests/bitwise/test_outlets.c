@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
 #include "outlets.h"
 #include "restart_run.h"
 #include "world.h"
@@ -211,10 +211,8 @@ static void test_threads_and_restart(void **state) {
  * and history bits, and no contact of a removed particle. */
 static void test_remove_keeps_history(void **state) {
   (void)state;
-  adem_case *c = NULL;
+  adem_case *c = settle_load(NULL, 0);
   adem_error err;
-  if (adem_case_load_string(settle_case, "settle.yaml", NULL, 0, &c, &err))
-    fail_msg("%s", err.message);
   adem_world *w = c->world;
   if (adem_world_step(w, 1500, &err)) fail_msg("%s", err.message);
   size_t cap = 8 * w->p.n + 64;

@@ -13,45 +13,15 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "restart_run.h"
 
 #define DRUM_STEPS 3000
 
 static char case_path[512];
 
-static const char *const drum_case =
-    "name: drumrestart\n"
-    "seed: 5\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, friction: 0.7}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0009, max: 0.0011}\n"
-    "    region: {shape: cylinder, start: [0.001, 0, 0], end: [0.009, 0, 0], radius: 0.011}\n"
-    "    count: 150\n"
-    "    velocity: [0, 0.05, -0.4]\n"
-    "walls:\n"
-    "  - type: cylinder\n"
-    "    name: drum\n"
-    "    material: steel\n"
-    "    point: [0, 0, 0]\n"
-    "    axis: [1, 0, 0]\n"
-    "    radius: 0.012\n"
-    "    motion: {rotation: {axis: [1, 0, 0], center: [0, 0, 0], speed: 15}}\n"
-    "  - {type: plate, name: shelf, material: steel, point: [0.005, 0, -0.004],\n"
-    "     normal: [0, 0, 1], radius: 0.003, hole_radius: 0.0012}\n"
-    "domain: {min: [0, -0.02, -0.02], max: [0.01, 0.02, 0.02], periodic: [true, false, false]}\n"
-    "time:\n"
-    "  end: 0.021\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0.0035\n"
-    "  csv_interval: 0.00035\n"
-    "  checkpoint_interval: 0\n";
+#define drum_case case_file_text("bitwise-drum") /* tests/cases/bitwise-drum.yaml */
 
 static int setup(void **state) {
   (void)state;

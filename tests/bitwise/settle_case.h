@@ -1,50 +1,20 @@
-/* The golden tests' case: 300 frictional spheres of mixed sizes falling into a box and settling,
- * 2000 steps. Soft (E = 1 MPa) so that within 14 ms the bed forms: many contacts with
- * tangential history, and many neighbour-list rebuilds before and after the halfway point. */
+/* The bitwise tests' case, tests/cases/settle.yaml: 300 frictional spheres of mixed sizes falling
+ * into a box and settling, 2000 steps (the file says why so), and the comparison of two runs'
+ * states bit for bit. Include after cmocka.h. */
 #ifndef ADEM_TEST_SETTLE_CASE_H
 #define ADEM_TEST_SETTLE_CASE_H
 
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "world.h"
 
 #define SETTLE_STEPS 2000
 
-static const char *const settle_case =
-    "name: settle\n"
-    "seed: 7\n"
-    "materials:\n"
-    "  - name: glass\n"
-    "    density: 2500\n"
-    "    youngs_modulus: 1.0e6\n"
-    "    poisson_ratio: 0.3\n"
-    "    restitution: 0.5\n"
-    "    friction: 0.5\n"
-    "  - name: steel\n"
-    "    rigid: true\n"
-    "    friction: 0.4\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
-    "    min: [0, 0, 0]\n"
-    "    max: [0.015, 0.015, 0.02]\n"
-    "    count: 300\n"
-    "    velocity: [0.05, -0.03, -0.5]\n"
-    "walls:\n"
-    "  - type: box\n"
-    "    name: box\n"
-    "    material: steel\n"
-    "    min: [0, 0, 0]\n"
-    "    max: [0.015, 0.015, 0.05]\n"
-    "time:\n"
-    "  end: 0.014\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0.0035\n"
-    "  csv_interval: 0.00035\n"
-    "  checkpoint_interval: 0\n";
+/* The case's text (tests/cases/settle.yaml); settle_load loads it with overrides. */
+#define settle_case case_file_text("settle")
+#define settle_load(sets, nsets) case_file_load("settle", sets, nsets)
 
 /* Bit-for-bit equality of everything that carries the motion forward. */
 static inline int settle_same_state(const adem_world *a, const adem_world *b, const char **what) {

@@ -25,63 +25,14 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "tmpdir.h"
 
 #define BED_STEPS 1000
 #define DRUM_STEPS 20000
 #define HOSTS_MASK "glibc.cpu.hwcaps=-AVX2,-FMA,-AVX512F"
 
-static const char *const bed_case =
-    "name: hosts-bed\n"
-    "seed: 5\n"
-    "materials:\n"
-    "  - {name: powder, density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3,\n"
-    "     restitution: 0.3, friction: 0.5, surface_energy: 0.05, adhesion_hysteresis: 0.5,\n"
-    "     stiffness_factor: 0.05}\n"
-    "  - {name: steel, rigid: true, friction: 0.4, restitution: 0.5, surface_energy: 0.05}\n"
-    "interactions:\n"
-    "  - {materials: [powder, powder], normal: jkr, rolling: dtk}\n"
-    "  - {materials: [powder, steel], normal: jkr, rolling: dtk}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: powder\n"
-    "    radius: {distribution: lognormal, mean: 0.0002, std: 0.00004}\n"
-    "    min: [0, 0, 0]\n"
-    "    max: [0.006, 0.006, 0.006]\n"
-    "    count: 1200\n"
-    "    velocity: [0.02, -0.01, -0.3]\n"
-    "walls:\n"
-    "  - {type: box, name: box, material: steel, min: [0, 0, 0], max: [0.006, 0.006, 0.008]}\n"
-    "time: {end: 1.0, step: auto, reference_speed: 0.3}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
-
-static const char *const drum_case =
-    "name: hosts-drum\n"
-    "seed: 9\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.6, friction: 0.5, rolling_friction: 0.1, rolling_damping: 0.3}\n"
-    "  - {name: steel, rigid: true, friction: 0.4, restitution: 0.7}\n"
-    "interactions:\n"
-    "  - {materials: [glass, glass], rolling: model_c}\n"
-    "  - {materials: [glass, steel], rolling: model_c}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: normal, mean: 0.001, std: 0.0002}\n"
-    "    min: [0.003, 0.003, 0.001]\n"
-    "    max: [0.027, 0.027, 0.012]\n"
-    "    count: 150\n"
-    "walls:\n"
-    "  - type: mesh\n"
-    "    name: drum\n"
-    "    material: steel\n"
-    "    file: cube.stl\n"
-    "    scale: 0.03\n"
-    "    motion:\n"
-    "      rotation: {axis: [0, 1, 0], center: [0.015, 0.015, 0.015], speed: 25}\n"
-    "time: {end: 1.0, step: 5.0e-6}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
+/* The cases: tests/cases/hosts-bed.yaml and hosts-drum.yaml. */
 
 static uint64_t fnv(uint64_t h, const void *data, size_t n) {
   const unsigned char *c = data;
@@ -102,10 +53,10 @@ static uint64_t libm_hash(void) {
 }
 
 /* FNV-1a of the positions, velocities and spins after STEPS steps of the case (as bench_bed's). */
-static uint64_t state_hash(const char *text, uint64_t steps, size_t *n_out) {
+static uint64_t state_hash(const char *name, uint64_t steps, size_t *n_out) {
   adem_case *c = NULL;
   adem_error err;
-  if (adem_case_load_string_at(text, "hosts.yaml", tmpdir, NULL, 0, &c, &err)) {
+  if (adem_case_load_file(case_file_path(name), NULL, 0, &c, &err)) {
     fprintf(stderr, "case does not load: %s\n", err.message);
     exit(2);
   }
@@ -135,9 +86,9 @@ static int child(const char *what) {
   if (!strcmp(what, "libm"))
     h = libm_hash();
   else if (!strcmp(what, "bed"))
-    h = state_hash(bed_case, BED_STEPS, &n);
+    h = state_hash("hosts-bed", BED_STEPS, &n);
   else if (!strcmp(what, "drum"))
-    h = state_hash(drum_case, DRUM_STEPS, &n);
+    h = state_hash("hosts-drum", DRUM_STEPS, &n);
   else
     return 2;
   printf("%016llx %zu\n", (unsigned long long)h, n);
@@ -195,11 +146,7 @@ static void test_drum_same_bits_without_fma(void **state) {
 
 static int setup(void **state) {
   (void)state;
-  if (tmpdir_make("adem_hosts")) return -1;
-  char cmd[800];
-  snprintf(cmd, sizeof cmd, "cp '%s/tests/data/cube_ascii.stl' '%s/cube.stl'", ADEM_SOURCE_DIR,
-           tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_hosts");
 }
 
 int main(int argc, char **argv) {

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
 #include "restart_run.h"
 
 static int setup(void **state) {
@@ -17,11 +17,8 @@ static int setup(void **state) {
 }
 
 static adem_case *load_settle_as(const char *subdir, bool balance) {
-  adem_case *c = NULL;
-  adem_error err;
   const char *const sets[] = {"output.energy_balance=false"};
-  adem_status st = adem_case_load_string(settle_case, "settle.yaml", sets, balance ? 0 : 1, &c, &err);
-  if (st) fail_msg("case does not load: %s", err.message);
+  adem_case *c = settle_load(sets, balance ? 0 : 1);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/%s", tmpdir, subdir);
   return c;
 }

@@ -17,62 +17,30 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "golden/periodic_case.h"
-#include "golden/settle_case.h"
+#include "bitwise/periodic_case.h"
+#include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
 #include "world.h"
 
-static const char *const mesh_case =
-    "name: meshorder\n"
-    "seed: 5\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.5, rolling_friction: 0.05, rolling_damping: 0.3,\n"
-    "     surface_energy: 0.01}\n"
-    "  - {name: steel, rigid: true, friction: 0.4, rolling_friction: 0.05, surface_energy: 0.01}\n"
-    "interactions:\n"
-    "  - {materials: [glass, glass], normal: jkr, rolling: brof}\n"
-    "  - {materials: [glass, steel], normal: jkr, rolling: model_c}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
-    "    min: [0.0002, 0.0002, 0.0065]\n"
-    "    max: [0.0298, 0.0298, 0.013]\n"
-    "    count: 400\n"
-    "    velocity: [0.05, -0.03, -0.5]\n"
-    "walls:\n"
-    "  - {type: mesh, name: box, material: steel, file: cube.stl, scale: 0.03}\n"
-    "  - type: mesh\n"
-    "    name: plate\n"
-    "    material: steel\n"
-    "    file: plate.stl\n"
-    "    translate: [0.015, 0.015, 0.005]\n"
-    "    motion:\n"
-    "      table: [[0, 0.1, 0, 0], [0.007, -0.1, 0, 0]]\n"
-    "      rotation: {axis: [0, 0, 1], center: [0.015, 0.015, 0.005], speed: 5}\n"
-    "time:\n"
-    "  end: 0.0294\n"
-    "  step: 7.0e-6\n";
+/* The cases: tests/cases/settle.yaml, periodic.yaml and bitwise-mesh-order.yaml. */
 
 static int setup(void **state) {
   (void)state;
   if (tmpdir_make("adem_storage_order")) return -1;
   char cmd[1024];
-  snprintf(cmd, sizeof cmd, "cp '%s/tests/data/cube_ascii.stl' '%s/cube.stl'", ADEM_SOURCE_DIR, tmpdir);
-  if (system(cmd) != 0) return -1;
   snprintf(cmd, sizeof cmd, "%s/plate.stl", tmpdir);
   write_plate(cmd, 3, 0.004); /* a 0.012 m plate of 3 x 3 squares */
   return 0;
 }
 
-static adem_case *load(const char *text) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string_at(text, "order.yaml", tmpdir, NULL, 0, &c, &err))
-    fail_msg("case does not load: %s", err.message);
-  return c;
+/* tests/cases/NAME.yaml; the mesh case's plate is the one setup wrote. */
+static adem_case *load(const char *name) {
+  char plate[600];
+  snprintf(plate, sizeof plate, "walls.plate.file=%s/plate.stl", tmpdir);
+  const char *sets[] = {plate};
+  return case_file_load(name, sets, strcmp(name, "bitwise-mesh-order") ? 0 : 1);
 }
 
 /* Steps in three chunks (the same in both runs: the last pass of a call computes the stored
@@ -80,7 +48,7 @@ static adem_case *load(const char *text) {
 static void run(adem_case *c, const uint64_t chunks[3], uint64_t seed) {
   adem_error err;
   adem_world *w = c->world;
-  adem_world_set_threads(w, 1); /* the thread count is golden/test_threads.c's claim */
+  adem_world_set_threads(w, 1); /* the thread count is bitwise/test_threads.c's claim */
   if (adem_world_prepare(w, &err)) fail_msg("%s", err.message);
   for (int k = 0; k < 3; ++k) {
     if (seed && adem_world_shuffle_storage(w, seed + (uint64_t)k, &err)) fail_msg("%s", err.message);
@@ -184,7 +152,7 @@ static size_t assert_same_results(const adem_world *a, const adem_world *b) {
 static void test_settle_shuffled(void **state) {
   (void)state;
   const uint64_t chunks[3] = {600, 700, SETTLE_STEPS - 1300};
-  adem_case *a = load(settle_case), *b = load(settle_case);
+  adem_case *a = load("settle"), *b = load("settle");
   run(a, chunks, 0);
   run(b, chunks, 42);
   size_t n = assert_same_results(a->world, b->world);
@@ -198,7 +166,7 @@ static void test_settle_shuffled(void **state) {
 static void test_periodic_shuffled(void **state) {
   (void)state;
   const uint64_t chunks[3] = {500, 700, PERIODIC_STEPS - 1200};
-  adem_case *a = load(periodic_case), *b = load(periodic_case);
+  adem_case *a = load("periodic"), *b = load("periodic");
   run(a, chunks, 0);
   run(b, chunks, 99);
   size_t n = assert_same_results(a->world, b->world);
@@ -214,7 +182,7 @@ static void test_periodic_shuffled(void **state) {
 static void test_mesh_jkr_shuffled(void **state) {
   (void)state;
   const uint64_t chunks[3] = {1200, 1400, 1600};
-  adem_case *a = load(mesh_case), *b = load(mesh_case);
+  adem_case *a = load("bitwise-mesh-order"), *b = load("bitwise-mesh-order");
   run(a, chunks, 0);
   run(b, chunks, 1234);
   size_t n = assert_same_results(a->world, b->world);

@@ -13,7 +13,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "golden/periodic_case.h"
+#include "bitwise/periodic_case.h"
 #include "restart_run.h"
 #include "world.h"
 

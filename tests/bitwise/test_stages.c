@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
 #include "insert.h"
 #include "restart_run.h"
 #include "staged_run.h"
@@ -162,42 +162,23 @@ static void test_walls_in_stages(void **state) {
   adem_case_free(e);
 }
 
-/* The settle case with a pour and stages: friction off and stronger gravity while packing, then
- * friction back, a lid switched on and moving down, and a denser CSV. */
-static char *staged_settle(void) {
-  const char *extra =
-      "pours:\n"
-      "  - name: feed\n"
-      "    material: glass\n"
-      "    radius: {distribution: normal, mean: 0.001, std: 0.0001}\n"
-      "    region: {shape: box, min: [0.001, 0.001, 0.03], max: [0.014, 0.014, 0.045]}\n"
-      "    rate: 10000\n"
-      "    start: 0.002\n"
-      "    end: 0.009\n"
-      "    interval: 0.001\n"
-      "    velocity: [0, 0, -0.5]\n"
-      "stages:\n"
-      "  - name: pack\n"
-      "    duration: 0.006\n"
-      "    set: {materials.glass.friction: 0, materials.steel.friction: 0, gravity: [0, 0, -15]}\n"
-      "  - name: press\n"
-      "    set:\n"
-      "      materials.glass.friction: 0.5\n"
-      "      materials.steel.friction: 0.4\n"
-      "      gravity: [0, 0, -9.81]\n"
-      "      walls.lid.active: true\n"
-      "      walls.lid.motion: {velocity: [0, 0, -0.5]}\n"
-      "      output.csv_interval: 0.0007\n"
-      "      output.frame_interval: 0.002\n";
-  const char *lid = "  - {type: plane, name: lid, material: steel, point: [0, 0, 0.049], normal: "
-                    "[0, 0, -1], active: false}\n";
-  const char *at = strstr(settle_case, "time:\n");
-  size_t n = strlen(settle_case) + strlen(extra) + strlen(lid) + 1;
-  char *text = malloc(n);
-  assert_non_null(text);
-  snprintf(text, n, "%.*s%s%s%s", (int)(at - settle_case), settle_case, lid, extra, at);
-  return text;
-}
+/* The settle case with a pour and stages, as --set overrides: friction off and stronger gravity
+ * while packing, then friction back, a lid switched on and moving down, and a denser CSV; the
+ * fifth override (another seed) only when asked for. */
+static const char *const staged_sets[] = {
+    "walls=[{type: box, name: box, material: steel, min: [0, 0, 0], max: [0.015, 0.015, 0.05]},"
+    " {type: plane, name: lid, material: steel, point: [0, 0, 0.049], normal: [0, 0, -1],"
+    " active: false}]",
+    "pours=[{name: feed, material: glass, radius: {distribution: normal, mean: 0.001, std: 0.0001},"
+    " region: {shape: box, min: [0.001, 0.001, 0.03], max: [0.014, 0.014, 0.045]}, rate: 10000,"
+    " start: 0.002, end: 0.009, interval: 0.001, velocity: [0, 0, -0.5]}]",
+    "stages=[{name: pack, duration: 0.006,"
+    " set: {materials.glass.friction: 0, materials.steel.friction: 0, gravity: [0, 0, -15]}},"
+    " {name: press, set: {materials.glass.friction: 0.5, materials.steel.friction: 0.4,"
+    " gravity: [0, 0, -9.81], walls.lid.active: true, walls.lid.motion: {velocity: [0, 0, -0.5]},"
+    " output.csv_interval: 0.0007, output.frame_interval: 0.002}}]",
+    "seed=8"};
+#define staged_settle(other_seed) settle_load(staged_sets, (other_seed) ? 4 : 3)
 
 static void assert_same(const adem_world *a, const adem_world *b, const char *what_run) {
   const char *what = "";
@@ -210,8 +191,7 @@ static void assert_same(const adem_world *a, const adem_world *b, const char *wh
 static void test_staged_restart(void **state) {
   (void)state;
   adem_error err;
-  char *text = staged_settle();
-  adem_case *a = load(text, NULL, 0);
+  adem_case *a = staged_settle(false);
   adem_world_set_threads(a->world, 2);
   a->world->parallel_min = 0; /* small systems would otherwise stay on one thread */
   uint64_t total = adem_schedule_total_steps(a->end_time, a->world->dt);
@@ -225,7 +205,7 @@ static void test_staged_restart(void **state) {
   assert_int_equal(adem_stages_current(a), 1);
   assert_true(settle_loaded_contacts(a->world) > 100);
 
-  adem_case *b = load(text, NULL, 0);
+  adem_case *b = staged_settle(false);
   adem_world_set_threads(b->world, 1);
   assert_int_equal(staged_start(b, &err), ADEM_OK);
   if (staged_advance(b, total, 7, &err)) fail_msg("%s", err.message);
@@ -234,7 +214,7 @@ static void test_staged_restart(void **state) {
 
   uint64_t stops[3] = {s2 / 2, s2, s2 + (total - s2) / 2};
   for (int k = 0; k < 3; ++k) {
-    adem_case *c = load(text, NULL, 0);
+    adem_case *c = staged_settle(false);
     assert_int_equal(staged_start(c, &err), ADEM_OK);
     if (staged_advance(c, stops[k], 100, &err)) fail_msg("%s", err.message);
     int stage = adem_stages_current(c);
@@ -255,9 +235,7 @@ static void test_staged_restart(void **state) {
     assert_same(a->world, r->world, what);
     adem_case_free(r);
   }
-  adem_case *d = NULL;
-  const char *seed[] = {"seed=8"};
-  d = load(text, seed, 1);
+  adem_case *d = staged_settle(true);
   assert_int_equal(staged_start(d, &err), ADEM_OK);
   if (staged_advance(d, total, 100, &err)) fail_msg("%s", err.message);
   assert_int_equal(d->world->p.n, a->world->p.n);
@@ -265,7 +243,6 @@ static void test_staged_restart(void **state) {
   assert_false(settle_same_state(a->world, d->world, &what)); /* another seed, other particles */
   adem_case_free(d);
   adem_case_free(a);
-  free(text);
 }
 
 /* Claim: through adem_run, the staged, poured run stopped after every chunk and resumed from its
@@ -274,13 +251,12 @@ static void test_staged_restart(void **state) {
 static void test_run_interrupted(void **state) {
   (void)state;
   adem_error err;
-  char *text = staged_settle();
-  adem_case *a = load(text, NULL, 0);
+  adem_case *a = staged_settle(false);
   snprintf(a->output.dir, sizeof a->output.dir, "%s/run_a", tmpdir);
   adem_run_options opt = adem_default_run_options();
   if (adem_run(a, &opt, &err)) fail_msg("%s", err.message);
 
-  adem_case *b = load(text, NULL, 0);
+  adem_case *b = staged_settle(false);
   snprintf(b->output.dir, sizeof b->output.dir, "%s/run_b", tmpdir);
   int stops = 0;
   b = run_stopped_everywhere(b, opt, &stops);
@@ -291,7 +267,6 @@ static void test_run_interrupted(void **state) {
   assert_same_files("run_a", "run_b", files, "the restarts");
   adem_case_free(a);
   adem_case_free(b);
-  free(text);
 }
 
 static void expect_error(const char *const *sets, int nsets, const char *w1, const char *w2) {

@@ -8,14 +8,12 @@
 #include <stdio.h>
 #include <cmocka.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
 #include "world.h"
 
 static adem_case *run_as(int nthreads, bool balance) {
-  adem_case *c = NULL;
+  adem_case *c = settle_load(NULL, 0);
   adem_error err;
-  if (adem_case_load_string(settle_case, "settle.yaml", NULL, 0, &c, &err))
-    fail_msg("case does not load: %s", err.message);
   adem_world_set_energy_balance(c->world, balance);
   adem_world_set_threads(c->world, nthreads);
   c->world->parallel_min = 0; /* small systems would otherwise stay on one thread */

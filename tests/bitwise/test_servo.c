@@ -16,7 +16,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "plate_stl.h"
 #include "restart_run.h"
 
@@ -25,48 +26,7 @@ static char case_path[512];
 /* 180 soft spheres fall into a 3 cm box; the plate above them is switched on at 4 ms with a
  * servo (target 0.02 N, about the weight of the bed) and comes down; at 14 ms a
  * new motion slides it along x while the servo keeps holding the force. */
-static const char *const servo_case =
-    "name: servo\n"
-    "seed: 5\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, friction: 0.4}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
-    "    min: [0.0002, 0.0002, 0.0002]\n"
-    "    max: [0.0298, 0.0298, 0.004]\n"
-    "    count: 180\n"
-    "walls:\n"
-    "  - {type: mesh, name: box, material: steel, file: meshes/cube.stl, scale: 0.03}\n"
-    "  - type: mesh\n"
-    "    name: plate\n"
-    "    material: steel\n"
-    "    file: meshes/plate.stl\n"
-    "    translate: [0.015, 0.015, 0.0041]\n"
-    "    own_vertices: true\n"
-    "    active: false\n"
-    "stages:\n"
-    "  - {name: fall, duration: 0.004}\n"
-    "  - name: press\n"
-    "    duration: 0.01\n"
-    "    set:\n"
-    "      walls.plate.active: true\n"
-    "      walls.plate.motion: {servo: {axis: [0, 0, 1], target_force: 0.02, gain: 5.0,\n"
-    "                                   max_speed: 0.1, filter: 0.0002}}\n"
-    "  - name: slide\n"
-    "    set:\n"
-    "      walls.plate.motion: {table: [[0, 0.2, 0, 0]], servo: {axis: [0, 0, 1],\n"
-    "                           target_force: 0.02, gain: 5.0, max_speed: 0.1, filter: 0.0002}}\n"
-    "time:\n"
-    "  end: 0.021\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0\n"
-    "  csv_interval: 0.00035\n"
-    "  checkpoint_interval: 0\n";
+#define servo_case case_file_text("bitwise-servo") /* tests/cases/bitwise-servo.yaml */
 
 static int setup(void **state) {
   (void)state;

@@ -12,7 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
 #include "log_capture.h"
 #include "restart_run.h"
 #include "stages.h"
@@ -24,10 +24,7 @@ static int setup(void **state) {
 }
 
 static adem_case *load_settle(const char *subdir, const char *const *sets, int nsets) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string(settle_case, "settle.yaml", sets, nsets, &c, &err))
-    fail_msg("case does not load: %s", err.message);
+  adem_case *c = settle_load(sets, nsets);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/%s", tmpdir, subdir);
   return c;
 }
@@ -384,7 +381,7 @@ static void test_until_errors(void **state) {
     adem_case *c = NULL;
     adem_error err;
     const char *sets[] = {bad[k].also ? bad[k].also : bad[k].set, bad[k].set};
-    assert_int_equal(adem_case_load_string(settle_case, "settle.yaml", sets, 2, &c, &err),
+    assert_int_equal(adem_case_load_file(case_file_path("settle"), sets, 2, &c, &err),
                      ADEM_ERR_INPUT);
     printf("# %s\n", err.message);
     assert_non_null(strstr(err.message, "time.until"));

@@ -13,7 +13,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "golden/settle_case.h"
+#include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "plate_stl.h"
 #include "restart_run.h"
 
@@ -21,38 +22,7 @@
 
 static char case_path[512], cwd[4096];
 
-static const char *const mesh_case =
-    "name: meshsettle\n"
-    "seed: 11\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, friction: 0.4}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
-    "    min: [0.0002, 0.0002, 0.0065]\n"
-    "    max: [0.0298, 0.0298, 0.013]\n"
-    "    count: 300\n"
-    "    velocity: [0.05, -0.03, -0.5]\n"
-    "walls:\n"
-    "  - {type: mesh, name: box, material: steel, file: meshes/cube.stl, scale: 0.03}\n"
-    "  - type: mesh\n"
-    "    name: plate\n"
-    "    material: steel\n"
-    "    file: meshes/plate.stl\n"
-    "    translate: [0.015, 0.015, 0.005]\n"
-    "    motion:\n"
-    "      table: [[0, 0.3, 0, 0], [0.007, -0.3, 0, 0]]\n"
-    "      rotation: {axis: [0, 0, 1], center: [0.015, 0.015, 0.005], speed: 20}\n"
-    "time:\n"
-    "  end: 0.021\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0.0035\n"
-    "  csv_interval: 0.00035\n"
-    "  checkpoint_interval: 0\n";
+#define mesh_case case_file_text("bitwise-mesh") /* tests/cases/bitwise-mesh.yaml */
 
 static int setup(void **state) {
   (void)state;
