@@ -37,6 +37,7 @@ extern "C" {
 /* Parameters the laws read, given per material (and mixed for a pair by the rule of the row) or
  * per material pair in an interaction entry (then used as they are for both sides).
  * P(ID, key in the case file, unit, default, lower bound, mixing rule, what it is) */
+// clang-format off
 #define ADEM_LAW_PARAMS(P)                                                                        \
   P(ADEM_PARAM_SURFACE_ENERGY, "surface_energy", "J/m^2", 0.0, 0.0, ADEM_MIX_GEOMETRIC,             \
     "Surface energy gamma per surface (work of adhesion 2 gamma); a pair takes the geometric "     \
@@ -52,6 +53,7 @@ extern "C" {
   P(ADEM_PARAM_ROLLING_DAMPING, "rolling_damping", "", 0.0, 0.0, ADEM_MIX_MEAN,                    \
     "Rolling damping ratio delta_r of model C: C_r = delta_r 2 sqrt(I_r k_r).")                     \
   ADEM_EXTRA_LAW_PARAMS(P)
+// clang-format on
 
 /* How a pair's value comes from its two materials' values. */
 typedef enum adem_law_mixing {
@@ -70,6 +72,7 @@ typedef enum adem_law_param_id {
 /* Rows of each slot: X(ID, name in the case file, kernel, history doubles, requires (a normal law
  * name, or ""), per particle (1) or per contact (0), parameters read (keys, space separated),
  * equations, what it is). */
+// clang-format off
 #define ADEM_NORMAL_LAWS(X)                                                                       \
   X(ADEM_NORMAL_HERTZ, "hertz", adem_normal_hertz_law, 0, "", 0, "", "H8-H9",                      \
     "Hertz elastic force (4/3) E sqrt(R) delta^(3/2), no adhesion.")                              \
@@ -77,7 +80,9 @@ typedef enum adem_law_param_id {
     "Simplified JKR adhesion: forms at delta = 0 with -(8/9) F_C, breaks at delta < 0; contact "   \
     "radius in closed form.")                                                                      \
   ADEM_EXTRA_NORMAL_LAWS(X)
+// clang-format on
 
+// clang-format off
 #define ADEM_DAMPING_LAWS(X)                                                                      \
   X(ADEM_DAMPING_VISCOELASTIC, "viscoelastic", adem_damping_viscoelastic_law, 0, "", 0, "",        \
     "H11-H13, H16",                                                                                \
@@ -87,7 +92,9 @@ typedef enum adem_law_param_id {
   X(ADEM_DAMPING_CLAMPED, "clamped", adem_damping_clamped_law, 0, "", 0, "", "H11-H13, H16",       \
     "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); the "      \
     "normal beta is refitted so that a Hertz collision's restitution is still e.")
+// clang-format on
 
+// clang-format off
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
   X(ADEM_TANGENTIAL_INCREMENTAL, "incremental", adem_tangential_incremental_law, 4, "", 0, "",     \
     "H14-H17, Mindlin-Deresiewicz",                                                                \
@@ -98,7 +105,9 @@ typedef enum adem_law_param_id {
     "Spring S_t = 8 G sqrt(R delta) on the accumulated tangential displacement (kept in the "     \
     "tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring rescaled on sliding; " \
     "as H writes it (a load that rises at fixed displacement raises the force for free).")
+// clang-format on
 
+// clang-format off
 #define ADEM_ROLLING_LAWS(X)                                                                      \
   X(ADEM_ROLLING_NONE, "none", adem_rolling_none_law, 0, "", 0, "", "", "No rolling resistance.") \
   X(ADEM_ROLLING_DTK, "dtk", adem_rolling_dtk_law, 4, "jkr", 0, "adhesion_hysteresis",             \
@@ -124,6 +133,7 @@ typedef enum adem_law_param_id {
     "particles'), not 0 for particle partners: I9-I10 when the partners are at rest; a cluster "  \
     "turning rigidly with a drum or turntable is not braked.")                                     \
   ADEM_EXTRA_ROLLING_LAWS(X)
+// clang-format on
 
 typedef enum adem_normal_model {
 #define ADEM_X(ID, name, kernel, hist, req, pp, params, eq, doc) ID,

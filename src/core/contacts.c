@@ -411,6 +411,7 @@ enum { PREFETCH_AHEAD = 8 };
 
 /* The block's inputs, a pair per lane: pair_kinematics and the history, one array per number
  * (contiguous lanes are what packed loads read). */
+// clang-format off
 #define PAIR_BLOCK_INPUTS(X)                                                                    \
   X(dx, d.x) X(dy, d.y) X(dz, d.z) X(dist, dist) X(ri, ri) X(rj, rj) X(mi, mi) X(mj, mj)         \
   X(vix, vi.x) X(viy, vi.y) X(viz, vi.z) X(vjx, vj.x) X(vjy, vj.y) X(vjz, vj.z)                  \
@@ -422,6 +423,7 @@ enum { PREFETCH_AHEAD = 8 };
   X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(raux, rolling_aux)                \
   X(ftx, tangential_force.x) X(fty, tangential_force.y) X(ftz, tangential_force.z)               \
   X(elastic, elastic)
+// clang-format on
 
 typedef struct pair_block {
   int m;                        /* pairs held */
@@ -484,6 +486,7 @@ pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws,
 
 /* The laws with a block kernel: normal x rolling (with viscoelastic damping and the incremental
  * tangential law), in the order of pair_block_kernels' rows. */
+// clang-format off
 #define PAIR_BLOCK_LAWS(X)                                                                       \
   X(hertz_none, ADEM_NORMAL_HERTZ, ADEM_ROLLING_NONE)                                          \
   X(hertz_model_a, ADEM_NORMAL_HERTZ, ADEM_ROLLING_A)                                          \
@@ -505,6 +508,7 @@ pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws,
     law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling};    \
     pair_block_laws(w, b, laws, true);                                                           \
   }
+// clang-format on
 PAIR_BLOCK_LAWS(PAIR_BLOCK_KERNEL)
 #undef PAIR_BLOCK_KERNEL
 
@@ -513,8 +517,10 @@ static const struct {
   int normal, rolling;
   pair_block_kernel laws[2]; /* without and with the energy balance */
 } pair_block_kernels[] = {
+// clang-format off
 #define PAIR_BLOCK_ROW(name, normal, rolling) \
   {normal, rolling, {pair_block_##name, pair_block_##name##_balance}},
+// clang-format on
     PAIR_BLOCK_LAWS(PAIR_BLOCK_ROW)
 #undef PAIR_BLOCK_ROW
 };

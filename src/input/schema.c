@@ -34,6 +34,7 @@
 #define GT_LT(a, b) .lo = (a), .hi = (b), .range = ADEM_RANGE_MIN_OPEN | ADEM_RANGE_MAX_OPEN
 
 /* The keys of a run-until condition under prefix P ("time.until", "stages[].until"). */
+// clang-format off
 #define UNTIL_ENTRIES(P, WHAT)                                                                     \
   {P, NULL, MAP, "", NULL, NULL, .doc = "End " WHAT " early, at the first check where every condition given has held for `for` seconds (docs/insertion-and-stages.md). Give `kinetic_energy_per_particle`, `kinetic_energy_ratio`, `wall_load` or more than one; the progress line shows each against its threshold."}, \
   {P ".kinetic_energy_per_particle", NULL, NUM, "J", NULL, NULL, GT(0), .doc = "Translational plus rotational kinetic energy per particle below this (1e-7 J: an rms speed of about 1 mm/s for 5 cm stones). Not while a pour still has particles to insert. A bed without rolling resistance keeps rocking: its value can swing over more than a decade (4e-11 to 1.1e-9 J for 5 mm glass) and never stay below a threshold inside that band; watch the progress line and set it above the band, or use `kinetic_energy_ratio`."}, \
@@ -44,8 +45,10 @@
   {P ".wall_load.tolerance", NULL, NUM, "", "0.01", NULL, GT(0), .doc = "Relative spread allowed."}, \
   {P ".for", NULL, NUM, "s", "0", NULL, GE(0), .doc = "How long every condition must hold, measured between checks."}, \
   {P ".interval", NULL, NUM, "s", NULL, "`for` / 10, or every step when `for` is 0", GT(0), .doc = "Simulated time between checks (rounded to whole steps): the run ends on a check."}
+// clang-format on
 
 /* Every key of a case file. Order: as the reference lists them. */
+// clang-format off
 static const adem_schema_entry base_schema[] = {
     {"name", NULL, STR, "", NULL, "file name without directory and extension", .doc = "Case name; the default output directory is `out/<name>`."},
     {"seed", NULL, INT, "", "1", NULL, GE(0), .doc = "Seed of the random fills; the same seed gives the same positions on every platform."},
@@ -265,6 +268,7 @@ static const adem_schema_entry base_schema[] = {
     {"outlets[].interval", NULL, NUM, "s", NULL, "100 time steps", GT(0), .doc = "Simulated time between two checks (rounded to whole steps). A removed particle's last push on its neighbours acts for half a step: put an outlet where particles fly free."},
     {"output.track", NULL, IDS, "", "[]", NULL, .lo = 0, .hi = 32, .range = ADEM_RANGE_MAX, .doc = "Particles (ids: 0, 1, ... in order of creation) that get CSV columns `p<id>_rolling_torque_x_Nm` (and `_y_`, `_z_`: rolling resistance torque), `p<id>_omega_x_rad_s` (and `_y_`, `_z_`) and `p<id>_distance_m`, the path length its centre has travelled."},
 };
+// clang-format on
 
 /* The table: base_schema with its ADEM_SCHEMA_LAW_PARAMS markers replaced by one entry per
  * contact-law parameter and its law choices ("@rolling") by the names of the laws' rows
