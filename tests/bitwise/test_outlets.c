@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "outlets.h"
 #include "restart_run.h"
 #include "world.h"
@@ -24,45 +25,10 @@ static int setup(void **state) {
 
 #define SILO_N 300
 
-static const char *const silo_case =
-    "name: small-silo\n"
-    "seed: 5\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-    "     restitution: 0.5, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, restitution: 0.5, friction: 0.5}\n"
-    "particles:\n"
-    "  - {type: random, material: glass, count: 300,\n"
-    "     radius: {distribution: uniform, min: 1.9e-3, max: 2.1e-3},\n"
-    "     min: [-0.031, -0.031, 0.002], max: [0.031, 0.031, 0.032]}\n"
-    "walls:\n"
-    "  - {type: plane, name: x_lo, point: [-0.032, 0, 0], normal: [1, 0, 0], material: steel}\n"
-    "  - {type: plane, name: x_hi, point: [0.032, 0, 0], normal: [-1, 0, 0], material: steel}\n"
-    "  - {type: plane, name: y_lo, point: [0, -0.032, 0], normal: [0, 1, 0], material: steel}\n"
-    "  - {type: plane, name: y_hi, point: [0, 0.032, 0], normal: [0, -1, 0], material: steel}\n"
-    "  - {type: mesh, name: plate, file: plate-24mm.stl, material: steel}\n"
-    "time: {end: 0.16, step: 2.0e-5}\n"
-    "domain: {min: [-0.04, -0.04, -0.006], max: [0.04, 0.04, 0.1]}\n"
-    "outlets:\n"
-    "  - {name: catch, region: below, interval: 0.005}\n"
-    "  - {name: bottom, face: z_min, interval: 0.0024}\n"
-    "output:\n"
-    "  frame_interval: 0\n"
-    "  csv_interval: 0.02\n"
-    "  checkpoint_interval: 0.08\n"
-    "  regions:\n"
-    "    - {name: silo, shape: box, min: [-0.032, -0.032, 0], max: [0.032, 0.032, 0.1]}\n"
-    "    - {name: below, shape: box, min: [-0.04, -0.04, -0.025], max: [0.04, 0.04, -0.003]}\n"
-    "  mass_flow:\n"
-    "    - {name: orifice, point: [0, 0, 0], normal: [0, 0, -1]}\n"
-    "    - {name: bin, region: silo}\n";
+/* The silo: tests/cases/outlets-silo.yaml. */
 
 static adem_case *load_silo(const char *subdir, const char *const *sets, int nsets) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string_at(silo_case, "silo.yaml", ADEM_SOURCE_DIR "/cases/silo", sets,
-                               nsets, &c, &err))
-    fail_msg("case does not load: %s", err.message);
+  adem_case *c = case_file_load("outlets-silo", sets, nsets);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/%s", tmpdir, subdir);
   return c;
 }
@@ -264,8 +230,7 @@ static void expect_refused(const char *set, const char *needle) {
   adem_case *c = NULL;
   adem_error err;
   const char *sets[] = {set};
-  adem_status st = adem_case_load_string_at(silo_case, "silo.yaml", ADEM_SOURCE_DIR "/cases/silo",
-                                            sets, 1, &c, &err);
+  adem_status st = adem_case_load_file(case_file_path("outlets-silo"), sets, 1, &c, &err);
   if (st == ADEM_OK) adem_case_free(c);
   printf("# %s -> %s\n", set, err.message);
   assert_int_equal(st, ADEM_ERR_INPUT);

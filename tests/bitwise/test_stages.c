@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "bitwise/settle_case.h"
+#include "case_file.h"
 #include "insert.h"
 #include "restart_run.h"
 #include "staged_run.h"
@@ -27,33 +28,10 @@ static int setup(void **state) {
   return tmpdir_make("adem_stages");
 }
 
-static adem_case *load(const char *text, const char *const *sets, int nsets) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string(text, "staged.yaml", sets, nsets, &c, &err))
-    fail_msg("case does not load: %s", err.message);
-  return c;
+/* The sliding sphere (tests/cases/stages-slide.yaml) with the overrides SETS. */
+static adem_case *load_slide(const char *const *sets, int nsets) {
+  return case_file_load("stages-slide", sets, nsets);
 }
-
-/* A sphere sliding at 1 m/s on a floor: friction 0 in stage `pack`, 0.5 again in `test`. */
-static const char *const slide_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, friction: 0.5}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [0, 0, 0.005], radius: 0.005, velocity: [1, 0, 0]}]\n"
-    "walls:\n"
-    "  - {type: plane, name: floor, material: steel, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "stages:\n"
-    "  - name: pack\n"
-    "    duration: 0.02\n"
-    "    set: {materials.glass.friction: 0, materials.steel.friction: 0}\n"
-    "  - name: test\n"
-    "    set: {materials.glass.friction: 0.5, materials.steel.friction: 0.5}\n"
-    "time: {end: 0.05}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
 
 static double vx_at(adem_case *c, double t) {
   adem_error err;
@@ -70,7 +48,7 @@ static double vx_at(adem_case *c, double t) {
 static void test_friction_stages(void **state) {
   (void)state;
   adem_error err;
-  adem_case *c = load(slide_case, NULL, 0);
+  adem_case *c = load_slide(NULL, 0);
   adem_world *w = c->world;
   const adem_interaction *it = adem_world_interaction(w, 0, 1);
   assert_true(it->pp.friction == 0.0); /* stage 0 is in force from the start */
@@ -103,7 +81,7 @@ static void test_walls_in_stages(void **state) {
                         "normal: [0, 0, 1]}, {type: plane, name: wall, material: steel, point: "
                         "[0.2, 0, 0], normal: [-1, 0, 0], velocity: [0.1, 0, 0]}]",
                         "stages.0.set={walls.wall.velocity: [-0.5, 0, 0]}"};
-  adem_case *c = load(slide_case, sets, 3);
+  adem_case *c = load_slide(sets, 3);
   adem_world *w = c->world;
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   /* stage 0 sets the wall moving at -0.5 m/s from t = 0 */
@@ -129,7 +107,7 @@ static void test_walls_in_stages(void **state) {
                          "[0.2, 0, 0], normal: [-1, 0, 0]}]",
                          "stages.1.set={walls.wall.motion: {velocity: [-0.5, 0, 0]}}"};
   adem_case *d = NULL;
-  d = load(slide_case, sets3, 2);
+  d = load_slide(sets3, 2);
   w = d->world;
   assert_int_equal(staged_start(d, &err), ADEM_OK);
   vx_at(d, 0.02);
@@ -149,7 +127,7 @@ static void test_walls_in_stages(void **state) {
            "scale: 0.1, translate: [-0.05, -0.05, -0.1]}]", ADEM_SOURCE_DIR);
   const char *sets4[] = {mesh, "particles.0.spheres.0.velocity=[0, 0, 0]",
                          "stages.1.set={walls.block.active: false}"};
-  adem_case *e = load(slide_case, sets4, 3);
+  adem_case *e = load_slide(sets4, 3);
   w = e->world;
   assert_int_equal(staged_start(e, &err), ADEM_OK);
   vx_at(e, 0.019);
@@ -272,7 +250,7 @@ static void test_run_interrupted(void **state) {
 static void expect_error(const char *const *sets, int nsets, const char *w1, const char *w2) {
   adem_case *c = NULL;
   adem_error err;
-  if (!adem_case_load_string(slide_case, "staged.yaml", sets, nsets, &c, &err)) {
+  if (!adem_case_load_file(case_file_path("stages-slide"), sets, nsets, &c, &err)) {
     adem_case_free(c);
     fail_msg("expected an error with '%s'", w1);
   }
