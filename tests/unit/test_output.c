@@ -14,8 +14,7 @@
 #include "cli_run.h"
 #include "output.h"
 
-/* A box wall (planes bin.xmin ... bin.zmax) around one sphere. */
-#define box_case case_file_text("output-box") /* tests/cases/output-box.yaml */
+/* A box wall (planes bin.xmin ... bin.zmax) around one sphere: tests/cases/output-box.yaml. */
 
 /* Claim: every column name of the CSV header is one numpy's genfromtxt(names=True) keeps as it
  * is (letters, digits and `_` only): the dot of `bin.xmin` becomes `__`. */
@@ -34,8 +33,7 @@ static void test_csv_names_survive_numpy(void **state) {
   adem_case_free(c);
 }
 
-/* 27 spheres in a lattice 5..7 cm above a floor, falling onto it. */
-#define fall_case case_file_text("output-fall") /* tests/cases/output-fall.yaml */
+/* 27 spheres in a lattice 5..7 cm above a floor, falling onto it: tests/cases/output-fall.yaml. */
 
 /* Claim: output.regions counts the particles whose centre is in each region, and their mass, in
  * every CSV row: 27 spheres start in `top` and end, fallen, in the cylinder and the closed mesh
