@@ -561,9 +561,12 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_restart), cmocka_unit_test(test_controls),
       cmocka_unit_test(test_pieces), cmocka_unit_test(test_periodic),
   };
-  const char *names[] = {"press",    "pour",     "hopper", "mesh_servo",
-                         "restart",  "controls", "pieces", "periodic"};
+  /* one name per entry of all[], in its order (ctest runs each group by its name) */
+  const char *names[] = {"press",   "pour",     "hopper", "silo",    "mesh_servo",
+                         "restart", "controls", "pieces", "periodic"};
   int n = (int)(sizeof all / sizeof all[0]);
+  _Static_assert(sizeof names / sizeof names[0] == sizeof all / sizeof all[0],
+                 "a name for every test group");
   if (argc > 1) {
     for (int k = 0; k < n; ++k)
       if (strcmp(argv[1], names[k]) == 0) {
