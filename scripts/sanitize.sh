@@ -1,20 +1,20 @@
 #!/usr/bin/env bash
 # The test suite under sanitizers (see docs/reliability.md):
 #   scripts/sanitize.sh [--quick] [asan] [tsan]   (default: both)
-# --quick (for CI) leaves out golden_test_repose and golden_test_ballast under ASan (piles of 400
+# --quick (for CI) leaves out bitwise_quick_irazabal_fig11_rises_and_pile_same_bits and bitwise_quick_irazabal_fig16_fig17_trends_and_failing_push under ASan (piles of 400
 # spheres: 383 s in
 # Release alone) and runs under TSan only the six tests that compare thread counts and restarts
 # (not test_run_control and examples_pour, one thread each and many minutes under TSan).
 # asan: clang with -fsanitize=address,undefined -fno-sanitize-recover=all in build-asan; runs the
-#       ctest labels unit, cli, golden and fuzz (the fuzz regression inputs). Any report fails.
+#       ctest labels unit, cli, bitwise and fuzz (the fuzz regression inputs). Any report fails.
 # tsan: clang with -fsanitize=thread and LLVM's OpenMP runtime (libomp) in build-tsan, with the
 #       Archer tool (libarcher.so) that tells TSan about OpenMP's barriers and tasks; runs the
-#       golden tests, which compare 1, 2 and 3 threads bit for bit (test_threads, and the
+#       bitwise tests, which compare 1, 2 and 3 threads bit for bit (test_threads, and the
 #       mesh-wall, stage and pour runs of test_mesh_restart and test_stages) and restarts. GCC's libgomp is
 #       not instrumented and has no such tool: TSan would see its barriers as races, hence
 #       libomp. libomp itself is not instrumented either: tests/tools/tsan.supp ignores what it
 #       does inside itself (its own mutexes), nothing in adem's code.
-# ADEM_SANITIZE_LABELS overrides the asan labels (a ctest -L regex), e.g. 'unit|cli|golden|fuzz|physics'.
+# ADEM_SANITIZE_LABELS overrides the asan labels (a ctest -L regex), e.g. 'unit|cli|bitwise|fuzz|physics'.
 # Left out of both: examples_installed, which installs the library and builds an example against
 # it with plain `cc $(pkg-config ...)`: the sanitized static library needs the sanitizers' flags
 # at link time, which pkg-config does not carry (a build matter; examples_pour runs the same
@@ -25,14 +25,14 @@ cd "$(dirname "$0")/.."
 exclude='^examples_installed$'
 tsan_only='.'
 if [ "${1:-}" = --quick ]; then
-  exclude='^(examples_installed|golden_test_repose|golden_test_ballast)$'
-  tsan_only='^golden_test_(threads|mesh_restart|stages|restart|periodic_box|servo)$'
+  exclude='^(examples_installed|bitwise_quick_irazabal_fig11_rises_and_pile_same_bits|bitwise_quick_irazabal_fig16_fig17_trends_and_failing_push)$'
+  tsan_only='^bitwise_(thread_count_changes_no_bit|mesh_restart_and_threads_same_bits|stages_take_effect_and_staged_pour_same_bits|restart_same_bits_and_same_files|periodic_box_threads_restart_same_bits|servo_stages_threads_restart_same_bits)$'
   shift
 fi
 runs=("$@")
 [ ${#runs[@]} -eq 0 ] && runs=(asan tsan)
 jobs=$(nproc 2>/dev/null || echo 2)
-labels=${ADEM_SANITIZE_LABELS:-unit|cli|golden|fuzz}
+labels=${ADEM_SANITIZE_LABELS:-unit|cli|bitwise|fuzz}
 
 install_missing() {
   local missing=()
@@ -81,14 +81,14 @@ run_tsan() {
   local t1=$SECONDS
   local archer
   archer=$(ls /usr/lib/llvm-*/lib/libarcher.so 2>/dev/null | head -1 || true)
-  echo "sanitize.sh: tsan build ($((t1 - t0)) s); ctest -L golden with ${archer:-no Archer}" >&2
+  echo "sanitize.sh: tsan build ($((t1 - t0)) s); ctest -L bitwise with ${archer:-no Archer}" >&2
   # Clang 14's TSan wants the old mmap layout: setarch -R turns address randomisation off for
   # the test (newer kernels randomise more than its shadow memory allows).
   local setarch=()
   if setarch "$(uname -m)" -R true 2>/dev/null; then setarch=(setarch "$(uname -m)" -R); fi
   OMP_TOOL_LIBRARIES=$archer ARCHER_OPTIONS=verbose=1 \
   TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tools/tsan.supp" \
-    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -L golden -E "$exclude" -R "$tsan_only" -j"$jobs" --output-on-failure
+    nice -n 15 "${setarch[@]}" ctest --test-dir build-tsan -L bitwise -E "$exclude" -R "$tsan_only" -j"$jobs" --output-on-failure
   echo "sanitize.sh: tsan tests took $((SECONDS - t1)) s" >&2
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One-step set-up on a fresh Debian 12 machine (as root):
 #   scripts/setup.sh demo   install what is missing, build (Release), run the flagship example
-#   scripts/setup.sh test   install what is missing, build (Release), run the whole test suite
+#   scripts/setup.sh test   install what is missing, build (Release, warnings are errors), run the
+#                           whole test suite
 #   scripts/setup.sh mpi-test   the same with Open MPI: the MPI build (build-mpi, ADEM_MPI=ON)
 #                               and its tests under mpirun (ctest -L mpi; docs/parallel.md)
 # Settings (environment): JOBS=N compiles and tests N at a time (default: every core);
@@ -39,7 +40,10 @@ if [ "$what" = mpi-test ]; then
   ctest --test-dir build-mpi --output-on-failure -L mpi # under mpirun: one test at a time
   exit 0
 fi
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+# The test build treats every warning as an error (ADEM_WERROR); the demo's does not.
+werror=OFF
+[ "$what" = test ] && werror=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DADEM_WERROR=$werror >/dev/null
 cmake --build build -j"$jobs"
 
 # `import adem` in Debian's python3: a .pth file in the user's site-packages names this

@@ -29,13 +29,13 @@ typedef struct adem_output_settings {
   uint64_t track[ADEM_TRACK_MAX];         /* stable ids */
 } adem_output_settings;
 
-/* Particles poured while running (src/insert.h) and consecutive stages (src/stages.h). */
+/* Particles poured while running (src/input/insert.h) and consecutive stages (src/input/stages.h). */
 typedef struct adem_pours adem_pours;
 typedef struct adem_stages adem_stages;
-/* Named regions (src/insert.h): output.regions, and the regions random sets were filled in. */
+/* Named regions (src/input/insert.h): output.regions, and the regions random sets were filled in. */
 typedef struct adem_regions adem_regions;
 typedef struct adem_outlets adem_outlets;
-/* A run-until condition (src/until.h). */
+/* A run-until condition (src/input/until.h). */
 typedef struct adem_until adem_until;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */

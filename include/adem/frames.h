@@ -1,5 +1,5 @@
 /* Reader for adem's particle frames (frames/particles_NNNNNN.vtu): VTK XML UnstructuredGrid with
- * raw appended binary data and UInt64 block headers, as src/vtu.c writes them. It returns what
+ * raw appended binary data and UInt64 block headers, as src/output/vtu.c writes them. It returns what
  * the pile and ballast studies need: centres, radii, ids and the frame's time.
  *
  * The file is untrusted input: every offset, size and count is checked against the bytes that are

@@ -39,6 +39,7 @@ extern "C" {
 /* Parameters the laws read, given per material (and mixed for a pair by the rule of the row) or
  * per material pair in an interaction entry (then used as they are for both sides).
  * P(ID, key in the case file, unit, default, lower bound, mixing rule, what it is) */
+// clang-format off
 #define ADEM_LAW_PARAMS(P)                                                                        \
   P(ADEM_PARAM_SURFACE_ENERGY, "surface_energy", "J/m^2", 0.0, 0.0, ADEM_MIX_GEOMETRIC,             \
     "Surface energy gamma per surface (work of adhesion 2 gamma); a pair takes the geometric "     \
@@ -54,6 +55,7 @@ extern "C" {
   P(ADEM_PARAM_ROLLING_DAMPING, "rolling_damping", "", 0.0, 0.0, ADEM_MIX_MEAN,                    \
     "Rolling damping ratio delta_r of model C: C_r = delta_r 2 sqrt(I_r k_r).")                     \
   ADEM_EXTRA_LAW_PARAMS(P)
+// clang-format on
 
 /* How a pair's value comes from its two materials' values. */
 typedef enum adem_law_mixing {
@@ -76,6 +78,7 @@ typedef enum adem_law_param_id {
  * (src/contact/law_hooks.h: its pair's constants, collision time, checks, report lines...),
  * NULL for none. A column left out is "" or 0, so a new column touches only the rows that set
  * it. */
+// clang-format off
 #define ADEM_NORMAL_LAWS(X)                                                                       \
   X(ADEM_NORMAL_HERTZ, adem_normal_hertz_law, 0, .name = "hertz", .equations = "H8-H9",           \
     .doc = "Hertz elastic force (4/3) E sqrt(R) delta^(3/2), no adhesion.",                       \
@@ -86,7 +89,9 @@ typedef enum adem_law_param_id {
            "contact radius in closed form.",                                                      \
     .hooks = &adem_jkr_hooks)                                                                     \
   ADEM_EXTRA_NORMAL_LAWS(X)
+// clang-format on
 
+// clang-format off
 #define ADEM_DAMPING_LAWS(X)                                                                      \
   X(ADEM_DAMPING_VISCOELASTIC, adem_damping_viscoelastic_law, 0, .name = "viscoelastic",          \
     .equations = "H11-H13, H16",                                                                  \
@@ -98,7 +103,9 @@ typedef enum adem_law_param_id {
     .doc = "The same dashpots, but without adhesion the normal force never pulls (max(0, F)); "   \
            "the normal beta is refitted so that a Hertz collision's restitution is still e.",     \
     .hooks = &adem_damping_clamped_hooks)
+// clang-format on
 
+// clang-format off
 #define ADEM_TANGENTIAL_LAWS(X)                                                                   \
   X(ADEM_TANGENTIAL_INCREMENTAL, adem_tangential_incremental_law, 4, .name = "incremental",       \
     .equations = "H14-H17, Mindlin-Deresiewicz", .history_kind = "spring_force",                  \
@@ -111,7 +118,9 @@ typedef enum adem_law_param_id {
            "the tangent plane), dashpot, Coulomb limit mu |F_N + 2 F_C| with the spring "         \
            "rescaled on sliding; as H writes it (a load that rises at fixed displacement raises " \
            "the force for free).")
+// clang-format on
 
+// clang-format off
 #define ADEM_ROLLING_LAWS(X)                                                                      \
   X(ADEM_ROLLING_NONE, adem_rolling_none_law, 0, .name = "none", .doc = "No rolling resistance.") \
   X(ADEM_ROLLING_DTK, adem_rolling_dtk_law, 4, .name = "dtk", .requires = "jkr",                  \
@@ -149,6 +158,7 @@ typedef enum adem_law_param_id {
            "at rest; a cluster turning rigidly with a drum or turntable is not braked.",          \
     .hooks = &adem_rolling_brof_hooks)                                                            \
   ADEM_EXTRA_ROLLING_LAWS(X)
+// clang-format on
 
 typedef enum adem_normal_model {
 #define ADEM_X(ID, kernel, hist, ...) ID,

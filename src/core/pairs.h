@@ -71,6 +71,7 @@ enum {
 };
 
 /* X(type, name, role, what it holds) */
+// clang-format off
 #define ADEM_PAIR_FIELDS(X)                                                                    \
   X(uint32_t, a, ADEM_PAIR_KEY, "particle index; for particle pairs id[a] < id[b]")             \
   X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
@@ -79,6 +80,7 @@ enum {
   X(bool, opened, ADEM_PAIR_STATE, "opened at the last force pass: its results hold what the pass left (a break correction, the lost spring energy) for the next pass to clear") \
   X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")          \
   X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J, written by the passes after which the diagnostics can be read")
+// clang-format on
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
  * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
@@ -144,6 +146,7 @@ size_t adem_pairs_item_bytes(bool with_balance);
  * and results; touching marks them. History follows a contact by its key from step to step (the
  * last step's arrays are kept in the _prev arrays) and across rebuilds (by id and key).
  * X(type, name, saved, what it holds): saved = 1 for what a checkpoint must keep. */
+// clang-format off
 #define ADEM_MESH_SLOT_FIELDS(X)                                                       \
   X(uint64_t, key, 1, "region key of the contact in the slot")                          \
   X(uint32_t, owner, 1, "triangle owning the contact in the slot")                      \
@@ -151,6 +154,7 @@ size_t adem_pairs_item_bytes(bool with_balance);
   X(adem_contact_history, hist_prev, 0, "history at the last step (swapped likewise)")  \
   X(bool, touching_prev, 0, "touching at the last step (swapped likewise)")             \
   X(adem_mesh_contact, found, 0, "scratch: the contacts found this step")
+// clang-format on
 
 typedef struct adem_mesh_pairs {
   adem_pair_list l;

@@ -22,6 +22,7 @@ typedef struct adem_group {
 } adem_group;
 
 /* X(type, name, what it holds): hot fields first. */
+// clang-format off
 #define ADEM_PARTICLE_FIELDS(X)                                                       \
   X(adem_vec3, pos, "centre, m")                                                      \
   X(adem_vec3, vel, "velocity, m/s")                                                  \
@@ -50,6 +51,7 @@ typedef struct adem_group {
   X(uint8_t, frozen, "1: fixed to a wall (or to space): not integrated, placed by the wall's motion") \
   X(int32_t, attach, "the wall a frozen particle moves with: 0 none, k + 1 mesh group k, -(k + 1) plane k") \
   X(adem_vec3, anchor, "a frozen particle's centre where its wall's motion starts (at the motion's t0)")
+// clang-format on
 
 typedef struct adem_particles {
   size_t n, cap;

@@ -52,7 +52,7 @@ typedef struct adem_world_split {
                            double *out, int nout, adem_error *err);
 } adem_world_split;
 
-/* Every field that changes while stepping is saved by adem_world_save (tests/golden/test_restart.c
+/* Every field that changes while stepping is saved by adem_world_save (tests/bitwise/test_restart.c
  * fails otherwise). */
 struct adem_world {
   adem_particles p;
@@ -76,7 +76,7 @@ struct adem_world {
   adem_vec3 *predicted;
   size_t predicted_cap;
   /* the force pass takes touching particle pairs of the common laws in block kernels (pair_blocks.c);
-   * false: every pair one at a time, the same bits (tests/golden/test_pair_blocks.c compares) */
+   * false: every pair one at a time, the same bits (tests/bitwise/test_pair_blocks.c compares) */
   bool pair_blocks;
   uint64_t pair_block_pairs; /* pairs the block kernels took, since the world was made (not saved) */
 
@@ -213,7 +213,7 @@ adem_status adem_world_build_neighbors(adem_world *w, adem_error *err);
 adem_status adem_world_gather(adem_world *w);
 /* Stores the particles in a random order (seeded), with the pair lists in a random order too
  * and every pair, slot and history moved along: the state is the same, only where it is
- * stored changes (tests/golden/test_storage_order.c; an MPI rank stores its particles in its
+ * stored changes (tests/bitwise/test_storage_order.c; an MPI rank stores its particles in its
  * own order). Not while particles wait to be admitted. */
 adem_status adem_world_shuffle_storage(adem_world *w, uint64_t seed, adem_error *err);
 

@@ -10,39 +10,13 @@
 
 #include <math.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 
 /* Eight glass spheres of 5 mm radius at rest on a floor (placed touching it), soft and damped so
  * that the load settles within a tenth of the run: the floor's steady load is their weight,
  * 8 rho (4/3) pi r^3 g, proportional to the density, the value varied. */
-static const char *const load_case =
-    "name: calib-load\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3, restitution: 0.3,"
-    " friction: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0.00, 0.00, 0.005], radius: 0.005}\n"
-    "      - {position: [0.02, 0.00, 0.005], radius: 0.005}\n"
-    "      - {position: [0.04, 0.00, 0.005], radius: 0.005}\n"
-    "      - {position: [0.06, 0.00, 0.005], radius: 0.005}\n"
-    "      - {position: [0.00, 0.02, 0.005], radius: 0.005}\n"
-    "      - {position: [0.02, 0.02, 0.005], radius: 0.005}\n"
-    "      - {position: [0.04, 0.02, 0.005], radius: 0.005}\n"
-    "      - {position: [0.06, 0.02, 0.005], radius: 0.005}\n"
-    "walls:\n"
-    "  - {type: plane, name: floor, material: glass, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "gravity: [0, 0, -9.81]\n"
-    "time:\n"
-    "  end: 0.2\n"
-    "output:\n"
-    "  frame_interval: 0.2\n"
-    "  csv_interval: 0.002\n"
-    "  checkpoint_interval: 0.2\n"
-    "  regions:\n"
-    "    - {name: bed, shape: box, min: [-0.01, -0.01, 0], max: [0.07, 0.03, 0.01]}\n";
+#define load_case case_file_text("calibrate-load") /* tests/cases/calibrate-load.yaml */
 
 static int setup(void **state) {
   (void)state;

@@ -10,35 +10,11 @@
 
 #include <math.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 
 /* A valid case: two glass spheres above a floor. Tests derive bad cases by replacing text. */
-static const char *const base_case =
-    "name: cli\n"
-    "materials:\n"
-    "  - name: glass\n"
-    "    density: 2500\n"
-    "    youngs_modulus: 1.0e7\n"
-    "    poisson_ratio: 0.3\n"
-    "    restitution: 0.5\n"
-    "    friction: 0.3\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0, 0, 0.01], radius: 0.001}\n"
-    "      - {position: [0.005, 0, 0.01], radius: 0.001}\n"
-    "walls:\n"
-    "  - type: plane\n"
-    "    name: floor\n"
-    "    material: glass\n"
-    "    point: [0, 0, 0]\n"
-    "    normal: [0, 0, 1]\n"
-    "time:\n"
-    "  end: 0.001\n"
-    "output:\n"
-    "  frame_interval: 0.0005\n"
-    "  csv_interval: 0.0001\n";
+#define base_case case_file_text("cli-two-spheres") /* tests/cases/cli-two-spheres.yaml */
 
 static int setup(void **state) {
   (void)state;
@@ -65,7 +41,7 @@ static void expect_bad_case(const char *from, const char *to, const char *word1,
  * the one change each makes. */
 static void test_valid_case(void **state) {
   (void)state;
-  char *path = write_case("ok.yaml", base_case);
+  char *path = strdup(case_file_path("cli-two-spheres"));
   char *out;
   assert_int_equal(adem(&out, "check '%s'", path), 0);
   assert_mentions(out, "collision time");
@@ -206,7 +182,7 @@ static void test_missing_file(void **state) {
 /* A file that is not a checkpoint, and a checkpoint cut short, are refused with exit 2. */
 static void test_bad_checkpoint(void **state) {
   (void)state;
-  char *path = write_case("ok2.yaml", base_case);
+  char *path = strdup(case_file_path("cli-two-spheres"));
   char *out;
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_ck'", path, tmpdir), 0);
   assert_int_equal(adem(&out, "run --resume '%s'", path), 2);
@@ -222,7 +198,7 @@ static void test_bad_checkpoint(void **state) {
 
 static void test_output_not_writable(void **state) {
   (void)state;
-  char *path = write_case("ok3.yaml", base_case);
+  char *path = strdup(case_file_path("cli-two-spheres"));
   char *out;
   assert_int_equal(adem(&out, "run '%s' --out /proc/adem_cannot_write", path), 2);
   assert_mentions(out, "/proc/adem_cannot_write");
@@ -239,15 +215,15 @@ static void test_output_not_writable(void **state) {
  * overlap limit of 0.1 % of the radius. */
 static void test_runtime_failure(void **state) {
   (void)state;
-  char *t1 = replaced(base_case, "radius: 0.001}\n      - {position: [0.005, 0, 0.01], radius: 0.001}",
-                      "radius: 0.001, velocity: [20, 0, 0]}\n"
-                      "      - {position: [0.005, 0, 0.01], radius: 0.001, velocity: [-20, 0, 0]}");
-  char *t2 = replaced(t1, "output:\n", "gravity: [0, 0, 0]\nlimits:\n  max_overlap_ratio: 0.001\n"
-                                       "output:\n  checkpoint_interval: 0.00002\n");
-  char *t3 = replaced(t2, "frame_interval: 0.0005", "frame_interval: 0.00002");
-  char *path = write_case("boom.yaml", t3);
+  const char *path = case_file_path("cli-two-spheres");
   char *out;
-  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_boom'", path, tmpdir), 3);
+  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_boom' --set 'particles.0.spheres=["
+                        "{position: [0, 0, 0.01], radius: 0.001, velocity: [20, 0, 0]}, "
+                        "{position: [0.005, 0, 0.01], radius: 0.001, velocity: [-20, 0, 0]}]' "
+                        "--set 'gravity=[0, 0, 0]' --set limits.max_overlap_ratio=0.001 "
+                        "--set output.checkpoint_interval=0.00002 --set output.frame_interval=0.00002",
+                        path, tmpdir),
+                   3);
   assert_mentions(out, "error");
   assert_mentions(out, "particle id");
   assert_mentions(out, "t = ");
@@ -259,10 +235,6 @@ static void test_runtime_failure(void **state) {
   free(f);
   /* resuming replays the same failure: exit 3 again */
   assert_int_equal(adem(&out, "run --quiet --resume '%s/out_boom'", tmpdir), 3);
-  free(t1);
-  free(t2);
-  free(t3);
-  free(path);
 }
 
 /* Claim: the README's first paragraph claims no more than `adem validate --list` reproduces:

@@ -14,36 +14,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 #include "adem/frames.h"
 
-static const char *const case_text =
-    "name: contacts\n"
-    "seed: 3\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3, restitution: 0.3,\n"
-    "     friction: 0.5, rolling_friction: 0.1}\n"
-    "  - {name: steel, rigid: true, friction: 0.4}\n"
-    "interactions:\n"
-    "  - {materials: [glass, glass], rolling: model_a}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0008, max: 0.0012}\n"
-    "    min: [0, 0, 0]\n"
-    "    max: [0.01, 0.01, 0.025]\n"
-    "    count: 100\n"
-    "walls:\n"
-    "  - {type: box, name: box, material: steel, min: [0, 0, 0], max: [0.01, 0.01, 0.04]}\n"
-    "time:\n"
-    "  end: 0.04\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0.01\n"
-    "  csv_interval: 0.01\n"
-    "  checkpoint_interval: 0.02\n"
-    "  contacts: true\n"
-    "  contacts_csv: true\n";
+#define case_text case_file_text("contact-frames") /* tests/cases/contact-frames.yaml */
 
 static int setup(void **state) {
   (void)state;

@@ -12,72 +12,17 @@
 
 #include <math.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 
 /* Two glass spheres (r = 1 mm) meeting head-on at 2 m/s, no gravity: the two-sphere collision
  * the step limit was measured on. */
-static const char *const pair_case =
-    "name: guards\n"
-    "materials:\n"
-    "  - name: glass\n"
-    "    density: 2500\n"
-    "    youngs_modulus: 1.0e7\n"
-    "    poisson_ratio: 0.3\n"
-    "    restitution: 0.9\n"
-    "    friction: 0.3\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [-0.0012, 0, 0], radius: 0.001, velocity: [1, 0, 0]}\n"
-    "      - {position: [0.0012, 0, 0], radius: 0.001, velocity: [-1, 0, 0]}\n"
-    "gravity: [0, 0, 0]\n"
-    "limits:\n"
-    "  max_overlap_ratio: 0.5\n"
-    "time:\n"
-    "  end: 0.002\n"
-    "  reference_speed: 2\n"
-    "output:\n"
-    "  frame_interval: 0.002\n"
-    "  csv_interval: 0.00001\n"
-    "  plot: false\n";
+#define pair_case case_file_text("guards-pair") /* tests/cases/guards-pair.yaml */
 
-/* One sphere (r = 2 mm) flying at 200 m/s towards a face of the 0.1 m mesh cube, dt = 2e-5 s:
- * 4 mm a step, twice its radius. */
-static const char *const mesh_case =
-    "name: tunnel\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}\n"
-    "  - {name: steel, rigid: true}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0.05, 0.05, 0.05], radius: 0.002, velocity: [200, 0, 0]}\n"
-    "walls:\n"
-    "  - type: mesh\n"
-    "    name: box\n"
-    "    material: steel\n"
-    "    file: meshes/cube.stl\n"
-    "    scale: 0.1\n"
-    "gravity: [0, 0, 0]\n"
-    "limits:\n"
-    "  max_overlap_ratio: 1\n"
-    "time:\n"
-    "  end: 0.0004\n"
-    "  step: 2.0e-5\n"
-    "output:\n"
-    "  frame_interval: 0.0004\n"
-    "  csv_interval: 0.0001\n"
-    "  plot: false\n";
 
 static int setup(void **state) {
   (void)state;
-  if (tmpdir_make("adem_guards")) return -1;
-  char cmd[8192];
-  snprintf(cmd, sizeof cmd, "mkdir -p '%s/meshes' && cp '%s/tests/data/cube_ascii.stl' '%s/meshes/cube.stl'",
-           tmpdir, ADEM_SOURCE_DIR, tmpdir);
-  return system(cmd) == 0 ? 0 : -1;
+  return tmpdir_make("adem_guards");
 }
 
 /* The Hertz collision time `adem check` prints for a case. */
@@ -121,7 +66,7 @@ static double restitution_at(const char *path, double dt, const char *extra) {
  * limit. */
 static void test_step_limit(void **state) {
   (void)state;
-  char *path = write_case("pair.yaml", pair_case);
+  char *path = strdup(case_file_path("guards-pair"));
   double tc = collision_time(path);
   char *out;
   /* below the limit: runs, warns with both factors */
@@ -134,7 +79,7 @@ static void test_step_limit(void **state) {
   char *text = replaced(pair_case, "  reference_speed: 2\n", "  reference_speed: 2\n  step: 6.0e-5\n");
   char *big = write_case("big_step.yaml", text);
   assert_int_equal(adem(&out, "check '%s'", big), 2);
-  assert_mentions(out, "big_step.yaml:21:9");
+  assert_mentions(out, "big_step.yaml:23:9");
   assert_mentions(out, "time.step");
   assert_mentions(out, "limit t_collision/5");
   assert_mentions(out, "limits.allow_large_step: true");
@@ -168,7 +113,7 @@ static void test_step_limit(void **state) {
  * particles, some 10^15 bytes: more than any machine); the key itself is validated strictly. */
 static void test_memory_limit(void **state) {
   (void)state;
-  char *path = write_case("mem_ok.yaml", pair_case);
+  char *path = strdup(case_file_path("guards-pair"));
   char *out;
   assert_int_equal(adem(&out, "check '%s'", path), 0);
   assert_mentions(out, "memory       ");
@@ -180,7 +125,7 @@ static void test_memory_limit(void **state) {
   char *text = replaced(pair_case, "  max_overlap_ratio: 0.5\n", "  max_overlap_ratio: 0.5\n  max_memory: 1.0e4\n");
   char *small = write_case("mem_small.yaml", text);
   assert_int_equal(adem(&out, "check '%s'", small), 2);
-  assert_mentions(out, "mem_small.yaml:10:5: particles[0]");
+  assert_mentions(out, "mem_small.yaml:12:5: particles[0]");
   assert_mentions(out, "the run would need about");
   assert_mentions(out, "limits.max_memory allows");
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_mem'", small, tmpdir), 2);
@@ -214,7 +159,7 @@ static void test_memory_limit(void **state) {
  * sphere at a tenth of the speed (0.4 mm a step, bouncing off the wall) is not. */
 static void test_tunnelling(void **state) {
   (void)state;
-  char *path = write_case("tunnel.yaml", mesh_case);
+  char *path = strdup(case_file_path("guards-tunnel"));
   char *out;
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_tunnel'", path, tmpdir), 0);
   assert_mentions(out, "particle id 0 moved 0.004 m in one step");

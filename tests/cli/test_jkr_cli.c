@@ -9,48 +9,12 @@
 
 #include <math.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 
 /* PSL spheres pulled away from a quartz floor; stiffness reduced 100 times. Line numbers below
  * refer to this text. */
-static const char *const jkr_case =
-    "name: jkr\n"                              /* 1 */
-    "materials:\n"                             /* 2 */
-    "  - name: psl\n"                          /* 3 */
-    "    density: 1026\n"                      /* 4 */
-    "    youngs_modulus: 2.5e8\n"              /* 5 */
-    "    poisson_ratio: 0.3\n"                 /* 6 */
-    "    restitution: 0.86\n"                  /* 7 */
-    "    surface_energy: 0.11\n"               /* 8 */
-    "    adhesion_hysteresis: 0.5\n"           /* 9 */
-    "    stiffness_factor: 0.01\n"             /* 10 */
-    "  - name: quartz\n"                       /* 11 */
-    "    rigid: true\n"                        /* 12 */
-    "    surface_energy: 0.11\n"               /* 13 */
-    "interactions:\n"                          /* 14 */
-    "  - materials: [psl, psl]\n"              /* 15 */
-    "    normal: jkr\n"                        /* 16 */
-    "  - materials: [psl, quartz]\n"           /* 17 */
-    "    normal: jkr\n"                        /* 18 */
-    "groups:\n"                                /* 19 */
-    "  - name: pulled\n"                       /* 20 */
-    "    external_force: [0, 0, 1e-9]\n"       /* 21 */
-    "particles:\n"                             /* 22 */
-    "  - type: list\n"                         /* 23 */
-    "    material: psl\n"                      /* 24 */
-    "    group: pulled\n"                      /* 25 */
-    "    spheres:\n"                           /* 26 */
-    "      - {position: [0, 0, 1e-6], radius: 0.635e-6}\n"
-    "      - {position: [3e-6, 0, 1e-6], radius: 0.635e-6}\n"
-    "walls:\n"
-    "  - type: plane\n"
-    "    name: floor\n"
-    "    material: quartz\n"
-    "    point: [0, 0, 0]\n"
-    "    normal: [0, 0, 1]\n"
-    "gravity: [0, 0, 0]\n"
-    "time:\n"
-    "  end: 1e-6\n";
+#define jkr_case case_file_text("cli-jkr") /* tests/cases/cli-jkr.yaml */
 
 static int setup(void **state) {
   (void)state;
@@ -103,7 +67,7 @@ static void test_jkr_without_surface_energy(void **state) {
  * above 10% of a modified pull-off force. */
 static void test_check_prints_jkr(void **state) {
   (void)state;
-  char *path = write_case("jkr.yaml", jkr_case);
+  char *path = strdup(case_file_path("cli-jkr"));
   char *out;
   assert_int_equal(adem(&out, "check '%s'", path), 0);
   const char *words[] = {"simplified JKR", "a0 = (9 pi gamma R^2/E)^(1/3)", "delta_eq",

@@ -11,41 +11,14 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 #include "adem/adem.h"
 #include "adem/vec3.h"
 #include "world.h"
 
 /* A valid case: one sphere in the unit cube of tests/data scaled to 0.1 m, a lid that moves. */
-static const char *const base_case =
-    "name: meshcli\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}\n"
-    "  - {name: steel, rigid: true}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0.05, 0.05, 0.05], radius: 0.005}\n"
-    "walls:\n"
-    "  - type: mesh\n"
-    "    name: box\n"
-    "    material: steel\n"
-    "    file: meshes/cube.stl\n"
-    "    scale: 0.1\n"
-    "  - type: mesh\n"
-    "    name: lid\n"
-    "    material: steel\n"
-    "    file: meshes/cube.stl\n"
-    "    scale: 0.02\n"
-    "    translate: [0.04, 0.04, 0.08]\n"
-    "    motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}\n"
-    "time:\n"
-    "  end: 0.004\n"
-    "output:\n"
-    "  frame_interval: 0.001\n"
-    "  csv_interval: 0.0005\n"
-    "  checkpoint_interval: 0.001\n";
+#define base_case case_file_text("mesh-cli") /* tests/cases/mesh-cli.yaml */
 
 static void copy_data(const char *from, const char *to) {
   char cmd[1024];

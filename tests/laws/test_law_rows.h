@@ -4,6 +4,7 @@
 #ifndef ADEM_TEST_LAW_ROWS_H
 #define ADEM_TEST_LAW_ROWS_H
 
+// clang-format off
 #define ADEM_EXTRA_ROLLING_LAWS(X)                                                                \
   X(ADEM_ROLLING_TEST_VISCOUS, adem_rolling_test_viscous_law, 0, .name = "test_viscous",         \
     .params = "rolling_friction", .equations = "test",                                           \
@@ -18,11 +19,13 @@
   X(ADEM_ROLLING_TEST_DTK_SOFT, adem_rolling_test_dtk_soft_law, 3, .name = "test_dtk_soft",      \
     .requires = "jkr", .params = "adhesion_hysteresis", .equations = "test",                     \
     .doc = "Test only, a wrong law: DTK with k_r 0.2 times H20's.")
+// clang-format on
 
 /* Deliberately wrong normal laws, for the tests that show a validation fails with a wrong law
  * (tests/laws/test_perturbed_validations.c); and a JKR-like law under another name whose cold
  * path (collision time, pull-off force, checks, report) comes from its hooks alone
  * (tests/laws/test_law_hooks.c). */
+// clang-format off
 #define ADEM_EXTRA_NORMAL_LAWS(X)                                                                 \
   X(ADEM_NORMAL_TEST_JKR_FC105, adem_normal_test_jkr_fc105_law, 0, .name = "test_jkr_fc105",     \
     .params = "surface_energy", .equations = "test",                                             \
@@ -36,5 +39,6 @@
     .doc = "Test only: simplified JKR under another name; its collision time, pull-off force, "  \
            "checks and report lines are JKR's through its hooks alone.",                         \
     .hooks = &adem_jkr_hooks)
+// clang-format on
 
 #endif

@@ -47,58 +47,62 @@ static int run(const char *name, bool quick, const char *normal, const char *rol
   return verdict;
 }
 
-static void test_fig3(void **state) {
+static void test_h_fig3_jkr_curve_matches_h8_h10_fails_wrong_fc_or_pulloff(void **state) {
   (void)state;
   assert_int_equal(run("haervig-fig3", true, NULL, NULL), 0);
   assert_int_equal(run("haervig-fig3", true, "test_jkr_fc105", NULL), 1);
   assert_int_equal(run("haervig-fig3", true, "test_jkr_epull", NULL), 1);
 }
 
-static void test_fig5(void **state) {
+static void test_h_fig5_restitution_fails_wrong_fc_or_pulloff(void **state) {
   (void)state;
   assert_int_equal(run("haervig-fig5", true, "test_jkr_fc105", NULL), 1);
   assert_int_equal(run("haervig-fig5", true, "test_jkr_epull", NULL), 1);
 }
 
-static void test_fig13(void **state) {
+static void test_h_fig13_impact_velocity_fails_wrong_fc_or_pulloff(void **state) {
   (void)state;
   assert_int_equal(run("haervig-fig13", true, NULL, NULL), 0);
   assert_int_equal(run("haervig-fig13", true, "test_jkr_fc105", NULL), 1);
   assert_int_equal(run("haervig-fig13", true, "test_jkr_epull", NULL), 1);
 }
 
-static void test_fig8(void **state) {
+static void test_h_fig8_h24_restitution_fails_wrong_fc(void **state) {
   (void)state;
   /* (test_jkr_epull is right here: Fig. 8 sets E and gamma of each lambda directly, f = 1) */
   assert_int_equal(run("haervig-fig8", true, "test_jkr_fc105", NULL), 1);
 }
 
-static void test_fig12(void **state) {
+static void test_h_fig12_c_of_e_fails_wrong_fc(void **state) {
   (void)state;
   assert_int_equal(run("haervig-fig12", true, "test_jkr_fc105", NULL), 1);
 }
 
-static void test_fig10(void **state) {
+static void test_h_fig10_deposition_map_fails_soft_dtk(void **state) {
   (void)state;
   assert_int_equal(run("haervig-fig10", true, NULL, "test_dtk_soft"), 1);
 }
 
-static void test_irazabal_fig9(void **state) {
+static void test_i_fig9_slope_fails_half_limit_model_c(void **state) {
   (void)state;
   assert_int_equal(run("irazabal-fig9", true, NULL, "test_model_c_half_limit"), 1);
 }
 
-static void test_irazabal_fig6(void **state) {
+static void test_i_fig6_model_c_fails_stiff_spring(void **state) {
   (void)state;
   assert_int_equal(run("irazabal-fig6", true, NULL, "test_model_c_stiff"), 1);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_fig3),  cmocka_unit_test(test_fig5),
-      cmocka_unit_test(test_fig13), cmocka_unit_test(test_fig8),
-      cmocka_unit_test(test_fig12), cmocka_unit_test(test_fig10),
-      cmocka_unit_test(test_irazabal_fig6), cmocka_unit_test(test_irazabal_fig9),
+      cmocka_unit_test(test_h_fig3_jkr_curve_matches_h8_h10_fails_wrong_fc_or_pulloff),
+      cmocka_unit_test(test_h_fig5_restitution_fails_wrong_fc_or_pulloff),
+      cmocka_unit_test(test_h_fig13_impact_velocity_fails_wrong_fc_or_pulloff),
+      cmocka_unit_test(test_h_fig8_h24_restitution_fails_wrong_fc),
+      cmocka_unit_test(test_h_fig12_c_of_e_fails_wrong_fc),
+      cmocka_unit_test(test_h_fig10_deposition_map_fails_soft_dtk),
+      cmocka_unit_test(test_i_fig6_model_c_fails_stiff_spring),
+      cmocka_unit_test(test_i_fig9_slope_fails_half_limit_model_c),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "cli_run.h"
 #include "periodic_case.h"
 #include "settle_case.h"
@@ -150,33 +151,7 @@ static void test_resume_other_count(void **state) {
  * no walls, no gravity; 2000 steps with contacts all along (up to 36 at once, with tangential
  * and rolling history). The slabs are cut along z, the longest axis, and the first and the last
  * meet across its faces. */
-static const char *const periodic_gas =
-    "name: periodic-gas\n"
-    "seed: 11\n"
-    "gravity: [0, 0, 0]\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.5, rolling_friction: 0.05}\n"
-    "interactions:\n"
-    "  - {materials: [glass, glass], rolling: model_c}\n"
-    "particles:\n"
-    "  - {type: random, material: glass, radius: {distribution: uniform, min: 0.0008, max: 0.0012},\n"
-    "     min: [0.0012, 0.0012, 0.0012], max: [0.0138, 0.0138, 0.0438], count: 150,\n"
-    "     velocity: [0.2, -0.1, -0.2]}\n"
-    "  - {type: random, material: glass, radius: {distribution: uniform, min: 0.0008, max: 0.0012},\n"
-    "     min: [0.0012, 0.0012, 0.0012], max: [0.0138, 0.0138, 0.0438], count: 150,\n"
-    "     velocity: [-0.15, 0.2, 0.2]}\n"
-    "domain:\n"
-    "  min: [0, 0, 0]\n"
-    "  max: [0.015, 0.015, 0.045]\n"
-    "  periodic: [true, true, true]\n"
-    "time:\n"
-    "  end: 0.014\n"
-    "  step: 7.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0.0035\n"
-    "  csv_interval: 0.00035\n"
-    "  checkpoint_interval: 0\n";
+#define periodic_gas case_file_text("mpi-periodic-gas") /* tests/cases/mpi-periodic-gas.yaml */
 
 static void test_triply_periodic(void **state) {
   (void)state;

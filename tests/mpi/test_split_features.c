@@ -19,7 +19,7 @@
  * pieces together hold every particle once, with the serial frame's bits (press on 2, 3, 4
  * processes, hopper on 3); control: pieces with the ghosts too ("pieces") are caught.
  *
- * Periodic axes (periodic): golden/periodic_case.h's bed, periodic along x and y (the slabs
+ * Periodic axes (periodic): bitwise/periodic_case.h's bed, periodic along x and y (the slabs
  * are cut along z, which does not wrap), with a plate that a stage lowers and drags; control
  * "periodic_axis" (slabs along x, a periodic axis, without images across its faces) must
  * differ (the plain bed: the run fails).
@@ -212,10 +212,22 @@ static void runs_equal(const char *yaml, const char *name) {
 
 static char *case_file(const char *name, const char *text) { return write_case(name, text); }
 
-static char *hopper_file(void) {
-  char text[8192];
-  snprintf(text, sizeof text, hopper_case_fmt, ADEM_SOURCE_DIR, ADEM_SOURCE_DIR);
-  return case_file("hopper.yaml", text);
+/* tests/cases/NAME.yaml with the overrides SETS written into it (adem_case_text_with_sets; a
+ * fresh string). */
+static char *feature_case_with_sets(const char *name, const char *const *sets, int nsets) {
+  char *text = NULL;
+  adem_error err;
+  if (adem_case_text_with_sets(case_file_text(name), name, sets, nsets, &text, &err))
+    fail_msg("%s: %s", name, err.message);
+  return text;
+}
+
+static char *hopper_file(void) { return strdup(case_file_path("mpi-hopper")); }
+
+/* The mesh servo case with frames. */
+static char *mesh_servo_text(void) {
+  const char *sets[] = {"output.frame_interval=0.007"};
+  return feature_case_with_sets("bitwise-servo", sets, 1);
 }
 
 static char *mesh_servo_file(void) {
@@ -226,7 +238,10 @@ static char *mesh_servo_file(void) {
   assert_int_equal(system(cmd), 0);
   snprintf(cmd, sizeof cmd, "%s/plate.stl", dir);
   write_plate(cmd, 3, 0.0078125);
-  return case_file("servo_case/servo.yaml", mesh_servo_case);
+  char *text = mesh_servo_text();
+  char *y = case_file("servo_case/servo.yaml", text);
+  free(text);
+  return y;
 }
 
 static void test_press(void **state) {
@@ -254,9 +269,12 @@ static void test_pour(void **state) {
  * counts, masses and flows are the serial run's, on 1 .. 4 processes. */
 static void test_silo(void **state) {
   (void)state;
-  char text[8192];
-  snprintf(text, sizeof text, silo_case_fmt, ADEM_SOURCE_DIR);
+  const char *sets[] = {"time.end=0.12", "output.checkpoint_interval=0.06",
+                        "output.mass_flow.orifice.window=0.03",
+                        "walls.plate.file=" ADEM_SOURCE_DIR "/cases/silo/plate-24mm.stl"};
+  char *text = feature_case_with_sets("outlets-silo", sets, 4);
   char *y = case_file("silo.yaml", text);
+  free(text);
   runs_equal(y, "silo");
   free(y);
 }
@@ -294,7 +312,8 @@ static void test_mesh_servo(void **state) {
   /* a gain a thousand times too high: the stability warnings (stiffness summed over every
    * process's contacts in the serial order) are the serial run's, word for word */
   char text[8192] = "";
-  for (const char *at = mesh_servo_case, *g; *at; at = g + 9) {
+  char *servo = mesh_servo_text();
+  for (const char *at = servo, *g; *at; at = g + 9) {
     g = strstr(at, "gain: 5.0");
     if (!g) {
       strncat(text, at, sizeof text - strlen(text) - 1);
@@ -303,6 +322,7 @@ static void test_mesh_servo(void **state) {
     strncat(text, at, (size_t)(g - at));
     strncat(text, "gain: 5000.0", sizeof text - strlen(text) - 1);
   }
+  free(servo);
   free(y);
   y = case_file("servo_case/servo_warn.yaml", text);
   const char *sets = "--set time.end=0.016";
@@ -541,9 +561,12 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_restart), cmocka_unit_test(test_controls),
       cmocka_unit_test(test_pieces), cmocka_unit_test(test_periodic),
   };
-  const char *names[] = {"press",    "pour",     "hopper", "mesh_servo",
-                         "restart",  "controls", "pieces", "periodic"};
+  /* one name per entry of all[], in its order (ctest runs each group by its name) */
+  const char *names[] = {"press",   "pour",     "hopper", "silo",    "mesh_servo",
+                         "restart", "controls", "pieces", "periodic"};
   int n = (int)(sizeof all / sizeof all[0]);
+  _Static_assert(sizeof names / sizeof names[0] == sizeof all / sizeof all[0],
+                 "a name for every test group");
   if (argc > 1) {
     for (int k = 0; k < n; ++k)
       if (strcmp(argv[1], names[k]) == 0) {

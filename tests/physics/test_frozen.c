@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
 #include "world.h"
@@ -20,12 +21,13 @@ static int setup(void **state) {
   return tmpdir_make("adem_frozen");
 }
 
-static adem_case *load(const char *text) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string_at(text, "frozen.yaml", tmpdir, NULL, 0, &c, &err))
-    fail_msg("case does not load: %s", err.message);
-  return c;
+/* The set "walls=[WALL]" with WALL's %s the test's temporary folder (a static buffer). */
+static const char *walls_set(const char *wall) {
+  static char set[1024];
+  char w[800];
+  snprintf(w, sizeof w, wall, tmpdir);
+  snprintf(set, sizeof set, "walls=[%s]", w);
+  return set;
 }
 
 /* Claim: frozen spheres attached to a mesh plate that translates and turns stay exactly on the
@@ -37,27 +39,10 @@ static void test_frozen_follow_wall(void **state) {
   char path[600];
   snprintf(path, sizeof path, "%s/plate.stl", tmpdir);
   write_plate(path, 2, 0.0078125); /* vertices at 0, +-0.0078125 */
-  const char *text =
-      "name: follow\n"
-      "materials:\n"
-      "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-      "     restitution: 0.5, friction: 0.5}\n"
-      "  - {name: steel, rigid: true, friction: 0.5}\n"
-      "walls:\n"
-      "  - type: mesh\n"
-      "    name: plate\n"
-      "    file: plate.stl\n"
-      "    material: steel\n"
-      "    motion: {velocity: [0.05, 0, 0.02],\n"
-      "             rotation: {axis: [0, 0, 1], center: [0.001, 0, 0], speed: 3}}\n"
-      "particles:\n"
-      "  - {type: list, material: glass, attach: plate, spheres: [\n"
-      "      {position: [0.0078125, 0.0078125, 0], radius: 0.001},\n"
-      "      {position: [-0.0078125, 0, 0], radius: 0.001}, {position: [0, 0, 0], radius: 0.001}]}\n"
-      "  - {type: list, material: glass, spheres: [{position: [0.1, 0.1, 0.1], radius: 0.001}]}\n"
-      "time: {end: 0.1, step: 1.0e-5}\n"
-      "output: {csv_interval: 0, frame_interval: 0, checkpoint_interval: 0}\n";
-  adem_case *c = load(text);
+  char plate[700];
+  snprintf(plate, sizeof plate, "walls.plate.file=%s/plate.stl", tmpdir);
+  const char *sets[] = {plate};
+  adem_case *c = case_file_load("frozen-follow", sets, 1);
   adem_world *w = c->world;
   adem_error err;
   if (adem_world_step(w, 3000, &err)) fail_msg("%s", err.message);
@@ -94,22 +79,7 @@ static void test_frozen_follow_wall(void **state) {
   adem_case_free(c);
 }
 
-/* A 3 x 3 layer of frozen spheres (r = 2 mm, touching) on a floor, and one free sphere resting
- * in a hollow of the layer; %s: the floor wall, then its name for `attach`. */
-static const char *const rough_fmt =
-    "name: rough\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-    "     restitution: 0.3, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, friction: 0.5}\n"
-    "walls:\n"
-    "  - %s\n"
-    "particles:\n"
-    "  - {type: lattice, material: glass, attach: %s, radius: 0.002, spacing: 0.004,\n"
-    "     min: [-0.006, -0.006, 0], max: [0.006, 0.006, 0.004]}\n"
-    "  - {type: list, material: glass, spheres: [{position: [0.002, 0.002, 0.0055], radius: 0.002}]}\n"
-    "time: {end: 0.1, step: 1.0e-5}\n"
-    "output: {csv_interval: 0, frame_interval: 0, checkpoint_interval: 0}\n";
+/* The rough floor: tests/cases/frozen-rough.yaml (a plane `floor` under the frozen layer). */
 
 /* Claim: a sphere resting on a floor of frozen spheres loads the floor with its weight: after
  * 0.15 s the floor's force along z is -m g to 1e-6 (the bounce damped away: restitution 0.3,
@@ -123,11 +93,10 @@ static void test_frozen_carry_load(void **state) {
   write_plate(path, 4, 0.0078125);
   const char *walls[2][2] = {
       {"{type: plane, name: floor, point: [0, 0, 0], normal: [0, 0, 1], material: steel}", "floor"},
-      {"{type: mesh, name: floor, file: floor.stl, material: steel}", "floor"}};
+      {"{type: mesh, name: floor, file: %s/floor.stl, material: steel}", "floor"}};
   for (int k = 0; k < 2; ++k) {
-    char text[4096];
-    snprintf(text, sizeof text, rough_fmt, walls[k][0], walls[k][1]);
-    adem_case *c = load(text);
+    const char *sets[] = {walls_set(walls[k][0])};
+    adem_case *c = case_file_load("frozen-rough", sets, 1);
     adem_world *w = c->world;
     adem_error err;
     if (adem_world_step(w, 15000, &err)) fail_msg("%s", err.message);
@@ -177,24 +146,11 @@ static void test_frozen_carry_load(void **state) {
  * hollow and is carried along: its slip is below 1e-3 m/s after 0.3 s. */
 static void test_slip(void **state) {
   (void)state;
-  const char *moving =
-      "{type: plane, name: floor, point: [0, 0, 0], normal: [0, 0, 1], material: steel,\n"
-      "     motion: {velocity: [0.1, 0, 0]}}";
-  char text[4096];
-  /* smooth: the lattice replaced by one sphere on the plane, the other sphere far away */
-  snprintf(text, sizeof text,
-           "name: smooth\n"
-           "materials:\n"
-           "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-           "     restitution: 0.3, friction: 0.5}\n"
-           "  - {name: steel, rigid: true, friction: 0.5}\n"
-           "walls:\n  - %s\n"
-           "particles:\n"
-           "  - {type: list, material: glass, spheres: [{position: [0, 0, 0.002], radius: 0.002}]}\n"
-           "time: {end: 0.1, step: 1.0e-5}\n"
-           "output: {csv_interval: 0, frame_interval: 0, checkpoint_interval: 0}\n",
-           moving);
-  adem_case *c = load(text);
+  const char *moving = "walls.floor.motion={velocity: [0.1, 0, 0]}";
+  /* smooth: the frozen layer and the sphere on it replaced by one sphere on the plane */
+  const char *smooth_sets[] = {
+      moving, "particles=[{type: list, material: glass, spheres: [{position: [0, 0, 0.002], radius: 0.002}]}]"};
+  adem_case *c = case_file_load("frozen-rough", smooth_sets, 2);
   adem_error err;
   if (adem_world_step(c->world, 1, &err)) fail_msg("%s", err.message);
   double smooth0, smooth, rough[3];
@@ -202,8 +158,7 @@ static void test_slip(void **state) {
   if (adem_world_step(c->world, 9999, &err)) fail_msg("%s", err.message);
   adem_world_wall_slip(c->world, &smooth, NULL);
   adem_case_free(c);
-  snprintf(text, sizeof text, rough_fmt, moving, "floor");
-  c = load(text);
+  c = case_file_load("frozen-rough", &moving, 1);
   for (int k = 0; k < 3; ++k) {
     if (adem_world_step(c->world, 10000, &err)) fail_msg("%s", err.message);
     adem_world_wall_slip(c->world, &rough[k], NULL);
@@ -220,13 +175,10 @@ static void test_slip(void **state) {
 /* Claim: frozen spheres are refused where they cannot work, naming the key. */
 static void test_frozen_refusals(void **state) {
   (void)state;
-  char text[4096];
-  snprintf(text, sizeof text, rough_fmt,
-           "{type: plane, name: floor, point: [0, 0, 0], normal: [0, 0, 1], material: steel}",
-           "nowhere");
+  const char *sets[] = {"particles.0.attach=nowhere"};
   adem_case *c = NULL;
   adem_error err;
-  assert_int_equal(adem_case_load_string_at(text, "frozen.yaml", tmpdir, NULL, 0, &c, &err),
+  assert_int_equal(adem_case_load_file(case_file_path("frozen-rough"), sets, 1, &c, &err),
                    ADEM_ERR_INPUT);
   printf("# %s\n", err.message);
   assert_non_null(strstr(err.message, "particles[0].attach"));

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
+#include "case_file.h"
 #include "case_text.h"
 #include "helpers.h"
 #include "world.h"
@@ -195,21 +196,7 @@ static void test_pair_surface_energy_checked(void **state) {
  * materials). */
 static void test_case_interaction_gamma(void **state) {
   (void)state;
-  const char *text =
-      "materials:\n"
-      "  - {name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.3, restitution: 0.5}\n"
-      "  - {name: steel, rigid: true}\n"
-      "interactions:\n"
-      "  - {materials: [glass, steel], normal: jkr, surface_energy: 0.05}\n"
-      "walls:\n"
-      "  - {name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 1], material: steel}\n"
-      "particles:\n"
-      "  - {type: list, material: glass, spheres: [{position: [0, 0, 0.002], radius: 0.001}]}\n"
-      "time: {end: 1e-4, step: 1e-6}\n";
-  adem_case *c = NULL;
-  adem_error err;
-  adem_status st = adem_case_load_string(text, "gamma.yaml", NULL, 0, &c, &err);
-  if (st) fail_msg("%s", err.message);
+  adem_case *c = case_file_load("jkr-interaction-gamma", NULL, 0);
   const adem_interaction *it = adem_world_interaction(c->world, 0, 1);
   assert_true(it->pp.gamma_real == 0.05);
   adem_case_free(c);

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "case_file.h"
 #include "fileio.h"
 #include "helpers.h"
 #include "plate_stl.h"
@@ -22,30 +23,13 @@ static int group_setup(void **state) {
   return tmpdir_make("adem_meshcase");
 }
 
-/* A case from text, with relative files taken from dir. */
-static adem_case *load(const char *text, const char *dir) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string_at(text, "test.yaml", dir, NULL, 0, &c, &err))
-    fail_msg("case does not load: %s", err.message);
-  return c;
+/* The set "key=DIR/file" with DIR the test's temporary folder (a static buffer per slot). */
+static const char *in_tmpdir(int slot, const char *key, const char *file) {
+  static char sets[4][600];
+  snprintf(sets[slot], sizeof sets[slot], "%s=%s/%s", key, tmpdir, file);
+  return sets[slot];
 }
 
-static const char *const box_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-    "     restitution: 0.6, friction: 0.3}\n"
-    "  - {name: steel, rigid: true, restitution: 0.6, friction: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0.03, 0.04, 0.05], radius: 0.005, velocity: [0.9, -0.6, 0.4],\n"
-    "         angular_velocity: [10, 5, -3]}\n"
-    "      - {position: [0.07, 0.06, 0.02], radius: 0.004, velocity: [-0.5, 0.8, 0.2]}\n"
-    "walls:\n"
-    "%s"
-    "time: {end: 0.4, step: 2.0e-6}\n";
 
 /* Claim: two spheres bouncing for 0.4 s in a 0.1 m box made of 12 STL triangles (cube_ascii.stl
  * scaled by 0.1) follow the trajectories they follow in the box of six planes, to round-off:
@@ -56,13 +40,10 @@ static const char *const box_case =
  * 1e-9 of the box size (measured: identical bits). */
 static void test_box_of_faces(void **state) {
   (void)state;
-  char text[2048];
-  snprintf(text, sizeof text, box_case,
-           "  - {type: box, name: box, material: steel, min: [0, 0, 0], max: [0.1, 0.1, 0.1]}\n");
-  adem_case *a = load(text, NULL);
-  snprintf(text, sizeof text, box_case,
-           "  - {type: mesh, name: box, material: steel, file: cube_ascii.stl, scale: 0.1}\n");
-  adem_case *b = load(text, ADEM_SOURCE_DIR "/tests/data");
+  adem_case *a = case_file_load("mesh-box-bounce", NULL, 0);
+  const char *mesh[] = {
+      "walls=[{type: mesh, name: box, material: steel, file: ../data/cube_ascii.stl, scale: 0.1}]"};
+  adem_case *b = case_file_load("mesh-box-bounce", mesh, 1);
   assert_int_equal(b->world->walls.mesh.ntris, 12);
   adem_error err;
   assert_int_equal(adem_world_prepare(a->world, &err), ADEM_OK);
@@ -154,26 +135,6 @@ static int column(const csv_last *c, const char *name) {
   return -1;
 }
 
-static const char *const bed_case =
-    "name: bed\n"
-    "seed: 3\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.25,\n"
-    "     restitution: 0.3, friction: 0.5}\n"
-    "  - {name: steel, rigid: true, restitution: 0.3, friction: 0.5}\n"
-    "interactions:\n"
-    "  - {materials: [glass, steel], friction: 0}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.0018, max: 0.0022}\n"
-    "    min: [0.0005, 0.0005, 0.0005]\n"
-    "    max: [0.0315, 0.0315, 0.06]\n"
-    "    count: 150\n"
-    "walls:\n"
-    "  - {type: mesh, name: box, material: steel, file: box.stl}\n"
-    "time: {end: 0.5, step: 1.0e-5}\n"
-    "output: {dir: %s, frame_interval: 0, csv_interval: 0.01, checkpoint_interval: 0}\n";
 
 /* Claim: a bed of 150 spheres settled for 0.5 s in a box of five named groups, with
  * frictionless walls, loads the `box.floor` group with its weight within 0.1 %: the side walls
@@ -183,12 +144,12 @@ static const char *const bed_case =
  * contacts, to round-off (1e-12 of the weight: the sums run in different orders). */
 static void test_bed_weight_on_floor(void **state) {
   (void)state;
-  char stl[512], out[512], text[4096];
+  char stl[512], out[512];
   snprintf(stl, sizeof stl, "%s/box.stl", tmpdir);
   write_open_box(stl, 0.032, 0.1);
   snprintf(out, sizeof out, "%s/bed", tmpdir);
-  snprintf(text, sizeof text, bed_case, out);
-  adem_case *c = load(text, tmpdir);
+  const char *sets[] = {in_tmpdir(0, "walls.box.file", "box.stl"), in_tmpdir(1, "output.dir", "bed")};
+  adem_case *c = case_file_load("mesh-bed", sets, 2);
   adem_error err;
   adem_run_options opt = adem_default_run_options();
   if (adem_run(c, &opt, &err)) fail_msg("%s", err.message);
@@ -230,18 +191,6 @@ static void test_bed_weight_on_floor(void **state) {
   adem_case_free(c);
 }
 
-static const char *const torque_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-    "     restitution: 0.3, friction: 0.5}\n"
-    "  - {name: steel, rigid: true}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [0.023, 0.0, 0.003], radius: 0.003}]\n"
-    "walls:\n"
-    "  - {type: mesh, name: plate, material: steel, file: box.stl, translate: [0.01, -0.02, 0]%s}\n"
-    "time: {end: 0.1, step: 5.0e-6}\n";
 
 /* Claim: the torque on a group is taken about its area centroid (default) or `torque_about`,
  * the force acting at the contact point: a sphere resting at x on the floor of the open box
@@ -250,9 +199,9 @@ static const char *const torque_case =
 static void test_torque_reference(void **state) {
   (void)state;
   for (int about = 0; about < 2; ++about) {
-    char text[2048];
-    snprintf(text, sizeof text, torque_case, about ? ", torque_about: [0, 0, 0]" : "");
-    adem_case *c = load(text, tmpdir);
+    const char *sets[] = {in_tmpdir(0, "walls.plate.file", "box.stl"),
+                          "walls.plate.torque_about=[0, 0, 0]"};
+    adem_case *c = case_file_load("mesh-torque", sets, about ? 2 : 1);
     adem_world *w = c->world;
     adem_error err;
     if (adem_world_step(w, 20000, &err)) fail_msg("%s", err.message);
@@ -286,18 +235,6 @@ static void test_torque_reference(void **state) {
   }
 }
 
-static const char *const belt_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25,\n"
-    "     restitution: 0.9, friction: 0.3}\n"
-    "  - {name: rubber, rigid: true, restitution: 0.9, friction: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [0, 0, 0.005], radius: 0.005}]\n"
-    "walls:\n"
-    "  - {type: mesh, name: belt, material: rubber, file: belt.stl, motion: %s}\n"
-    "time: {end: 0.2, step: 5.0e-6}\n";
 
 /* Claim: a sphere at rest on a plate whose case-file `motion` carries it along x at V ends up
  * rolling at v = (2/7) V: friction acts at the contact point, so the angular momentum about it
@@ -312,9 +249,10 @@ static void test_moving_plate_case(void **state) {
   const char *motions[2] = {"{velocity: [0.2, 0, 0]}",
                             "{table: [[0, 0, 0, 0], [0.02, 0.2, 0, 0]]}"};
   for (int k = 0; k < 2; ++k) {
-    char text[2048];
-    snprintf(text, sizeof text, belt_case, motions[k]);
-    adem_case *c = load(text, tmpdir);
+    char motion[128];
+    snprintf(motion, sizeof motion, "walls.belt.motion=%s", motions[k]);
+    const char *sets[] = {in_tmpdir(0, "walls.belt.file", "belt.stl"), motion};
+    adem_case *c = case_file_load("mesh-belt", sets, 2);
     adem_error err;
     if (adem_world_step(c->world, 40000, &err)) fail_msg("%s", err.message);
     double v = c->world->p.vel[0].x;
@@ -324,23 +262,6 @@ static void test_moving_plate_case(void **state) {
   }
 }
 
-static const char *const rolling_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25, restitution: 0.5,\n"
-    "     friction: 0.5, rolling_friction: 0.05, rolling_damping: 0.3, surface_energy: 0.05,\n"
-    "     adhesion_hysteresis: 0.5}\n"
-    "  - {name: steel, rigid: true, restitution: 0.5, friction: 0.5, rolling_friction: 0.05,\n"
-    "     surface_energy: 0.05}\n"
-    "interactions:\n"
-    "  - {materials: [glass, steel], %s}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [-0.02, 0.0013, 0.004], radius: 0.004, velocity: [0.3, 0.05, 0],\n"
-    "               angular_velocity: [-12.5, 75, 0]}]\n"
-    "walls:\n"
-    "%s"
-    "time: {end: 0.06, step: 2.0e-6}\n";
 
 /* Claim: rolling resistance with history (model C's spring torque, DTK's rolling displacement)
  * carries over when the contact passes from one triangle to the next on a flat plate: the
@@ -353,15 +274,15 @@ static void test_rolling_across_edges(void **state) {
   char stl[512];
   snprintf(stl, sizeof stl, "%s/rollplate.stl", tmpdir);
   write_plate(stl, 32, 0.00390625);
-  const char *laws[2] = {"rolling: model_c", "normal: jkr, rolling: dtk"};
+  const char *laws[2] = {"interactions.0={materials: [glass, steel], rolling: model_c}",
+                         "interactions.0={materials: [glass, steel], normal: jkr, rolling: dtk}"};
   for (int law = 0; law < 2; ++law) {
-    char text[4096];
-    snprintf(text, sizeof text, rolling_case, laws[law],
-             "  - {type: plane, name: floor, material: steel, point: [0, 0, 0], normal: [0, 0, 1]}\n");
-    adem_case *a = load(text, tmpdir);
-    snprintf(text, sizeof text, rolling_case, laws[law],
-             "  - {type: mesh, name: floor, material: steel, file: rollplate.stl}\n");
-    adem_case *b = load(text, tmpdir);
+    char mesh[700];
+    snprintf(mesh, sizeof mesh, "walls=[{type: mesh, name: floor, material: steel, file: %s/rollplate.stl}]",
+             tmpdir);
+    const char *sets[] = {laws[law], mesh};
+    adem_case *a = case_file_load("mesh-rolling", sets, 1);
+    adem_case *b = case_file_load("mesh-rolling", sets, 2);
     adem_error err;
     assert_int_equal(adem_world_prepare(a->world, &err), ADEM_OK);
     assert_int_equal(adem_world_prepare(b->world, &err), ADEM_OK);
@@ -398,28 +319,6 @@ static void test_rolling_across_edges(void **state) {
   }
 }
 
-static const char *const transform_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25}\n"
-    "  - {name: steel, rigid: true}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [0.5, 0.5, 0.5], radius: 0.01}]\n"
-    "walls:\n"
-    "  - {type: mesh, name: a, material: steel, file: cube_ascii.stl, scale: 0.1,\n"
-    "     rotate: {axis: [0, 0, 1], angle: 90}, translate: [0.1, 0, 0]}\n"
-    "  - {type: mesh, name: b, material: steel, file: cube_ascii.stl, scale: 0.1,\n"
-    "     rotate: [{axis: [0, 0, 1], angle: 90}, {axis: [1, 0, 0], angle: -90}],\n"
-    "     translate: [2, 0, 0.1]}\n"
-    "  - type: plane\n"
-    "    name: lid\n"
-    "    material: steel\n"
-    "    point: [0, 0, 1]\n"
-    "    normal: [0, 0, -1]\n"
-    "    motion: {table: [[0, 0, 0, 0], [1, 0, 0, 2]],\n"
-    "             rotation: {axis: [1, 0, 0], center: [0, 0, 1], speed: 0.5}}\n"
-    "time: {end: 0.02, step: 2.0e-5}\n";
 
 /* Claim: the case-file transform is x' = R (scale x) + translate with the `rotate` entries
  * applied in order (a mapping or a list; quarter turns exact): the 0.1 m cube turned a quarter
@@ -428,7 +327,7 @@ static const char *const transform_case =
  * place it as the closed forms do: v = (0, 0, 2t) gives z = 1 + t^2, the normal turns by 0.5 t. */
 static void test_transform_and_plane_motion(void **state) {
   (void)state;
-  adem_case *c = load(transform_case, ADEM_SOURCE_DIR "/tests/data");
+  adem_case *c = case_file_load("mesh-transform", NULL, 0);
   adem_world *w = c->world;
   const adem_mesh *m = &w->walls.mesh;
   adem_vec3 lo[2] = {{1e9, 1e9, 1e9}, {1e9, 1e9, 1e9}};

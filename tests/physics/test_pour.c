@@ -10,38 +10,16 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "insert.h"
 #include "log_capture.h"
 #include "staged_run.h"
 #include "world.h"
 
-/* Spheres poured from a cylinder into a bin: 4000/s from 5 ms to 35 ms, a batch every 3 ms. */
-static const char *const pour_case =
-    "seed: 21\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.25, friction: 0.4}\n"
-    "  - {name: steel, rigid: true}\n"
-    "walls:\n"
-    "  - {type: box, name: bin, material: steel, min: [0, 0, 0], max: [0.04, 0.04, 0.1]}\n"
-    "pours:\n"
-    "  - name: feed\n"
-    "    material: glass\n"
-    "    radius: {distribution: uniform, min: 0.001, max: 0.0015}\n"
-    "    region: {shape: cylinder, start: [0.02, 0.02, 0.03], end: [0.02, 0.02, 0.05], radius: 0.015}\n"
-    "    rate: 4000\n"
-    "    start: 0.005\n"
-    "    end: 0.035\n"
-    "    interval: 0.003\n"
-    "    velocity: [0, 0, -0.5]\n"
-    "time: {end: 0.04}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
-
-static adem_case *load(const char *text, const char *const *sets, int nsets) {
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string(text, "pour.yaml", sets, nsets, &c, &err))
-    fail_msg("case does not load: %s", err.message);
-  return c;
+/* Spheres poured from a cylinder into a bin: 4000/s from 5 ms to 35 ms, a batch every 3 ms
+ * (tests/cases/pour-bin.yaml). */
+static adem_case *load(const char *const *sets, int nsets) {
+  return case_file_load("pour-bin", sets, nsets);
 }
 
 /* Particles [first, n) overlap nothing, and every particle clears the bin's planes. */
@@ -69,7 +47,7 @@ static void assert_clear(const adem_world *w, size_t first_id) {
 static void test_pour_count(void **state) {
   (void)state;
   adem_error err;
-  adem_case *c = load(pour_case, NULL, 0);
+  adem_case *c = load(NULL, 0);
   adem_world *w = c->world;
   assert_int_equal(w->p.n, 0);
   assert_int_equal(staged_start(c, &err), ADEM_OK);
@@ -104,15 +82,12 @@ static void test_pour_count(void **state) {
 static void test_pour_mass_rate(void **state) {
   (void)state;
   adem_error err;
-  adem_case *c = NULL;
-  const char *from = "    rate: 4000\n";
-  const char *pos = strstr(pour_case, from);
-  size_t n = strlen(pour_case) + 32;
-  char *text = malloc(n);
-  assert_non_null(text);
-  snprintf(text, n, "%.*s    mass_rate: 0.08\n%s", (int)(pos - pour_case), pour_case,
-           pos + strlen(from));
-  if (adem_case_load_string(text, "pour.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
+  /* the pour as written, its rate a mass rate */
+  const char *sets[] = {"pours=[{name: feed, material: glass, radius: {distribution: uniform, min: 0.001,"
+                        " max: 0.0015}, region: {shape: cylinder, start: [0.02, 0.02, 0.03],"
+                        " end: [0.02, 0.02, 0.05], radius: 0.015}, mass_rate: 0.08, start: 0.005,"
+                        " end: 0.035, interval: 0.003, velocity: [0, 0, -0.5]}]"};
+  adem_case *c = load(sets, 1);
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   assert_int_equal(staged_advance(c, adem_schedule_total_steps(c->end_time, c->world->dt), 1000,
                                   &err), ADEM_OK);
@@ -124,7 +99,6 @@ static void test_pour_mass_rate(void **state) {
   assert_float_equal(mass, 0.0024, 0.5 * m_max);
   assert_float_equal(c->pours->p[0].mass, mass, 1e-12);
   adem_case_free(c);
-  free(text);
 }
 
 /* Claim: a pour whose region cannot take its particles inserts what fits and says how many. */
@@ -135,7 +109,7 @@ static void test_pour_falls_short(void **state) {
   adem_log_set_hook(capture, NULL);
   const char *sets[] = {"pours.feed.region={shape: box, min: [0.01, 0.01, 0.03], max: [0.016, 0.016, 0.036]}",
                         "pours.feed.max_attempts=200"};
-  adem_case *c = load(pour_case, sets, 2);
+  adem_case *c = load(sets, 2);
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   assert_int_equal(staged_advance(c, adem_schedule_total_steps(c->end_time, c->world->dt), 1000,
                                   &err), ADEM_OK);
@@ -151,7 +125,7 @@ static void test_pour_falls_short(void **state) {
 static void expect_error(const char *const *sets, int nsets, const char *w1, const char *w2) {
   adem_case *c = NULL;
   adem_error err;
-  if (!adem_case_load_string(pour_case, "pour.yaml", sets, nsets, &c, &err)) {
+  if (!adem_case_load_file(case_file_path("pour-bin"), sets, nsets, &c, &err)) {
     adem_case_free(c);
     fail_msg("expected an error with '%s'", w1);
   }
@@ -182,9 +156,9 @@ static void test_pour_bad_input(void **state) {
  * (the step of 1 mm spheres of this material), and its domain holds the pour region. */
 static void test_pour_step(void **state) {
   (void)state;
-  adem_case *c = load(pour_case, NULL, 0);
+  adem_case *c = load(NULL, 0);
   const char *sets[] = {"pours.feed.radius={distribution: constant, value: 0.001}"};
-  adem_case *d = load(pour_case, sets, 1);
+  adem_case *d = load(sets, 1);
   printf("# dt %g s (uniform 1-1.5 mm), %g s (constant 1 mm)\n", adem_world_dt(c->world), adem_world_dt(d->world));
   assert_true(adem_world_dt(c->world) > 0 && isfinite(adem_world_dt(c->world)));
   assert_float_equal(adem_world_dt(c->world), adem_world_dt(d->world), 1e-12 * adem_world_dt(d->world));

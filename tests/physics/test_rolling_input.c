@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "case_text.h"
 #include "tmpdir.h"
 #include "adem/studies.h"
@@ -24,31 +25,7 @@ static int setup(void **state) {
 
 /* A Table 1 sphere rolling on a rigid floor and a second one at rest; line numbers below refer to
  * this text. */
-static const char *const base =
-    "materials:\n"                                                                     /* 1 */
-    "  - name: ballast\n"                                                              /* 2 */
-    "    density: 1056\n"                                                              /* 3 */
-    "    youngs_modulus: 4.0e7\n"                                                      /* 4 */
-    "    poisson_ratio: 0.49\n"                                                        /* 5 */
-    "    restitution: 0.2\n"                                                           /* 6 */
-    "    friction: 0.8\n"                                                              /* 7 */
-    "    rolling_friction: 0.2\n"                                                      /* 8 */
-    "    rolling_damping: 0.3\n"                                                       /* 9 */
-    "  - {name: floor, rigid: true, restitution: 0.2, friction: 0.8, rolling_friction: 0.2}\n"
-    "interactions:\n"                                                                  /* 11 */
-    "  - {materials: [ballast, floor], rolling: brof}\n"                               /* 12 */
-    "particles:\n"                                                                     /* 13 */
-    "  - type: list\n"                                                                 /* 14 */
-    "    material: ballast\n"                                                          /* 15 */
-    "    spheres:\n"                                                                   /* 16 */
-    "      - {position: [0, 0, 0.0099966], radius: 0.01, velocity: [1, 0, 0],\n"        /* 17 */
-    "         angular_velocity: [0, 100, 0]}\n"                                        /* 18 */
-    "      - {position: [0, 0.5, 0.0099966], radius: 0.01}\n"                          /* 19 */
-    "walls:\n"                                                                         /* 20 */
-    "  - {type: plane, name: floor, material: floor, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "gravity: [0, 0, -9.8]\n"                                                          /* 22 */
-    "time: {end: 0.2, step: 5.0e-5}\n"                                                 /* 23 */
-    "output: {csv_interval: 0.01, frame_interval: 0.1, checkpoint_interval: 0, track: [1, 0]}\n";
+#define base case_file_text("rolling-input") /* tests/cases/rolling-input.yaml */
 
 /* Loads text expecting ADEM_ERR_INPUT with every word in the message. */
 static void refused(const char *text, const char *const *words, int nwords) {
@@ -116,7 +93,7 @@ static void test_track_output(void **state) {
   char set[512];
   snprintf(set, sizeof set, "output.dir=%s", dir);
   const char *sets[1] = {set};
-  assert_int_equal(adem_case_load_string(base, "rolling.yaml", sets, 1, &c, &err), ADEM_OK);
+  c = case_file_load("rolling-input", sets, 1);
   assert_int_equal(c->output.ntrack, 2);
   assert_true(c->output.track[0] == 1 && c->output.track[1] == 0);
   assert_int_equal(adem_run(c, NULL, &err), ADEM_OK);

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
+#include "case_file.h"
 #include "helpers.h"
 #include "world.h"
 
@@ -97,26 +98,7 @@ static void test_rest(void **state) {
 
 /* A closed box (rigid walls with the same friction and rolling friction) with ~300 spheres of the
  * Table 1 material dropped in a heap and left to settle. */
-static const char pile[] =
-    "materials:\n"
-    "  - {name: ballast, density: 1056, youngs_modulus: 4.0e7, poisson_ratio: 0.49,\n"
-    "     restitution: 0.2, friction: 0.8, rolling_friction: 0.2, rolling_damping: 0.3}\n"
-    "  - {name: wall, rigid: true, restitution: 0.2, friction: 0.8, rolling_friction: 0.2,\n"
-    "     rolling_damping: 0.3}\n"
-    "interactions:\n"
-    "  - {materials: [ballast, ballast], rolling: brof}\n"
-    "  - {materials: [ballast, wall], rolling: brof}\n"
-    "particles:\n"
-    "  - type: random\n"
-    "    material: ballast\n"
-    "    count: 300\n"
-    "    radius: {distribution: uniform, min: 0.008, max: 0.012}\n"
-    "    min: [-0.1, -0.1, 0.0]\n"
-    "    max: [0.1, 0.1, 0.3]\n"
-    "walls:\n"
-    "  - {type: box, name: box, material: wall, min: [-0.1, -0.1, 0.0], max: [0.1, 0.1, 1.0]}\n"
-    "gravity: [0, 0, -9.8]\n"
-    "time: {end: 1.2, step: 5.0e-5}\n";
+/* The pile: tests/cases/rolling-rest-pile.yaml. */
 
 typedef struct energy_record {
   double max_rise;      /* largest rise of E = kinetic + rotational + potential + elastic between
@@ -137,10 +119,9 @@ static energy_record settle(const char *model) {
   snprintf(s1, sizeof s1, "interactions.0.rolling=%s", model);
   snprintf(s2, sizeof s2, "interactions.1.rolling=%s", model);
   const char *sets[2] = {s1, s2};
-  adem_case *c = NULL;
   adem_error err;
   adem_log_set_hook(void_log, NULL); /* the step is above the proposal, on purpose (Table 1) */
-  assert_int_equal(adem_case_load_string(pile, "pile", sets, 2, &c, &err), ADEM_OK);
+  adem_case *c = case_file_load("rolling-rest-pile", sets, 2);
   adem_log_set_hook(NULL, NULL);
   adem_world *w = c->world;
   adem_world_set_threads(w, 1);

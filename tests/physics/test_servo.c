@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "case_text.h"
 #include "world.h"
 
@@ -21,34 +22,12 @@ static const double E = 1.0e8, NU = 0.3, R = 0.01, F = 50.0;
 
 /* The plate starts 0.1 mm above the sphere; gain 2e-3 m/s/N against a stiffness of about 1.6e5
  * N/m (the two Hertz contacts in series at 50 N) is a time constant of 3 ms, gain K dt = 7e-4. */
-static const char *const plate_case =
-    "name: plate\n"
-    "materials:\n"
-    "  - {name: ball, density: 2500, youngs_modulus: 1.0e8, poisson_ratio: 0.3, restitution: 0.3,\n"
-    "     friction: 0.3}\n"
-    "  - {name: steel, rigid: true, friction: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: ball\n"
-    "    spheres: [{position: [0, 0, 0.01], radius: 0.01}]\n"
-    "walls:\n"
-    "  - {type: plane, name: floor, material: steel, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "  - type: plane\n"
-    "    name: plate\n"
-    "    material: steel\n"
-    "    point: [0, 0, 0.0201]\n"
-    "    normal: [0, 0, -1]\n"
-    "    motion:\n"
-    "      servo: {axis: [0, 0, 1], target_force: 50, gain: 2.0e-3, max_speed: 0.05}\n"
-    "gravity: [0, 0, 0]\n"
-    "time: {end: 0.1}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
+#define plate_case case_file_text("servo-plate") /* tests/cases/servo-plate.yaml */
 
 static void test_plate_on_sphere(void **state) {
   (void)state;
-  adem_case *c = NULL;
+  adem_case *c = case_file_load("servo-plate", NULL, 0);
   adem_error err;
-  if (adem_case_load_string(plate_case, "plate.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
   adem_world *w = c->world;
   assert_int_equal(adem_world_prepare(w, &err), ADEM_OK);
   uint64_t n = (uint64_t)llround(0.1 / w->dt); /* 33 time constants */

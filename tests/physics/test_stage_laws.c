@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 
+#include "case_file.h"
 #include "helpers.h"
 #include "staged_run.h"
 #include "world.h"
@@ -133,30 +134,16 @@ static void test_rolling_switch_clears(void **state) {
   adem_world_free(w);
 }
 
-/* The resting sphere as a case file whose second stage, from t = 0.04 s (step 20000), sets the
- * interaction's tangential law. */
+/* The resting sphere as a case file (tests/cases/stage-law-switch.yaml) whose second stage, from
+ * t = 0.04 s (step 20000), sets the interaction's tangential law. */
 static adem_case *staged(const char *tangential) {
-  char text[2048];
-  snprintf(text, sizeof text,
-           "materials:\n"
-           "  - {name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.3, "
-           "restitution: 0.5, friction: 1.0, rolling_friction: 0.5}\n"
-           "  - {name: steel, rigid: true, friction: 1.0, rolling_friction: 0.5}\n"
-           "interactions:\n"
-           "  - {materials: [glass, steel], rolling: model_c}\n"
-           "particles:\n"
-           "  - {type: list, material: glass, spheres: [{position: [0, 0, 0.0009968], radius: 0.001}]}\n"
-           "walls:\n"
-           "  - {type: plane, name: floor, material: steel, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-           "gravity: [%.17g, 0, %.17g]\n"
-           "time: {end: 0.05, step: 2e-6}\n"
-           "stages:\n"
-           "  - {name: settle, duration: 0.04}\n"
-           "  - {name: switch, set: {interactions.0.tangential: %s}}\n",
-           9.81 * sin(10.0 * PI / 180.0), -9.81 * cos(10.0 * PI / 180.0), tangential);
-  adem_case *c = NULL;
+  char gravity[128], law[128];
+  snprintf(gravity, sizeof gravity, "gravity=[%.17g, 0, %.17g]", 9.81 * sin(10.0 * PI / 180.0),
+           -9.81 * cos(10.0 * PI / 180.0));
+  snprintf(law, sizeof law, "stages.switch.set={interactions.0.tangential: %s}", tangential);
+  const char *sets[] = {gravity, law};
+  adem_case *c = case_file_load("stage-law-switch", sets, 2);
   adem_error err;
-  if (adem_case_load_string(text, "stage.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
   if (staged_start(c, &err)) fail_msg("%s", err.message);
   if (staged_advance(c, 20001, 5000, &err)) fail_msg("%s", err.message);
   return c;

@@ -17,36 +17,11 @@
 
 #include "adem/adem.h"
 #include "world.h"
+#include "case_file.h"
 #include "cli_run.h"
 #include "plate_stl.h"
 
-static const char *const turntable_case =
-    "name: turntable\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3,\n"
-    "     restitution: 0.5, friction: 0.3}\n"
-    "  - {name: steel, rigid: true, friction: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres:\n"
-    "      - {position: [0.01, 0, 0.0009998], radius: 0.001}\n"
-    "walls:\n"
-    "  - type: mesh\n"
-    "    name: table\n"
-    "    material: steel\n"
-    "    file: plate.stl\n"
-    "    translate: [0.005, 0, 0]   # the torque point off the axis\n"
-    "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 20}}\n"
-    "gravity: [0, 0, -9.81]\n"
-    "limits: {initial_overlap: 0.01}\n"
-    "time:\n"
-    "  end: 0.05\n"
-    "  step: 2.0e-6\n"
-    "output:\n"
-    "  frame_interval: 0\n"
-    "  csv_interval: 2.0e-6\n"
-    "  checkpoint_interval: 0\n";
+/* The turntable (tests/cases/turntable.yaml) and the spheres on it (brof-balance.yaml). */
 
 /* The CSV's columns NAMES (n of them) row by row: rows[r * n + c]; returns the row count. */
 static int read_columns(const char *path, const char *const *names, int n, double **rows) {
@@ -86,13 +61,10 @@ static void test_turntable_drive_columns(void **state) {
   char path[600];
   snprintf(path, sizeof path, "%s/plate.stl", tmpdir);
   write_plate(path, 4, 0.0078125); /* 3.1 cm square plate centred on the axis */
-  snprintf(path, sizeof path, "%s/turntable.yaml", tmpdir);
-  FILE *f = fopen(path, "w");
-  assert_non_null(f);
-  fputs(turntable_case, f);
-  fclose(f);
   char *out;
-  assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out'", path, tmpdir), 0);
+  assert_int_equal(adem(&out, "run '%s' --set 'walls.table.file=%s' --quiet --out '%s/out'",
+                        case_file_path("turntable"), path, tmpdir),
+                   0);
   char csv[700];
   snprintf(csv, sizeof csv, "%s/out/timeseries.csv", tmpdir);
   const char *names[] = {"time_s", "wall_work_J", "table_drive_power_W", "table_axis_torque_Nm"};
@@ -139,39 +111,18 @@ static void test_brof_torque_balance(void **state) {
   snprintf(path, sizeof path, "%s/plate.stl", tmpdir);
   write_plate(path, 4, 0.0078125);
   const double r = 0.001, h = r * sqrt(8.0 / 3.0), x0 = 0.008;
-  char text[4096];
-  snprintf(text, sizeof text,
-           "name: brofbalance\n"
-           "materials:\n"
-           "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3,\n"
-           "     restitution: 0.5, friction: 0.5, rolling_friction: 0.2}\n"
-           "  - {name: steel, rigid: true, friction: 0.5}\n"
-           "interactions:\n"
-           "  - {materials: [glass, glass], rolling: brof}\n"
-           "  - {materials: [glass, steel], rolling: none}\n"
-           "particles:\n"
-           "  - type: list\n"
-           "    material: glass\n"
-           "    spheres:\n"
-           "      - {position: [%.17g, 0, %.17g], radius: %g}\n"
-           "      - {position: [%.17g, %.17g, %.17g], radius: %g}\n"
-           "      - {position: [%.17g, %.17g, %.17g], radius: %g}\n"
-           "      - {position: [%.17g, %.17g, %.17g], radius: %g}\n"
-           "walls:\n"
-           "  - type: mesh\n"
-           "    name: table\n"
-           "    material: steel\n"
-           "    file: plate.stl\n"
-           "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 5}}\n"
-           "gravity: [0, 0, -9.81]\n"
-           "limits: {initial_overlap: 0.01}\n"
-           "time: {end: 0.1, step: 4.0e-6}\n"
-           "output: {frame_interval: 0, csv_interval: 4.0e-6, checkpoint_interval: 0}\n",
+  char spheres[600], table[700];
+  snprintf(spheres, sizeof spheres,
+           "particles.0.spheres=[{position: [%.17g, 0, %.17g], radius: %g},"
+           " {position: [%.17g, %.17g, %.17g], radius: %g},"
+           " {position: [%.17g, %.17g, %.17g], radius: %g},"
+           " {position: [%.17g, %.17g, %.17g], radius: %g}]",
            x0 + 2.0 * r / sqrt(3.0), r, r, x0 - r / sqrt(3.0), r, r, r, x0 - r / sqrt(3.0), -r, r, r,
            x0, 0.0, r + h, r);
-  adem_case *c = NULL;
+  snprintf(table, sizeof table, "walls.table.file=%s", path);
+  const char *sets[] = {spheres, table};
+  adem_case *c = case_file_load("brof-balance", sets, 2);
   adem_error err;
-  if (adem_case_load_string(text, path, NULL, 0, &c, &err)) fail_msg("%s", err.message);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/out", tmpdir);
   adem_run_options opt = adem_default_run_options();
   opt.nthreads = 1;

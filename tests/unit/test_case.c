@@ -13,34 +13,14 @@
 #include <time.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "case_text.h"
 #include "log_capture.h"
 #include "world.h"
 
-/* Two glass spheres above a steel floor. Line numbers below refer to this text. */
-static const char *const base =
-    "materials:\n"                                           /* 1 */
-    "  - name: glass\n"                                      /* 2 */
-    "    density: 2500\n"                                    /* 3 */
-    "    youngs_modulus: 1.0e7\n"                            /* 4 */
-    "    poisson_ratio: 0.25\n"                              /* 5 */
-    "    restitution: 0.5\n"                                 /* 6 */
-    "  - name: steel\n"                                      /* 7 */
-    "    rigid: true\n"                                      /* 8 */
-    "particles:\n"                                           /* 9 */
-    "  - type: list\n"                                       /* 10 */
-    "    material: glass\n"                                  /* 11 */
-    "    spheres:\n"                                         /* 12 */
-    "      - {position: [0, 0, 0.1], radius: 0.001}\n"       /* 13 */
-    "      - {position: [0.01, 0, 0.1], radius: 0.001}\n"    /* 14 */
-    "walls:\n"                                               /* 15 */
-    "  - type: plane\n"                                      /* 16 */
-    "    name: floor\n"                                      /* 17 */
-    "    material: steel\n"                                  /* 18 */
-    "    point: [0, 0, 0]\n"                                 /* 19 */
-    "    normal: [0, 0, 2]\n"                                /* 20 */
-    "time:\n"                                                /* 21 */
-    "  end: 0.5\n";                                          /* 22 */
+/* Two glass spheres above a steel floor (tests/cases/loader-two-spheres.yaml); the messages
+ * below name its lines and columns. */
+#define BASE case_file_text("loader-two-spheres")                                          /* 22 */
 
 static adem_case *load_ok(const char *text, const char *const *sets, int nsets) {
   adem_case *c = NULL;
@@ -66,9 +46,9 @@ static void expect_error_sets(const char *text, const char *const *sets, int nse
 
 #define WORDS(...) ((const char *const[]){__VA_ARGS__, NULL})
 
-/* base with one replacement must fail naming all the words. */
+/* The two spheres' text with one replacement must fail naming all the words. */
 static void expect_bad(const char *from, const char *to, const char *const *words) {
-  char *text = replaced(base, from, to);
+  char *text = replaced(BASE, from, to);
   expect_error_sets(text, NULL, 0, words);
   free(text);
 }
@@ -78,7 +58,7 @@ static void expect_bad(const char *from, const char *to, const char *const *word
  * step equals the world's proposal at v_ref = sqrt(2 g H) (H = 0.101 m: floor to sphere top). */
 static void test_good_case(void **state) {
   (void)state;
-  adem_case *c = load_ok(base, NULL, 0);
+  adem_case *c = load_ok(BASE, NULL, 0);
   adem_world *w = c->world;
   assert_int_equal(adem_world_particle_count(w), 2);
   assert_int_equal(w->mat.n, 2);
@@ -104,7 +84,7 @@ static void test_good_case(void **state) {
   assert_float_equal(adem_world_dt(c->world), e.dt, 0);
   assert_float_equal(adem_world_dt(w), e.dt, 0);
   assert_float_equal(c->dt_user_ratio, 1.0, 0);
-  assert_string_equal(c->source, base);
+  assert_string_equal(c->source, BASE);
   assert_int_equal(c->nsets, 0);
   /* The derived escape box holds the free fall over time.end: 0.5 g t^2 = 1.23 m. */
   assert_true(w->has_domain);
@@ -120,44 +100,7 @@ static void test_good_case(void **state) {
  * count cap, boxes, domain, limits, neighbour skin, output settings, a user step. */
 static void test_full_case(void **state) {
   (void)state;
-  const char *text =
-      "name: full\n"
-      "seed: 42\n"
-      "materials:\n"
-      "  - {name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.25, restitution: 0.9,\n"
-      "     friction: 0.3, surface_energy: 0.1, adhesion_hysteresis: 0.2, stiffness_factor: 0.5,\n"
-      "     rolling_friction: 0.01, rolling_damping: 0.3}\n"
-      "  - {name: steel, youngs_modulus: 2e11, poisson_ratio: 0.3, surface_energy: 0.05}\n"
-      "interactions:\n"
-      "  - {materials: [glass, steel], restitution: 0.4, friction: 0.2, normal: jkr, rolling: model_c}\n"
-      "  - {materials: [glass, glass], rolling: brof}\n"
-      "groups:\n"
-      "  - {name: tracer, external_force: [0, 0, 1e-6]}\n"
-      "particles:\n"
-      "  - type: lattice\n"
-      "    material: glass\n"
-      "    group: tracer\n"
-      "    radius: 0.001\n"
-      "    spacing: 0.0025\n"
-      "    min: [0, 0, 0]\n"
-      "    max: [0.01, 0.01, 0.01]\n"
-      "    count: 20\n"
-      "    velocity: [0, 0, -1]\n"
-      "  - type: lattice\n"
-      "    material: glass\n"
-      "    radius: 0.001\n"
-      "    spacing: 0.0025\n"
-      "    min: [0, 0, 0.02]\n"
-      "    max: [0.01, 0.01, 0.03]\n"
-      "walls:\n"
-      "  - {type: box, name: box, material: steel, min: [-0.001, -0.001, -0.001], max: [0.02, 0.02, 0.05]}\n"
-      "gravity: [0, 0, -1]\n"
-      "domain: {min: [-1, -1, -1], max: [1, 1, 2]}\n"
-      "time: {end: 0.01, step: 1e-6, reference_speed: 2}\n"
-      "neighbor: {skin: 0.3}\n"
-      "limits: {max_overlap_ratio: 0.05}\n"
-      "output: {dir: /tmp/adem_full, frame_interval: 0.001, csv_interval: 0, checkpoint_interval: 0.002, plot: true}\n";
-  adem_case *c = load_ok(text, NULL, 0);
+  adem_case *c = case_file_load("loader-full", NULL, 0);
   adem_world *w = c->world;
   /* 4 sites per axis: (0.01 - 0.002) / 0.0025 = 3.2 -> 4; first set capped at 20 */
   assert_int_equal(adem_world_particle_count(w), 20 + 64);
@@ -217,7 +160,7 @@ static void test_full_case(void **state) {
 static void test_step_too_large_warns(void **state) {
   (void)state;
   /* above the proposal (3.4e-6 s), below the stability limit t_c/5 (3.4e-5 s): a warning */
-  char *text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 2e-5\n");
+  char *text = replaced(BASE, "  end: 0.5\n", "  end: 0.5\n  step: 2e-5\n");
   adem_case *c = load_ok(text, NULL, 0);
   assert_float_equal(adem_world_dt(c->world), 2e-5, 0);
   assert_true(c->dt_user_ratio > 1.0);
@@ -234,7 +177,7 @@ static void test_step_too_large_warns(void **state) {
   expect_bad("  end: 0.5\n", "  end: 0.5\n  step: 1e-3\n",
              WORDS("test.yaml:23:9: ", "time.step", "29.80x the limit t_collision/5",
                    "limits.allow_large_step: true"));
-  text = replaced(base, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\nlimits: {allow_large_step: true}\n");
+  text = replaced(BASE, "  end: 0.5\n", "  end: 0.5\n  step: 1e-3\nlimits: {allow_large_step: true}\n");
   c = load_ok(text, NULL, 0);
   assert_float_equal(adem_world_dt(c->world), 1e-3, 0);
   assert_contains(logged, "and the step is above it (limits.allow_large_step)");
@@ -347,12 +290,7 @@ static void test_bad_geometry(void **state) {
   expect_bad("[0.01, 0, 0.1], radius: 0.001}", "[0.0015, 0, 0.1], radius: 0.001}",
              WORDS("test.yaml:14:9: ", "particles[0].spheres[1]", "overlaps particles[0].spheres[0]",
                    "line 13:9"));
-  const char *lattice =
-      "materials: [{name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.25}]\n"
-      "particles:\n"
-      "  - {type: lattice, material: glass, radius: 0.001, spacing: 0.0025,\n"
-      "     min: [0, 0, 0], max: [0.01, 0.01, 0.01]}\n"
-      "time: {end: 1}\n";
+  const char *lattice = case_file_text("loader-lattice");
   adem_case *c = load_ok(lattice, NULL, 0);
   assert_int_equal(c->world->p.n, 64);
   adem_case_free(c);
@@ -388,7 +326,7 @@ static void test_bad_files(void **state) {
   expect_error_sets("a: b\n  c: d\n", NULL, 0, WORDS("test.yaml:2:4: ", "YAML syntax error"));
   expect_error_sets("", NULL, 0, WORDS("test.yaml:1:1: ", "time", "required value is missing"));
   expect_error_sets("- 1\n- 2\n", NULL, 0, WORDS("test.yaml:1:1: ", "expected a mapping"));
-  char *two = replaced(base, "time:\n", "---\ntime:\n");
+  char *two = replaced(BASE, "time:\n", "---\ntime:\n");
   expect_error_sets(two, NULL, 0, WORDS("test.yaml:22:1: ", "second YAML document"));
   free(two);
 }
@@ -401,19 +339,19 @@ static void test_load_file(void **state) {
   assert_true(fd >= 0);
   FILE *f = fdopen(fd, "w");
   assert_non_null(f);
-  fputs(base, f);
+  fputs(BASE, f);
   fclose(f);
   adem_case *c = NULL;
   adem_error err = {ADEM_OK, ""};
   assert_int_equal(adem_case_load_file(path, NULL, 0, &c, &err), ADEM_OK);
   assert_string_equal(c->path, path);
   assert_string_equal(c->name, path + 5); /* stem of /tmp/adem_case_XXXXXX */
-  assert_string_equal(c->source, base);
+  assert_string_equal(c->source, BASE);
   assert_int_equal(adem_world_particle_count(c->world), 2);
   adem_case_free(c);
   remove(path);
   /* text without a file name: messages say <case>, the name is `case` */
-  assert_int_equal(adem_case_load_string(base, NULL, NULL, 0, &c, &err), ADEM_OK);
+  assert_int_equal(adem_case_load_string(BASE, NULL, NULL, 0, &c, &err), ADEM_OK);
   assert_string_equal(c->path, "<case>");
   assert_string_equal(c->name, "case");
   assert_string_equal(c->output.dir, "out/case");
@@ -434,7 +372,7 @@ static void test_set_overrides(void **state) {
                         "walls.floor.point=[0, 0, -0.5]",
                         "name=renamed"};
   int n = (int)(sizeof sets / sizeof sets[0]);
-  adem_case *c = load_ok(base, sets, n);
+  adem_case *c = load_ok(BASE, sets, n);
   adem_world *w = c->world;
   assert_float_equal(c->end_time, 2.0, 0);
   assert_float_equal(w->mat.m[0].def.friction, 0.3, 0);
@@ -447,7 +385,7 @@ static void test_set_overrides(void **state) {
   assert_string_equal(c->name, "renamed");
   assert_int_equal(c->nsets, n);
   for (int k = 0; k < n; ++k) assert_string_equal(c->sets[k], sets[k]);
-  assert_string_equal(c->source, base); /* the text itself is unchanged */
+  assert_string_equal(c->source, BASE); /* the text itself is unchanged */
   /* loading again from what the case kept gives the same case (checkpoints rely on it) */
   adem_case *d = load_ok(c->source, (const char *const *)c->sets, c->nsets);
   assert_float_equal(d->end_time, 2.0, 0);
@@ -463,7 +401,7 @@ static void test_interaction_names(void **state) {
   char text[2048];
   snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: glass-glass, materials: [glass, glass]}\n"
            "  - {name: glass-floor, materials: [glass, steel], friction: 0.2}\ntime:\n  end: 0.5\n",
-           (int)(strstr(base, "time:") - base), base);
+           (int)(strstr(BASE, "time:") - BASE), BASE);
   const char *sets[] = {"interactions.glass-floor.friction=0.35"};
   adem_case *c = load_ok(text, sets, 1);
   const adem_interaction_def *d = &c->world->mat.defs[1];
@@ -475,7 +413,7 @@ static void test_interaction_names(void **state) {
                     WORDS("`glass-flor`", "glass-glass, glass-floor"));
   snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: a, materials: [glass, glass]}\n"
            "  - {name: a, materials: [glass, steel]}\ntime:\n  end: 0.5\n",
-           (int)(strstr(base, "time:") - base), base);
+           (int)(strstr(BASE, "time:") - BASE), BASE);
   expect_error_sets(text, NULL, 0, WORDS("interactions[1].name", "duplicate interaction name `a`", "first at line 22:12"));
 }
 
@@ -486,9 +424,9 @@ static void test_interaction_names(void **state) {
 static void test_unused_law_params_warned(void **state) {
   (void)state;
   char text[2048];
-  const char *mat = strstr(base, "    restitution: 0.5\n");
-  size_t head = (size_t)(mat - base) + strlen("    restitution: 0.5\n");
-  const char *tail_at = strstr(base, "time:");
+  const char *mat = strstr(BASE, "    restitution: 0.5\n");
+  size_t head = (size_t)(mat - BASE) + strlen("    restitution: 0.5\n");
+  const char *tail_at = strstr(BASE, "time:");
   const struct {
     const char *extra, *more;
     bool warned;
@@ -504,8 +442,8 @@ static void test_unused_law_params_warned(void **state) {
        true},
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
-    snprintf(text, sizeof text, "%.*s    rolling_friction: 0.2\n%.*s%s%s%s", (int)head, base,
-             (int)(tail_at - (base + head)), base + head, cases[k].extra, tail_at, cases[k].more);
+    snprintf(text, sizeof text, "%.*s    rolling_friction: 0.2\n%.*s%s%s%s", (int)head, BASE,
+             (int)(tail_at - (BASE + head)), BASE + head, cases[k].extra, tail_at, cases[k].more);
     logged[0] = '\0';
     adem_case *c = load_ok(text, NULL, 0);
     printf("# case %zu: %s", k, logged[0] ? logged : "(nothing logged)\n");
@@ -521,7 +459,7 @@ static void test_unused_law_params_warned(void **state) {
 static void test_brof_turning_wall_warned(void **state) {
   (void)state;
   char text[2048];
-  const char *walls_at = strstr(base, "time:");
+  const char *walls_at = strstr(BASE, "time:");
   const struct {
     const char *rolling, *motion, *more;
     bool warned;
@@ -534,7 +472,7 @@ static void test_brof_turning_wall_warned(void **state) {
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
     snprintf(text, sizeof text, "%.*s%sinteractions:\n  - {materials: [glass, steel], rolling: %s}\n%s%s",
-             (int)(walls_at - base), base, cases[k].motion, cases[k].rolling, walls_at, cases[k].more);
+             (int)(walls_at - BASE), BASE, cases[k].motion, cases[k].rolling, walls_at, cases[k].more);
     logged[0] = '\0';
     adem_case *c = load_ok(text, NULL, 0);
     printf("# case %zu: %s", k, logged[0] ? logged : "(nothing logged)\n");
@@ -547,45 +485,35 @@ static void test_brof_turning_wall_warned(void **state) {
  * not resolve is refused naming the failing segment. */
 static void test_set_errors(void **state) {
   (void)state;
-  expect_error_sets(base, WORDS("materials.copper.friction=0.3"), 1,
+  expect_error_sets(BASE, WORDS("materials.copper.friction=0.3"), 1,
                     WORDS("--set materials.copper.friction=0.3", "`copper`", "glass, steel"));
-  expect_error_sets(base, WORDS("materials.5.friction=0.3"), 1,
+  expect_error_sets(BASE, WORDS("materials.5.friction=0.3"), 1,
                     WORDS("`5`", "index out of range", "2 items"));
-  expect_error_sets(base, WORDS("time.end.x=1"), 1, WORDS("`x`", "`time.end` is a single value"));
-  expect_error_sets(base, WORDS("time.end=soon"), 1,
+  expect_error_sets(BASE, WORDS("time.end.x=1"), 1, WORDS("`x`", "`time.end` is a single value"));
+  expect_error_sets(BASE, WORDS("time.end=soon"), 1,
                     WORDS("--set time.end=soon: time.end: expected a number > 0 (s), got `soon`"));
-  expect_error_sets(base, WORDS("materials.glass.poisson_ratio=0.7"), 1,
+  expect_error_sets(BASE, WORDS("materials.glass.poisson_ratio=0.7"), 1,
                     WORDS("--set materials.glass.poisson_ratio=0.7", "materials[0].poisson_ratio",
                           "(-1, 0.5)"));
-  expect_error_sets(base, WORDS("time.ende=1"), 1,
+  expect_error_sets(BASE, WORDS("time.ende=1"), 1,
                     WORDS("--set time.ende=1", "time.ende", "did you mean `end`?"));
-  expect_error_sets(base, WORDS("time.end"), 1, WORDS("--set time.end", "key.path=value"));
-  expect_error_sets(base, WORDS("time..end=1"), 1, WORDS("empty segment"));
-  expect_error_sets(base, WORDS("time.end="), 1, WORDS("--set time.end=: time.end", "got no value"));
-  expect_error_sets(base, WORDS("gravity=[0, 0"), 1, WORDS("--set gravity=[0, 0", "not valid YAML"));
-  expect_error_sets(base, WORDS("gravity=[0, 0]"), 1, WORDS("--set gravity=[0, 0]", "gravity", "3 numbers"));
+  expect_error_sets(BASE, WORDS("time.end"), 1, WORDS("--set time.end", "key.path=value"));
+  expect_error_sets(BASE, WORDS("time..end=1"), 1, WORDS("empty segment"));
+  expect_error_sets(BASE, WORDS("time.end="), 1, WORDS("--set time.end=: time.end", "got no value"));
+  expect_error_sets(BASE, WORDS("gravity=[0, 0"), 1, WORDS("--set gravity=[0, 0", "not valid YAML"));
+  expect_error_sets(BASE, WORDS("gravity=[0, 0]"), 1, WORDS("--set gravity=[0, 0]", "gravity", "3 numbers"));
 }
 
-static const char *const random_case =
-    "seed: 7\n"
-    "materials: [{name: glass, density: 2500, youngs_modulus: 1e7, poisson_ratio: 0.25}]\n"
-    "particles:\n"
-    "  - {type: list, material: glass, spheres: [{position: [0.01, 0.01, 0.01], radius: 0.003}]}\n"
-    "  - type: random\n"
-    "    material: glass\n"
-    "    min: [0, 0, 0]\n"
-    "    max: [0.02, 0.02, 0.04]\n"
-    "    count: 1000\n"
-    "    radius: {distribution: uniform, min: 0.0003, max: 0.0006}\n"
-    "time: {end: 0.1}\n";
+/* A sphere and a random fill of 1000 around it (tests/cases/loader-random-fill.yaml). */
+#define RANDOM_FILL "loader-random-fill"
 
 /* Claim: a random fill is deterministic in the seed, different for another seed, puts whole
  * spheres inside its box, and overlaps neither itself nor the spheres of earlier sets. */
 static void test_random_fill(void **state) {
   (void)state;
-  adem_case *a = load_ok(random_case, NULL, 0);
-  adem_case *b = load_ok(random_case, NULL, 0);
-  adem_case *d = load_ok(random_case, WORDS("seed=8"), 1);
+  adem_case *a = case_file_load(RANDOM_FILL, NULL, 0);
+  adem_case *b = case_file_load(RANDOM_FILL, NULL, 0);
+  adem_case *d = case_file_load(RANDOM_FILL, WORDS("seed=8"), 1);
   const adem_particles *p = &a->world->p;
   assert_int_equal(p->n, 1001);
   assert_int_equal(b->world->p.n, 1001);
@@ -616,24 +544,19 @@ static void test_random_fill(void **state) {
 /* Claim: 20,000 spheres fill in well under a second (the grid makes each try O(1)). */
 static void test_random_fill_fast(void **state) {
   (void)state;
-  char *t = replaced(random_case, "count: 1000", "count: 20000");
-  char *text = replaced(t, "max: [0.02, 0.02, 0.04]", "max: [0.04, 0.04, 0.04]");
-  free(t);
   clock_t t0 = clock();
-  adem_case *c = load_ok(text, NULL, 0);
+  adem_case *c = case_file_load(RANDOM_FILL, WORDS("particles.1.count=20000", "particles.1.max=[0.04, 0.04, 0.04]"), 2);
   double seconds = (double)(clock() - t0) / CLOCKS_PER_SEC;
   printf("# 20000 spheres in %.3f s\n", seconds);
   assert_int_equal(c->world->p.n, 20001);
   assert_true(seconds < 5.0); /* generous: Debug builds, slow machines, valgrind off */
   adem_case_free(c);
-  free(text);
 }
 
 /* Claim: when max_attempts runs out the fill keeps what it placed and warns with both counts. */
 static void test_random_fill_gives_up(void **state) {
   (void)state;
-  char *text = replaced(random_case, "count: 1000", "count: 1000\n    max_attempts: 200");
-  adem_case *c = load_ok(text, NULL, 0);
+  adem_case *c = case_file_load(RANDOM_FILL, WORDS("particles.1.max_attempts=200"), 1);
   size_t n = c->world->p.n - 1;
   assert_true(n > 0 && n <= 200);
   char expect[128];
@@ -641,7 +564,6 @@ static void test_random_fill_gives_up(void **state) {
   assert_contains(logged, expect);
   assert_contains(logged, "particles[1]");
   adem_case_free(c);
-  free(text);
 }
 
 /* Claim: the size distributions have the asked mean and spread. 4000 draws: the sample mean is
@@ -652,10 +574,10 @@ static void test_radius_distributions(void **state) {
                          "{distribution: lognormal, mean: 0.0005, std: 0.0001}",
                          "{distribution: constant, value: 0.0005}"};
   for (int k = 0; k < 3; ++k) {
-    char *t = replaced(random_case, "{distribution: uniform, min: 0.0003, max: 0.0006}", dists[k]);
-    char *t2 = replaced(t, "count: 1000", "count: 4000");
-    char *t3 = replaced(t2, "max: [0.02, 0.02, 0.04]", "max: [0.1, 0.1, 0.1]");
-    adem_case *c = load_ok(t3, NULL, 0);
+    char radius[128];
+    snprintf(radius, sizeof radius, "particles.1.radius=%s", dists[k]);
+    adem_case *c = case_file_load(RANDOM_FILL,
+                             WORDS(radius, "particles.1.count=4000", "particles.1.max=[0.1, 0.1, 0.1]"), 3);
     const adem_particles *p = &c->world->p;
     assert_int_equal(p->n, 4001);
     double s = 0, s2 = 0;
@@ -667,20 +589,14 @@ static void test_radius_distributions(void **state) {
     assert_float_equal(mean, 0.0005, 0.01 * 0.0005);
     assert_float_equal(std, k == 2 ? 0.0 : 0.0001, 0.1 * 0.0001);
     adem_case_free(c);
-    free(t);
-    free(t2);
-    free(t3);
   }
-  char *t = replaced(random_case, "{distribution: uniform, min: 0.0003, max: 0.0006}",
-                     "{distribution: constant, value: 0.011}");
-  expect_error_sets(t, NULL, 0, WORDS("particles[1].radius.value", "does not fit the box"));
-  free(t);
-  t = replaced(random_case, "max: 0.0006}", "max: 0.0002}");
-  expect_error_sets(t, NULL, 0, WORDS("particles[1].radius.max", "greater than `min`"));
-  free(t);
-  t = replaced(random_case, "max: 0.0006}", "max: 0.0006, mean: 1}");
-  expect_error_sets(t, NULL, 0, WORDS("particles[1].radius.mean", "does not apply to distribution `uniform`"));
-  free(t);
+  const char *fill = case_file_text(RANDOM_FILL);
+  expect_error_sets(fill, WORDS("particles.1.radius={distribution: constant, value: 0.011}"), 1,
+                    WORDS("particles[1].radius.value", "does not fit the box"));
+  expect_error_sets(fill, WORDS("particles.1.radius.max=0.0002"), 1,
+                    WORDS("particles[1].radius.max", "greater than `min`"));
+  expect_error_sets(fill, WORDS("particles.1.radius.mean=1"), 1,
+                    WORDS("particles[1].radius.mean", "does not apply to distribution `uniform`"));
 }
 
 /* Claim: the reference page lists every key of the schema with its unit, default and range, and

@@ -9,25 +9,19 @@
 #include <cmocka.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 
 static const double PI = 3.14159265358979323846;
 
+/* tests/cases/fill-level-box.yaml with particles.0.region=REGION (NULL: the box) and
+ * particles.0.fill_level=FILL; NULL with *err when it is refused. */
 static adem_case *load(const char *region, const char *fill, adem_error *err) {
-  char text[2048];
-  snprintf(text, sizeof text,
-           "materials:\n"
-           "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3,\n"
-           "     restitution: 0.5, friction: 0.5}\n"
-           "particles:\n"
-           "  - type: random\n"
-           "    material: glass\n"
-           "    radius: {distribution: constant, value: 0.004}\n"
-           "    %s\n"
-           "    fill_level: %s\n"
-           "time: {end: 0.01}\n",
-           region, fill);
+  char r[256], f[256];
+  snprintf(r, sizeof r, "particles.0.region=%s", region ? region : "");
+  snprintf(f, sizeof f, "particles.0.fill_level=%s", fill);
+  const char *sets[] = {f, r};
   adem_case *c = NULL;
-  if (adem_case_load_string(text, "fill.yaml", NULL, 0, &c, err)) return NULL;
+  if (adem_case_load_file(case_file_path("fill-level-box"), sets, region ? 2 : 1, &c, err)) return NULL;
   return c;
 }
 
@@ -41,14 +35,14 @@ static void test_fill_level(void **state) {
   (void)state;
   adem_error err;
   double vs = 4.0 / 3.0 * PI * 0.004 * 0.004 * 0.004;
-  adem_case *c = load("region: {shape: box, min: [0, 0, 0], max: [0.1, 0.1, 0.2]}", "{level: 0.05}", &err);
+  adem_case *c = load(NULL, "{level: 0.05}", &err);
   if (!c) fail_msg("%s", err.message);
   double want = 0.6 * 0.1 * 0.1 * 0.05 / vs;
   size_t n = adem_world_particle_count(c->world);
   printf("# box to z = 0.05: %zu spheres (%.2f wanted)\n", n, want);
   assert_true(fabs((double)n - want) <= 0.5);
   adem_case_free(c);
-  const char *cyl = "region: {shape: cylinder, start: [0, 0, 0], end: [0.1, 0, 0], radius: 0.05}";
+  const char *cyl = "{shape: cylinder, start: [0, 0, 0], end: [0.1, 0, 0], radius: 0.05}";
   c = load(cyl, "{level: 0.0}", &err);
   if (!c) fail_msg("%s", err.message);
   want = 0.6 * 0.5 * PI * 0.05 * 0.05 * 0.1 / vs;

@@ -12,23 +12,14 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "case_text.h"
 
-static const char *text =
-    "materials: [{name: m, density: 1000, youngs_modulus: 1e7, poisson_ratio: 0.3}]\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: m\n"
-    "    spheres:\n"
-    "      - {position: [0, 0, 0], radius: 0.01}\n"
-    "      - {position: [0.0195, 0, 0], radius: 0.01}\n"
-    "gravity: [0, 0, 0]\n"
-    "time: {end: 0.001}\n";
-
+/* Two spheres overlapping by 5% of their radius: tests/cases/initial-overlap.yaml. */
 static adem_status prepare_with(const char *set, adem_error *err) {
   adem_case *c = NULL;
   const char *sets[1] = {set};
-  adem_status st = adem_case_load_string(text, "overlap.yaml", sets, set ? 1 : 0, &c, err);
+  adem_status st = adem_case_load_file(case_file_path("initial-overlap"), sets, set ? 1 : 0, &c, err);
   if (!st) st = adem_world_prepare(c->world, err);
   if (!st) st = adem_world_step(c->world, 10, err); /* pushed apart, no blow-up */
   adem_case_free(c);

@@ -10,29 +10,17 @@
 #include <math.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "cli_run.h"
 #include "output.h"
 
-/* A box wall (planes bin.xmin ... bin.zmax) around one sphere. */
-static const char *const box_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}\n"
-    "particles:\n"
-    "  - type: list\n"
-    "    material: glass\n"
-    "    spheres: [{position: [0.5, 0.5, 0.5], radius: 0.01}]\n"
-    "walls:\n"
-    "  - {type: box, name: bin, material: glass, min: [0, 0, 0], max: [1, 1, 1]}\n"
-    "  - {type: plane, name: lid-top, material: glass, point: [0, 0, 2], normal: [0, 0, -1]}\n"
-    "time: {end: 0.01}\n";
+/* A box wall (planes bin.xmin ... bin.zmax) around one sphere: tests/cases/output-box.yaml. */
 
 /* Claim: every column name of the CSV header is one numpy's genfromtxt(names=True) keeps as it
  * is (letters, digits and `_` only): the dot of `bin.xmin` becomes `__`. */
 static void test_csv_names_survive_numpy(void **state) {
   (void)state;
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string(box_case, "box.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
+  adem_case *c = case_file_load("output-box", NULL, 0);
   char *header = adem_output_csv_header(c->world, NULL, NULL);
   assert_non_null(header);
   printf("# %s", header);
@@ -45,25 +33,7 @@ static void test_csv_names_survive_numpy(void **state) {
   adem_case_free(c);
 }
 
-/* 27 spheres in a lattice 5..7 cm above a floor, falling onto it. */
-static const char *const fall_case =
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3, restitution: 0.2}\n"
-    "particles:\n"
-    "  - {type: lattice, material: glass, radius: 0.004, spacing: 0.01,\n"
-    "     min: [0, 0, 0.05], max: [0.03, 0.03, 0.08]}\n"
-    "walls:\n"
-    "  - {type: plane, name: floor, material: glass, point: [0, 0, 0], normal: [0, 0, 1]}\n"
-    "time: {end: 0.2}\n"
-    "output:\n"
-    "  csv_interval: 0.01\n"
-    "  frame_interval: 0\n"
-    "  regions:\n"
-    "    - {name: top, shape: box, min: [-1, -1, 0.04], max: [1, 1, 1]}\n"
-    "    - {name: low_cyl, shape: cylinder, start: [0.015, 0.015, 0], end: [0.015, 0.015, 0.035],\n"
-    "       radius: 0.5}\n"
-    "    - {name: cube, shape: mesh, file: %s/tests/data/cube_ascii.stl, scale: 0.1,\n"
-    "       translate: [-0.02, -0.02, -0.05]}\n";
+/* 27 spheres in a lattice 5..7 cm above a floor, falling onto it: tests/cases/output-fall.yaml. */
 
 /* Claim: output.regions counts the particles whose centre is in each region, and their mass, in
  * every CSV row: 27 spheres start in `top` and end, fallen, in the cylinder and the closed mesh
@@ -71,11 +41,8 @@ static const char *const fall_case =
 static void test_region_counts(void **state) {
   (void)state;
   if (tmpdir_make("adem_output")) fail_msg("no tmpdir");
-  char text[2048];
-  snprintf(text, sizeof text, fall_case, ADEM_SOURCE_DIR);
-  adem_case *c = NULL;
+  adem_case *c = case_file_load("output-fall", NULL, 0);
   adem_error err;
-  if (adem_case_load_string(text, "fall.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);
   snprintf(c->output.dir, sizeof c->output.dir, "%s/fall", tmpdir);
   assert_int_equal(adem_world_particle_count(c->world), 27);
   if (adem_run(c, NULL, &err)) fail_msg("%s", err.message);
@@ -103,21 +70,19 @@ static void test_region_counts(void **state) {
  * another shape. */
 static void test_region_errors(void **state) {
   (void)state;
-  char text[2048];
-  snprintf(text, sizeof text, fall_case, ADEM_SOURCE_DIR);
-  const char *bad[3][3] = {
-      {"{name: cube,", "{name: top,", "duplicate region name `top`"},
-      {"radius: 0.5}", "radius: 0.5, min: [0, 0, 0]}", "`min` does not apply to shape `cylinder`"},
-      {"cube_ascii.stl", "two_solids.stl", "does not enclose a volume"}};
+  const char *bad[3][2] = {
+      {"output.regions.cube.name=top", "duplicate region name `top`"},
+      {"output.regions.low_cyl.min=[0, 0, 0]", "`min` does not apply to shape `cylinder`"},
+      {"output.regions.cube.file=" ADEM_SOURCE_DIR "/tests/data/two_solids.stl",
+       "does not enclose a volume"}};
   for (int k = 0; k < 3; ++k) {
-    char *t = replaced(text, bad[k][0], bad[k][1]);
     adem_case *c = NULL;
     adem_error err;
-    assert_int_equal(adem_case_load_string(t, "bad.yaml", NULL, 0, &c, &err), ADEM_ERR_INPUT);
+    assert_int_equal(adem_case_load_file(case_file_path("output-fall"), bad[k], 1, &c, &err),
+                     ADEM_ERR_INPUT);
     printf("# %s\n", err.message);
-    assert_contains(err.message, bad[k][2]);
+    assert_contains(err.message, bad[k][1]);
     assert_contains(err.message, "output.regions[");
-    free(t);
   }
 }
 

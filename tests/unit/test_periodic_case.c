@@ -10,14 +10,14 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "golden/periodic_case.h"
+#include "bitwise/periodic_case.h"
 #include "helpers.h"
 #include "log_capture.h"
 #include "world.h"
 
 #define WORDS(...) ((const char *const[]){__VA_ARGS__, NULL})
 
-/* periodic_case with `from` replaced by `to` must be refused with each of words in the message. */
+/* The periodic case's text with `from` replaced by `to` (the claim is the file's line and column) must be refused with each of words in the message. */
 static void expect_bad(const char *from, const char *to, const char *const *words) {
   const char *at = strstr(periodic_case, from);
   assert_non_null(at);
@@ -36,10 +36,7 @@ static void expect_bad(const char *from, const char *to, const char *const *word
 
 static void test_loads(void **state) {
   (void)state;
-  adem_case *c = NULL;
-  adem_error err;
-  if (adem_case_load_string(periodic_case, "periodic.yaml", NULL, 0, &c, &err))
-    fail_msg("%s", err.message);
+  adem_case *c = periodic_load(NULL, 0);
   assert_int_equal(c->world->periodic.axes, 3u);
   assert_true(c->world->periodic.len[0] == 0.015 && c->world->periodic.lo[1] == 0.0);
   adem_case_free(c);
@@ -49,21 +46,21 @@ static void test_case_errors(void **state) {
   (void)state;
   /* 2 (2.4 mm + 0.2 x 2.4 mm) = 5.74 mm (the largest drawn radius is 1.197 mm) */
   expect_bad("max: [0.015, 0.015, 0.06]", "max: [0.005, 0.015, 0.06]",
-             WORDS("periodic.yaml:26:14", "domain.periodic[0]", "0.005 m long along x",
+             WORDS("periodic.yaml:30:14", "domain.periodic[0]", "0.005 m long along x",
                    "2 (largest diameter + skin)", "0.00574"));
   expect_bad("normal: [0, 0, 1]", "normal: [0, 0.2, 1]",
-             WORDS("periodic.yaml:22:13", "walls[0].normal", "along y", "domain.periodic at line 26:20",
+             WORDS("periodic.yaml:26:13", "walls[0].normal", "along y", "domain.periodic at line 30:20",
                    "parallel to every periodic axis"));
   expect_bad("periodic: [true, true, false]", "periodic: [true, 1, false]",
-             WORDS("periodic.yaml:26:20", "domain.periodic[1]", "expected true or false", "`1`"));
+             WORDS("periodic.yaml:30:20", "domain.periodic[1]", "expected true or false", "`1`"));
   expect_bad("periodic: [true, true, false]", "periodic: true",
-             WORDS("periodic.yaml:26:13", "domain.periodic", "a list [x, y, z] of 3 booleans"));
+             WORDS("periodic.yaml:30:13", "domain.periodic", "a list [x, y, z] of 3 booleans"));
   expect_bad("periodic: [true, true, false]", "periodic: [true, true]",
-             WORDS("periodic.yaml:26:13", "domain.periodic", "a list of 2 items"));
+             WORDS("periodic.yaml:30:13", "domain.periodic", "a list of 2 items"));
   expect_bad("  - type: plane\n    name: floor\n    material: steel\n    point: [0, 0, 0]\n"
              "    normal: [0, 0, 1]\n",
              "  - {type: box, name: bin, material: steel, min: [0, 0, 0], max: [0.015, 0.015, 0.06]}\n",
-             WORDS("periodic.yaml:18:", "walls[0].type", "box wall", "x is periodic"));
+             WORDS("periodic.yaml:22:", "walls[0].type", "box wall", "x is periodic"));
 }
 
 /* Through the API: a bad box is refused at once; a short one, a cutting plane at prepare; a

@@ -13,37 +13,15 @@
 #include <string.h>
 
 #include "adem/adem.h"
+#include "case_file.h"
 #include "case_text.h"
 #include "fileio.h"
 #include "tmpdir.h"
 #include "world.h"
 
-static const char *const source_case =
-    "name: source\n"
-    "materials:\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3, restitution: 0.5}\n"
-    "  - {name: steel, rigid: true}\n"
-    "particles:\n"
-    "  - {type: lattice, material: glass, radius: 0.001, spacing: 0.0025, min: [0, 0, 0], max: [0.01, 0.01, 0.01],\n"
-    "     velocity: [0.01, 0, 0]}\n"
-    "walls:\n"
-    "  - {type: box, name: bin, material: steel, min: [0, 0, 0], max: [0.01, 0.01, 0.03]}\n"
-    "time: {end: 0.02}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0.01}\n";
 
 /* Materials in another order and another E: the import goes by name. */
-static const char *const import_case =
-    "name: import\n"
-    "materials:\n"
-    "  - {name: steel, rigid: true}\n"
-    "  - {name: glass, density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.3, restitution: 0.5}\n"
-    "particles:\n"
-    "  - {type: state, file: src/checkpoint}\n"
-    "walls:\n"
-    "  - {type: box, name: bin, material: steel, min: [0, 0, 0], max: [0.01, 0.01, 0.03]}\n"
-    "limits: {initial_overlap: 0.1}\n"
-    "time: {end: 0.002}\n"
-    "output: {frame_interval: 0, csv_interval: 0, checkpoint_interval: 0}\n";
+#define import_case case_file_text("state-import") /* tests/cases/state-import.yaml */
 
 static adem_case *source;
 
@@ -51,7 +29,7 @@ static int setup(void **state) {
   (void)state;
   if (tmpdir_make("adem_state")) return -1;
   adem_error err;
-  if (adem_case_load_string(source_case, "source.yaml", NULL, 0, &source, &err)) return -1;
+  if (adem_case_load_file(case_file_path("state-source"), NULL, 0, &source, &err)) return -1;
   snprintf(source->output.dir, sizeof source->output.dir, "%s/src", tmpdir);
   adem_run_options opt = adem_default_run_options();
   return adem_run(source, &opt, &err) == ADEM_OK ? 0 : -1;

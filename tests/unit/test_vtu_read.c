@@ -12,6 +12,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "case_file.h"
 #include "cli_run.h"
 #include "adem/frames.h"
 
@@ -27,28 +28,16 @@ static size_t frame0_len;
 static int setup(void **state) {
   (void)state;
   if (tmpdir_make("adem_vturead")) return -1;
-  char text[4096];
-  int k = snprintf(text, sizeof text,
-                   "name: vturead\n"
-                   "materials:\n"
-                   "  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}\n"
-                   "particles:\n"
-                   "  - type: list\n"
-                   "    material: glass\n"
-                   "    spheres:\n");
-  for (int i = 0; i < NS; ++i)
-    k += snprintf(text + k, sizeof text - (size_t)k,
-                  "      - {position: [%.17g, %.17g, %.17g], radius: %.17g}\n", X[i][0], X[i][1],
-                  X[i][2], X[i][3]);
-  snprintf(text + k, sizeof text - (size_t)k,
-           "walls:\n  - {type: plane, name: floor, material: glass, point: [0, 0, 0], "
-           "normal: [0, 0, 1]}\n"
-           "time: {end: 0.002}\n"
-           "output: {frame_interval: 0.001, csv_interval: 0.001, checkpoint_interval: 0}\n");
-  char *c = write_case("case.yaml", text);
+  char spheres[4096] = "particles.0.spheres=[";
+  for (int i = 0; i < NS; ++i) {
+    size_t k = strlen(spheres);
+    snprintf(spheres + k, sizeof spheres - k, "%s{position: [%.17g, %.17g, %.17g], radius: %.17g}",
+             i ? ", " : "", X[i][0], X[i][1], X[i][2], X[i][3]);
+  }
+  strncat(spheres, "]", sizeof spheres - strlen(spheres) - 1);
   char *out;
-  int rc = adem(&out, "run '%s' --out '%s/out' --threads 1 --quiet", c, tmpdir);
-  free(c);
+  int rc = adem(&out, "run '%s' --set '%s' --out '%s/out' --threads 1 --quiet",
+                case_file_path("vtu-read"), spheres, tmpdir);
   if (rc) return -1;
   char *p = path_in_tmp("out/frames/particles_000000.vtu");
   FILE *f = fopen(p, "rb");
