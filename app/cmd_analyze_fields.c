@@ -5,7 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/fields.h"
+#include "adem/internal/plot.h"
 #include "cli.h"
 
 const char *const analyze_fields_help =

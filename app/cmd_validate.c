@@ -9,7 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "cli.h"
 

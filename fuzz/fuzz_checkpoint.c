@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "fuzz_common.h"
 #include "stages.h"
 #include "world.h"

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "fuzz_common.h"
 #include "output.h"
 #include "world.h"

@@ -2,8 +2,11 @@
 #ifndef ADEM_CASE_H
 #define ADEM_CASE_H
 
+#include <stdint.h>
 #include <stdio.h>
-#include "adem/adem.h"
+
+#include "adem/base.h"
+#include "adem/world.h"
 
 #ifdef __cplusplus
 extern "C" {

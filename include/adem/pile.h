@@ -35,7 +35,7 @@
 
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {

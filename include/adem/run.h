@@ -3,8 +3,12 @@
 #define ADEM_RUN_H
 
 #include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
-#include "adem/adem.h"
+
+#include "adem/base.h"
+#include "adem/case.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -8,7 +8,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
+#include "adem/laws.h"
+#include "adem/world.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -254,25 +256,6 @@ const adem_validation *adem_validation_find(const char *name);
  * validations whose claim did not hold. */
 adem_status adem_validate_run(const char *const *names, int n, const adem_validation_context *ctx,
                               int *failed, adem_error *err);
-
-/* DIR/NAME.EXT; a fresh string. */
-char *adem_validate_path(const adem_validation_context *ctx, const char *name, const char *ext);
-
-/* DIR/NAME.png drawn by gnuplot from `body`, in which the gnuplot variable f holds the path of
- * DIR/NAME.csv. */
-adem_status adem_validate_plot(const adem_validation_context *ctx, const char *name, int width,
-                               int height, const char *body, adem_error *err);
-
-/* A table written to CSV atomically: header names quantity and unit ("v_impact_m_s,e_eff"). */
-typedef struct adem_table {
-  size_t ncols, nrows, cap;
-  char *header;
-  double *data; /* row-major */
-} adem_table;
-adem_status adem_table_init(adem_table *t, const char *header);
-adem_status adem_table_add(adem_table *t, const double *row);
-adem_status adem_table_write_csv(const adem_table *t, const char *path, adem_error *err);
-void adem_table_free(adem_table *t);
 
 /* Validations of each paper (validate_haervig.c, validate_irazabal.c). */
 extern const adem_validation adem_validations_haervig[];

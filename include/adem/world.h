@@ -2,12 +2,19 @@
 #ifndef ADEM_WORLD_H
 #define ADEM_WORLD_H
 
-#include "adem/adem.h"
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "adem/base.h"
 #include "adem/laws.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The world (opaque): made by adem_world_create, or by loading a case (adem/case.h). */
+typedef struct adem_world adem_world;
 
 /* A material. Walls have one too; a rigid wall material has E = infinity. */
 typedef struct adem_material_def {

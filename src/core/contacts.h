@@ -3,7 +3,7 @@
 #ifndef ADEM_CONTACTS_H
 #define ADEM_CONTACTS_H
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "materials.h"
 #include "neighbors.h"
 #include "pairs.h"

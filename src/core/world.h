@@ -6,7 +6,7 @@
 
 #include <stdbool.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "contacts.h"
 #include "materials.h"

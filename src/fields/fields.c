@@ -565,7 +565,7 @@ static const char *byte_order(void) {
   return b == 1 ? "LittleEndian" : "BigEndian";
 }
 
-#include "adem/output.h"
+#include "adem/files.h"
 
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err) {
   if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");

@@ -9,7 +9,8 @@
 #include <stdint.h>
 #include <yaml.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "log.h"
 #include "schema.h"
 #include "world.h"

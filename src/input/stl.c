@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "adem/vec3.h"
-#include "files.h"
+#include "adem/files.h"
 #include "log.h"
 #include "world.h"
 

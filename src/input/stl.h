@@ -2,7 +2,8 @@
 #ifndef ADEM_STL_H
 #define ADEM_STL_H
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "mesh.h"
 #include "world.h"
 

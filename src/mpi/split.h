@@ -12,7 +12,7 @@
 
 #include <mpi.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "world.h"
 
 typedef struct adem_split adem_split;

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fileio.h"
+#include "adem/files.h"
 #include "output.h"
 #include "periodic.h"
 #include "vtu.h"

@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "world.h"
 
 /* One touching contact as the frames write it. */

@@ -1,5 +1,5 @@
 #include "output.h"
-#include "plot.h"
+#include "adem/internal/plot.h"
 #include "vtu.h"
 
 #include <errno.h>
@@ -11,8 +11,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
 #include "world.h"
 #include "cylinder.h"

@@ -1,5 +1,5 @@
 /* PNG plots through gnuplot, written to a temporary file and renamed into place. */
-#include "plot.h"
+#include "adem/internal/plot.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -10,8 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
 
 extern char **environ;

@@ -7,8 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
 
 const char *adem_vtu_byte_order(void) {

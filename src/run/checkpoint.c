@@ -16,9 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
-#include "files.h"
-#include "fileio.h"
+#include "adem/case.h"
+#include "adem/run.h"
+#include "adem/world.h"
+#include "adem/files.h"
 #include "insert.h"
 #include "log.h"
 #include "outlets.h"

@@ -6,7 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "insert.h"
 #include "log.h"

@@ -11,9 +11,11 @@
 #include <string.h>
 #include <time.h>
 
-#include "adem/adem.h"
-#include "files.h"
-#include "fileio.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/run.h"
+#include "adem/world.h"
+#include "adem/files.h"
 #include "flow_plot.h"
 #include "insert.h"
 #include "log.h"

@@ -8,7 +8,11 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/pile.h"
+#include "adem/run.h"
 #include "adem/calibrate.h"
 
 adem_calib_options adem_calib_default_options(void) {

@@ -1,7 +1,10 @@
 /* Single collisions in bulk (notes section 7). Each collision is a world of one or two spheres
  * built through the public API and stepped by the engine itself, so what is measured is what a
  * run computes. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "embedded.h"
 

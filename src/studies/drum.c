@@ -11,7 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/frames.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/drum.h"
 #include "adem/vec3.h"
 

@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/studies.h"
 
 typedef struct adem_normal_ode {
   double mstar, R;   /* effective mass and radius */

@@ -6,7 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/frames.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/pile.h"
 
 adem_status adem_frames_last(const char *outdir, char **path, adem_error *err) {
   *path = NULL;

@@ -1,6 +1,10 @@
 /* The registry of paper reproductions, their summaries, and CSV tables. */
-#include "adem/adem.h"
+#include "adem/laws.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/studies.h"
 #include "adem/vec3.h"
+#include "table.h"
 
 #include <stdio.h>
 #include <stdlib.h>

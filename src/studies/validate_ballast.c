@@ -11,8 +11,12 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/run.h"
+#include "adem/studies.h"
 #include "embedded.h"
+#include "table.h"
 
 /* One push: Table 2's E and step; the speed; the end time (0.19 s settle + the push). */
 typedef struct push_config {

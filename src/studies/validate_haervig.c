@@ -7,9 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
 #include "adem/vec3.h"
 #include "normal_ode.h"
+#include "table.h"
 
 #define NF 3
 static const double stiffness[NF] = {1.0, 0.1, 0.01}; /* E_mod/E of Figs. 5 and 13 */

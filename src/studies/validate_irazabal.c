@@ -12,9 +12,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "embedded.h"
+#include "table.h"
 
 #define I_UNIT _Complex_I
 #undef I /* complex.h's; the moment of inertia is spelled out below */

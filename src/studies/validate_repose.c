@@ -10,8 +10,13 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/pile.h"
+#include "adem/run.h"
+#include "adem/studies.h"
 #include "embedded.h"
+#include "table.h"
 
 /* One point of Fig. 11 and its companions. */
 typedef struct repose_config {

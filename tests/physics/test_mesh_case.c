@@ -11,7 +11,7 @@
 
 #include <unistd.h>
 
-#include "fileio.h"
+#include "adem/files.h"
 #include "helpers.h"
 #include "plate_stl.h"
 #include "tmpdir.h"

@@ -14,7 +14,7 @@
 
 #include "adem/adem.h"
 #include "case_text.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "tmpdir.h"
 #include "world.h"
 

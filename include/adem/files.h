@@ -1,14 +1,14 @@
-/* Files and plots: what the run's output is made with, for programs and studies built on the
- * library. Every file is written to a temporary name next to its target and renamed over it
- * when complete and synced, so that no output is ever seen half-written; plots are PNGs drawn
- * by gnuplot (a missing gnuplot only costs the picture: a warning). */
-#ifndef ADEM_FILES_PLOTS_H
-#define ADEM_FILES_PLOTS_H
+/* Files, for programs and studies built on the library: reading a whole file, composing paths,
+ * and writing atomically. Every file adem writes goes to a temporary name next to its target and
+ * is renamed over it when complete and synced, so that no output is ever seen half-written.
+ * (src/core/files.c reads, src/core/fileio.c writes.) */
+#ifndef ADEM_FILES_H
+#define ADEM_FILES_H
 
 #include <stddef.h>
 #include <stdio.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -44,22 +44,12 @@ adem_status adem_fileio_mkdir_p(const char *path, adem_error *err);
  * "output folder X cannot be written: <reason>" when not. */
 adem_status adem_fileio_check_writable(const char *dir, adem_error *err);
 
-
 /* Reads a whole file into a fresh buffer (NUL-terminated, n excludes the NUL). */
 adem_status adem_file_read_all(const char *path, char **data, size_t *n, adem_error *err);
 /* The directory part of path ("." when there is none); a fresh string. */
 char *adem_file_dirname(const char *path);
 /* dir + "/" + name; a fresh string. */
 char *adem_file_join(const char *dir, const char *name);
-
-
-/* Runs gnuplot with `body` (set labels, plot commands, ...) after a PNG terminal of width x height
- * pixels whose output goes to a temporary file renamed to png_path when gnuplot succeeds. */
-adem_status adem_plot_png(const char *png_path, int width, int height, const char *body,
-                          adem_error *err);
-
-/* Writes s into buf as a single-quoted gnuplot string (quotes doubled); returns buf. */
-char *adem_plot_quote(const char *s, char *buf, size_t n);
 
 #ifdef __cplusplus
 }

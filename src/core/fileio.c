@@ -1,4 +1,4 @@
-#include "fileio.h"
+#include "adem/files.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -8,7 +8,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "log.h"
 
 static char *str_dup(const char *s) {
