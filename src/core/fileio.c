@@ -1,3 +1,5 @@
+/* Atomic writes (adem/files.h): a temporary file next to the target, renamed over it when
+ * complete and synced. */
 #include "adem/files.h"
 
 #include <errno.h>

@@ -1,5 +1,4 @@
-/* Reading whole files and composing paths: the only file access of the core and input layers
- * (writing is output/fileio.h, atomic). */
+/* Reading whole files and composing paths (writing atomically: fileio.c beside it). */
 #include "adem/files.h"
 
 #include <errno.h>
