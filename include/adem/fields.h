@@ -12,6 +12,7 @@
 #ifndef ADEM_FIELDS_H
 #define ADEM_FIELDS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -38,7 +39,7 @@ typedef struct adem_fields_options {
   double cutoff;    /* Gaussian: cut off at cutoff * w along each axis (default 3) */
   double cell;      /* grid spacing, m */
   double lo[3], hi[3]; /* the grid's extent, m */
-  int average[3];   /* 1: average over that axis */
+  bool average[3];  /* true: average over that axis */
 } adem_fields_options;
 adem_fields_options adem_fields_default_options(void);
 
@@ -118,7 +119,7 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
 
 typedef struct adem_fields_run_options {
   adem_fields_options grid;   /* lo/hi ignored unless box_given */
-  int box_given;              /* 0: the grid spans the particles' centres (over the frames
+  bool box_given;             /* false: the grid spans the particles' centres (over the frames
                                * used) and reaches cutoff widths (Lucy: its support) beyond them,
                                * so that no kernel is cut by the grid's edge; an averaged axis
                                * spans the particles' extent (centre +- radius) */
@@ -127,7 +128,7 @@ typedef struct adem_fields_run_options {
   double cell_diameters;      /* > 0: the cell is this many mean diameters; else grid.cell, and
                                * grid.cell <= 0 is half the width */
   double t0, t1;              /* the frames with t0 <= time <= t1 (t1 < t0: every frame) */
-  int last_only;              /* 1: only the last frame in the window */
+  bool last_only;             /* true: only the last frame in the window */
 } adem_fields_run_options;
 adem_fields_run_options adem_fields_default_run_options(void);
 
