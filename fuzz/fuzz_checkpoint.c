@@ -11,7 +11,7 @@
 #include "adem/files.h"
 #include "fuzz_common.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 enum { MAX_INPUT = 1 << 20, HEADER = 40, STEP_PARTICLES = 300 };
 

@@ -15,7 +15,7 @@
 #include "adem/files.h"
 #include "fuzz_common.h"
 #include "output.h"
-#include "world.h"
+#include "world_internal.h"
 
 enum { MAX_INPUT = 256 * 1024 };
 

@@ -25,7 +25,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Sets larger than this are surely a typo and would only exhaust memory. */
 #define MAX_SET_SPHERES 100000000.0

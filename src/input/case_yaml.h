@@ -13,7 +13,7 @@
 #include "adem/world.h"
 #include "log.h"
 #include "schema.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define KEY_PATH_MAX 256
 #define LOC_MAX 640

@@ -12,7 +12,7 @@
 #include "adem/vec3.h"
 #include "adem/files.h"
 #include "log.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---------------------------------------------------------------- ASCII STL */
 

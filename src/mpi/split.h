@@ -13,7 +13,7 @@
 #include <mpi.h>
 
 #include "adem/world.h"
-#include "world.h"
+#include "world_internal.h"
 
 typedef struct adem_split adem_split;
 

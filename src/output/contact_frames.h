@@ -11,7 +11,7 @@
 #include <stdint.h>
 
 #include "adem/world.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* One touching contact as the frames write it. */
 typedef struct adem_contact_record {

@@ -13,7 +13,7 @@
 
 #include "adem/files.h"
 #include "log.h"
-#include "world.h"
+#include "world_internal.h"
 #include "cylinder.h"
 
 

@@ -25,7 +25,7 @@
 #include "outlets.h"
 #include "stages.h"
 #include "stream.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define CKPT_MAGIC ADEM_CKPT_MAGIC
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */

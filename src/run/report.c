@@ -15,7 +15,7 @@
 #include "log.h"
 #include "schedule.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 static double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 

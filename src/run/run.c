@@ -23,7 +23,7 @@
 #include "output.h"
 #include "schedule.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 #ifdef ADEM_HAVE_MPI
 #include "split.h"
 #endif

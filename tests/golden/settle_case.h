@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define SETTLE_STEPS 2000
 

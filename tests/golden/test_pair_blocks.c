@@ -13,7 +13,7 @@
 #include <cmocka.h>
 
 #include "golden/settle_case.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* The settle case with glass-glass contacts under the given laws (and glass on the walls under
  * Hertz with the same rolling law); damped: a rolling damping given (only model C reads it). */

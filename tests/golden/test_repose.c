@@ -14,7 +14,7 @@
 
 #include "adem/adem.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define CASE ADEM_SOURCE_DIR "/cases/irazabal/repose.yaml"
 

@@ -21,7 +21,7 @@
 #include "golden/settle_case.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const char *const mesh_case =
     "name: meshorder\n"

@@ -14,7 +14,7 @@
 
 #include "adem/studies.h"
 #include "jkr.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define RADIUS 1e-6
 #define RHO 1000.0

@@ -13,7 +13,7 @@
 #include "adem/adem.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int setup(void **state) {
   (void)state;

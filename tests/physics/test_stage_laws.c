@@ -9,7 +9,7 @@
 
 #include "helpers.h"
 #include "staged_run.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double PI = 3.14159265358979323846;
 

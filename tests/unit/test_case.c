@@ -15,7 +15,7 @@
 #include "adem/adem.h"
 #include "case_text.h"
 #include "log_capture.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Two glass spheres above a steel floor. Line numbers below refer to this text. */
 static const char *const base =

@@ -16,7 +16,7 @@
 #include "case_text.h"
 #include "adem/files.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const char *const source_case =
     "name: source\n"
