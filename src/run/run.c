@@ -507,8 +507,8 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
 
   /* Fail on an unwritable folder before any expensive set-up. */
   adem_status st = ADEM_OK;
-  if (rs->writer) st = adem_fileio_mkdir_p(dir, err);
-  if (!st && rs->writer) st = adem_fileio_check_writable(dir, err);
+  if (rs->writer) st = adem_file_mkdir_p(dir, err);
+  if (!st && rs->writer) st = adem_file_check_writable(dir, err);
   st = split_agree(rs, st, err);
   if (st) return st;
   if (!w->prepared) {

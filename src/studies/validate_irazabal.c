@@ -295,7 +295,7 @@ static adem_status write_columns(const adem_validation_context *ctx, const char 
     for (size_t c = 0; c < ncols && c < 16; ++c) row[c] = cols[c][k];
     if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  char *path = adem_validate_path(ctx, name, "csv");
+  char *path = adem_validation_path(ctx, name, "csv");
   if (!st && !path) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st) st = adem_table_write_csv(&tab, path, err);
   free(path);
@@ -306,7 +306,7 @@ static adem_status write_columns(const adem_validation_context *ctx, const char 
 /* DIR/NAME.png from `body`, which refers to the CSV as the gnuplot variable f. */
 static adem_status plot(const adem_validation_context *ctx, const char *name, const char *body,
                         adem_error *err) {
-  return adem_validate_plot(ctx, name, 1100, 700, body, err);
+  return adem_validation_plot(ctx, name, 1100, 700, body, err);
 }
 
 static bool within(double measured, double expected, double rel) {
