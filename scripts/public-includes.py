@@ -1,7 +1,13 @@
 #!/usr/bin/python3
 """Replace the umbrella include "adem/adem.h" in library code by the public headers the file uses.
 
-    scripts/public-includes.py [FILE...]      (default: every file of src/ and app/ that has it)
+    scripts/public-includes.py [FILE...]      (default: every file of src/ and app/ that has it,
+                                               or one of the headers that are gone, below)
+
+Headers that are gone are replaced too: "files.h", "fileio.h" (src/core, src/output) and
+"adem/output.h" by "adem/files.h" (and "adem/internal/plot.h" where gnuplot plots are used),
+"plot.h" (src/output) by "adem/internal/plot.h"; a study that uses adem_table_* or
+adem_validation_plot/_path gets "table.h".
 
 Which header declares a name is read from the headers themselves (each preprocessed alone; the
 names on its own lines are its own), so the script needs no list of names. A file then includes
@@ -52,14 +58,45 @@ def code_of(text):
     return re.sub(r'"(\\.|[^"\\\n])*"', '""', text)
 
 
+GONE = re.compile(r'^#include "(adem/output|files|fileio|plot)\.h"\n', flags=re.M)
+
+
+def gone(path, own):
+    """The includes of headers that are gone, replaced by the ones that hold their names now."""
+    text = open(path).read()
+    if not GONE.search(text):
+        if not ("/studies/" in path and re.search(r"\badem_(table_|validation_(plot|path)\b)", code_of(text))
+                and '#include "table.h"' not in text):
+            return
+    used = {own[t] for t in set(IDENT.findall(code_of(text))) if t in own}
+    have = set(re.findall(r'#include ["<](adem/[\w/]+\.h)[">]', text))
+    add = [h for h in ("adem/files.h", "adem/internal/plot.h") if h in used and h not in have]
+    m = GONE.search(text)
+    new = "".join('#include "%s"\n' % h for h in add)
+    if m:
+        text = text[:m.start()] + new + text[m.end():]
+        text = GONE.sub("", text)
+    elif new:
+        last = list(re.finditer(r'^#include "adem/[\w/]+\.h"\n', text, flags=re.M))[-1]
+        text = text[:last.end()] + new + text[last.end():]
+    if ("/studies/" in path and re.search(r"\badem_(table_|validation_(plot|path)\b)", code_of(text))
+            and '#include "table.h"' not in text):
+        last = list(re.finditer(r'^#include "[\w/]+\.h"\n', text, flags=re.M))[-1]
+        text = text[:last.end()] + '#include "table.h"\n' + text[last.end():]
+    open(path, "w").write(text)
+    print("%s: headers that are gone replaced" % os.path.relpath(path, ROOT))
+
+
 def main():
     files = sys.argv[1:]
     if not files:
-        out = subprocess.run(["git", "-C", ROOT, "grep", "-l", '#include "adem/adem.h"', "--",
+        out = subprocess.run(["git", "-C", ROOT, "grep", "-lE",
+                              '#include "(adem/adem|adem/output|files|fileio|plot)\\.h"', "--",
                               "src", "app"], capture_output=True, text=True).stdout
         files = [os.path.join(ROOT, f) for f in out.split()]
     own = owners()
     for path in files:
+        gone(path, own)
         text = open(path).read()
         m = re.search(r'^#include ["<]adem/adem\.h[">]\n', text, flags=re.M)
         if not m:
