@@ -10,7 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/run.h"
 #include "adem/vec3.h"
 #include "cli.h"
 #include <signal.h>

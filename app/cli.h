@@ -6,7 +6,7 @@
 #include <signal.h>
 #include <stdio.h>
 
-#include "adem/adem.h"
+#include "adem/run.h"
 
 enum {
   EXIT_OK = 0,

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/pile.h"
 #include "adem/drum.h"
 #include "cli.h"
 

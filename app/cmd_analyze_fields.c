@@ -5,7 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/fields.h"
+#include "adem/internal/plot.h"
 #include "cli.h"
 
 const char *const analyze_fields_help =
@@ -62,7 +63,7 @@ static int range(const char *s, double *a, double *b) {
 }
 
 /* The CSV column (1-based) of NAME ("stress_zz", "density", "velocity_z"). */
-static int column_of(const int average[3], const char *name) {
+static int column_of(const bool average[3], const char *name) {
   static const char *const comp9[9] = {"xx", "xy", "xz", "yx", "yy", "yz", "zx", "zy", "zz"};
   static const char *const comp3[3] = {"x", "y", "z"};
   int col = 1;

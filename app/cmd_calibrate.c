@@ -12,7 +12,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/calibrate.h"
+#include "adem/files.h"
 #include "cli.h"
 
 extern char **environ;

@@ -9,7 +9,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "cli.h"
 

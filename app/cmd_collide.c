@@ -9,7 +9,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/files.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "cli.h"
 
@@ -179,7 +181,7 @@ static int parse_critical(const char *text, double *lo, double *hi, double *tol)
   return EXIT_OK;
 }
 
-static void set_lambda_cli(adem_collision_spec *s, double x, void *user) {
+static void set_lambda_cli(adem_collide_spec *s, double x, void *user) {
   (void)user;
   adem_collide_set_lambda(s, x);
 }
@@ -196,7 +198,7 @@ static void status_cell(char *out, size_t n, adem_status st, const char *message
 }
 
 int cmd_collide(int argc, char **argv) {
-  adem_collision_spec base = adem_default_collision_spec();
+  adem_collide_spec base = adem_default_collide_spec();
   adem_error perr;
   if (adem_collide_psl_quartz(&base, &perr)) return fail(EXIT_INTERNAL, "%s", perr.message);
   base.friction = 0.3;
@@ -207,18 +209,18 @@ int cmd_collide(int argc, char **argv) {
     const char *name;
     size_t offset;
   } numbers[] = {
-      {"--radius", offsetof(adem_collision_spec, radius)},
-      {"--size-ratio", offsetof(adem_collision_spec, size_ratio)},
-      {"--density", offsetof(adem_collision_spec, density)},
-      {"--young", offsetof(adem_collision_spec, young)},
-      {"--poisson", offsetof(adem_collision_spec, poisson)},
-      {"--friction", offsetof(adem_collision_spec, friction)},
-      {"--surface-energy", offsetof(adem_collision_spec, surface_energy)},
-      {"--steps-per-tc", offsetof(adem_collision_spec, steps_per_tc)},
-      {"--hysteresis", offsetof(adem_collision_spec, hysteresis)},
-      {"--force-ext", offsetof(adem_collision_spec, force_ext)},
-      {"--rest-periods", offsetof(adem_collision_spec, rest_periods)},
-      {"--max-roll-periods", offsetof(adem_collision_spec, max_roll_periods)},
+      {"--radius", offsetof(adem_collide_spec, radius)},
+      {"--size-ratio", offsetof(adem_collide_spec, size_ratio)},
+      {"--density", offsetof(adem_collide_spec, density)},
+      {"--young", offsetof(adem_collide_spec, young)},
+      {"--poisson", offsetof(adem_collide_spec, poisson)},
+      {"--friction", offsetof(adem_collide_spec, friction)},
+      {"--surface-energy", offsetof(adem_collide_spec, surface_energy)},
+      {"--steps-per-tc", offsetof(adem_collide_spec, steps_per_tc)},
+      {"--hysteresis", offsetof(adem_collide_spec, hysteresis)},
+      {"--force-ext", offsetof(adem_collide_spec, force_ext)},
+      {"--rest-periods", offsetof(adem_collide_spec, rest_periods)},
+      {"--max-roll-periods", offsetof(adem_collide_spec, max_roll_periods)},
   };
   static const char *const list_names[] = {"--speed", "--angle", "--lambda", "--ad",
                                            "--stiffness-factor", "--restitution", "--force-hat"};
@@ -228,9 +230,9 @@ int cmd_collide(int argc, char **argv) {
     const char *name;
     size_t offset;
   } flags[] = {
-      {"--keep-gamma", offsetof(adem_collision_spec, keep_gamma)},
-      {"--dtk", offsetof(adem_collision_spec, dtk)},
-      {"--at-rest", offsetof(adem_collision_spec, at_rest)},
+      {"--keep-gamma", offsetof(adem_collide_spec, keep_gamma)},
+      {"--dtk", offsetof(adem_collide_spec, dtk)},
+      {"--at-rest", offsetof(adem_collide_spec, at_rest)},
   };
   for (int i = 0; i < argc && !rc; ++i) {
     const char *a = argv[i], *v;
@@ -264,8 +266,8 @@ int cmd_collide(int argc, char **argv) {
       }
     if (done || rc) continue;
     if ((v = option_value(argc, argv, &i, "--kind", &missing)) || missing) {
-      if (!missing && strcmp(v, "pair") == 0) base.kind = ADEM_COLLISION_PAIR;
-      else if (!missing && strcmp(v, "wall") == 0) base.kind = ADEM_COLLISION_WALL;
+      if (!missing && strcmp(v, "pair") == 0) base.kind = ADEM_COLLIDE_PAIR;
+      else if (!missing && strcmp(v, "wall") == 0) base.kind = ADEM_COLLIDE_WALL;
       else rc = fail(EXIT_INPUT, "--kind needs pair or wall, not '%s'", missing ? "" : v);
     } else if ((v = option_value(argc, argv, &i, "--critical-lambda", &missing)) || missing) {
       if (missing || !*v) rc = fail(EXIT_INPUT, "--critical-lambda needs LO:HI or LO:HI:TOL");
@@ -286,7 +288,7 @@ int cmd_collide(int argc, char **argv) {
     }
   }
   /* Checks of what every collision shares, then of each list. */
-  bool wall = base.kind == ADEM_COLLISION_WALL;
+  bool wall = base.kind == ADEM_COLLIDE_WALL;
   double crit_lo = 0.0, crit_hi = 0.0, crit_tol = 0.0;
   if (!rc && !(base.radius > 0.0)) rc = fail(EXIT_INPUT, "--radius must be > 0");
   if (!rc && !(base.size_ratio > 0.0)) rc = fail(EXIT_INPUT, "--size-ratio must be > 0");
@@ -342,8 +344,8 @@ int cmd_collide(int argc, char **argv) {
   const value_list *F = fs.n ? &fs : &dfs, *E = rest.n ? &rest : &drest;
   const value_list *H = fhat.n ? &fhat : &dfhat;
   size_t n = S->n * A->n * L->n * D->n * F->n * E->n * H->n;
-  adem_collision_spec *sp = NULL;
-  adem_collision_result *res = NULL;
+  adem_collide_spec *sp = NULL;
+  adem_collide_result *res = NULL;
   double *lcrit = NULL;
   char (*lmsg)[ADEM_MSG_MAX] = NULL;
   if (!rc && n > 10000000) rc = fail(EXIT_INPUT, "%zu collisions are too many (at most 1e7)", n);
@@ -363,7 +365,7 @@ int cmd_collide(int argc, char **argv) {
             for (size_t l = 0; l < L->n; ++l)
               for (size_t g = 0; g < A->n; ++g)
                 for (size_t v = 0; v < S->n; ++v, ++k) {
-                  adem_collision_spec c = base;
+                  adem_collide_spec c = base;
                   c.restitution = E->v[e];
                   c.force_hat = H->v[h];
                   c.stiffness_factor = F->v[f];
@@ -399,7 +401,7 @@ int cmd_collide(int argc, char **argv) {
     adem_error err;
     FILE *f = stdout;
     if (out) {
-      adem_status st = adem_fileio_open(&af, out, &err);
+      adem_status st = adem_file_open(&af, out, &err);
       if (st) rc = fail(exit_code(st), "%s", err.message);
       else f = af.f;
     }
@@ -409,7 +411,7 @@ int cmd_collide(int argc, char **argv) {
             "angle_deg,Ad,stiffness_factor,gamma_by_H24,dtk,hysteresis,F_hat,lambda_crit,c,"
             "rel_tol,status\n", f);
       for (size_t q = 0; q < n; ++q) {
-        const adem_collision_spec *c = &sp[q];
+        const adem_collide_spec *c = &sp[q];
         char status[ADEM_MSG_MAX + 16];
         status_cell(status, sizeof status, isnan(lcrit[q]) ? ADEM_ERR_RUNTIME : ADEM_OK, lmsg[q]);
         double a = adem_collide_ad(c);
@@ -428,8 +430,8 @@ int cmd_collide(int argc, char **argv) {
             "F_hat,outcome,outcome_code,roll_distance_m,t_rest_s,v_end_m_s,xi_crit_m,t_roll_s,"
             "status\n", f);
       for (size_t q = 0; q < n; ++q) {
-        const adem_collision_spec *c = &sp[q];
-        const adem_collision_result *r = &res[q];
+        const adem_collide_spec *c = &sp[q];
+        const adem_collide_result *r = &res[q];
         if (!r->status) {
           stuck += r->stuck;
           undecided += r->undecided;
@@ -449,13 +451,13 @@ int cmd_collide(int argc, char **argv) {
         fprintf(f, "%d,%.10g,%d,%d,%.10g,%.10g,%s,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%s\n",
                 c->dtk ? 1 : 0, c->hysteresis, c->dtk_modification ? 1 : 0, c->at_rest ? 1 : 0,
                 r->force_ext, fy > 0.0 ? r->force_ext / fy : NAN,
-                adem_collision_outcome_name(r->outcome), (int)r->outcome, r->roll_distance,
+                adem_collide_outcome_name(r->outcome), (int)r->outcome, r->roll_distance,
                 r->t_rest, r->v_end, r->xi_crit, r->t_roll, status);
       }
     }
     if (!rc) {
       if (out) {
-        adem_status st = adem_fileio_commit(&af, &err);
+        adem_status st = adem_file_commit(&af, &err);
         if (st) rc = fail(exit_code(st), "%s", err.message);
       } else if (fflush(stdout) != 0) {
         rc = fail(EXIT_IO, "standard output could not be written");

@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
 #include "cli.h"
 
 int cmd_reference(int argc, char **argv) {

@@ -11,7 +11,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "cli.h"
 

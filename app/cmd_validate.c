@@ -9,7 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "cli.h"
 
@@ -86,7 +87,7 @@ int cmd_validate(int argc, char **argv) {
     adem_error err;
     memset(&err, 0, sizeof err);
     int failed = 0;
-    adem_status st = adem_validate_run(names, nnames, &ctx, &failed, &err);
+    adem_status st = adem_validation_run(names, nnames, &ctx, &failed, &err);
     if (st) {
       rc = fail(exit_code(st), "%s", err.message);
     } else {

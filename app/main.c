@@ -9,7 +9,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "adem/adem.h"
 #include "adem/vec3.h"
 #include "cli.h"
 #ifdef ADEM_HAVE_MPI

@@ -8,10 +8,10 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "fuzz_common.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 enum { MAX_INPUT = 1 << 20, HEADER = 40, STEP_PARTICLES = 300 };
 

@@ -12,10 +12,10 @@
 #include <unistd.h>
 
 #include "adem/adem.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "fuzz_common.h"
 #include "output.h"
-#include "world.h"
+#include "world_internal.h"
 
 enum { MAX_INPUT = 256 * 1024 };
 

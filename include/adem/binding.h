@@ -7,13 +7,14 @@
 
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef struct adem_case adem_case;
+typedef struct adem_world adem_world; /* adem/world.h */
+typedef struct adem_case adem_case;   /* adem/case.h */
 
 /* The case's world (owned by the case). */
 adem_world *adem_case_world(adem_case *c);

@@ -24,9 +24,10 @@
 #ifndef ADEM_CALIBRATE_H
 #define ADEM_CALIBRATE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -64,7 +65,7 @@ typedef struct adem_calib_job {
   const char *dir;
   const char *const *sets;
   int nsets;
-  int resume;
+  bool resume;
 } adem_calib_job;
 
 /* Runs jobs[0..n) (at most `jobs` at a time, in any order) and sets status[k] (ADEM_OK when
@@ -84,7 +85,7 @@ typedef struct adem_calib_options {
   int jobs;                /* runs at a time (>= 1); with more than 1 each narrowing step
                               runs the false-position value and jobs - 1 values cutting the
                               bracket evenly */
-  int resume;              /* 0: out_dir must hold no runs; 1: go on with the runs there */
+  bool resume;             /* false: out_dir must hold no runs; true: go on with the runs there */
   int points;              /* values of the first scan, evenly over [lo, hi] (>= 2; default 3) */
   int max_runs;            /* at most this many runs in all (default 12) */
   double xtol;             /* stop when the bracket is narrower (<= 0: (hi - lo) / 1000) */
@@ -103,8 +104,8 @@ typedef struct adem_calib_run {
 } adem_calib_run;
 
 typedef struct adem_calib_result {
-  int found;              /* a run's response is within the target's tolerance */
-  int bracketed;          /* two runs' responses lie on either side of the target */
+  bool found;             /* a run's response is within the target's tolerance */
+  bool bracketed;         /* two runs' responses lie on either side of the target */
   double x_best, y_best;  /* the run whose response is nearest the target */
   double x_lo, x_hi;      /* the final bracket (NaN when not bracketed) */
   double x_interp;        /* the value where the line through the bracket's ends meets the

@@ -2,8 +2,12 @@
 #ifndef ADEM_CASE_H
 #define ADEM_CASE_H
 
+#include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
-#include "adem/adem.h"
+
+#include "adem/base.h"
+#include "adem/world.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -18,11 +22,11 @@ typedef struct adem_output_settings {
   double frame_interval;      /* VTU frames + PVD */
   double csv_interval;        /* CSV time series rows */
   double checkpoint_interval; /* checkpoint rewrites */
-  int plot;                   /* 1: write an energy-time PNG with gnuplot at the end */
-  int plot_loads;             /* 1: write a PNG of the wall loads against time at the end */
-  int pieces;                 /* 1: split over processes, a frame is a .pvtu of one piece each */
+  bool plot;                  /* true: write an energy-time PNG with gnuplot at the end */
+  bool plot_loads;            /* true: write a PNG of the wall loads against time at the end */
+  bool pieces;                /* true: split over processes, a frame is a .pvtu of one piece each */
   int contacts_every;         /* output.contacts: contact frames with every N-th frame (0: off) */
-  int contacts_csv;           /* 1: each contact frame also as CSV */
+  bool contacts_csv;          /* true: each contact frame also as CSV */
   /* output.track: particles whose rolling torque, angular velocity and distance from their
    * initial centre get CSV columns. */
   int ntrack;
@@ -48,12 +52,12 @@ typedef struct adem_case {
   int nsets;
   adem_world *world;
   double end_time;            /* s */
-  int dt_auto;                /* 1 when time.step was "auto" */
+  bool dt_auto;               /* true when time.step was "auto" */
   double dt_user_ratio;       /* user dt / proposed dt (> 1 means too large) */
   adem_step_estimate estimate;
   adem_memory_estimate memory; /* of every particle, the pours' totals included */
   double memory_limit;        /* bytes the run may use: limits.max_memory, or what is available */
-  int memory_auto;            /* 1 when memory_limit is what the machine has available */
+  bool memory_auto;           /* true when memory_limit is what the machine has available */
   adem_output_settings output;
   uint64_t seed;
   adem_pours *pours;          /* NULL: nothing is poured */
@@ -66,7 +70,7 @@ typedef struct adem_case {
    * run, even one given a later end time, continues the files as one run would have). */
   uint64_t frames_written;    /* frames at t = 0 and at every frame interval (not one written
                                  only because the run ended at this step) */
-  int csv_last_extra;         /* 1: this step's CSV row was written only because the run ended */
+  bool csv_last_extra;        /* true: this step's CSV row was written only because the run ended */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */

@@ -10,7 +10,7 @@
 
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "adem/frames.h"
 
 #ifdef __cplusplus

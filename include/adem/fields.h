@@ -12,10 +12,11 @@
 #ifndef ADEM_FIELDS_H
 #define ADEM_FIELDS_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -38,7 +39,7 @@ typedef struct adem_fields_options {
   double cutoff;    /* Gaussian: cut off at cutoff * w along each axis (default 3) */
   double cell;      /* grid spacing, m */
   double lo[3], hi[3]; /* the grid's extent, m */
-  int average[3];   /* 1: average over that axis */
+  bool average[3];  /* true: average over that axis */
 } adem_fields_options;
 adem_fields_options adem_fields_default_options(void);
 
@@ -108,12 +109,12 @@ adem_status adem_fields_get(const adem_fields *f, adem_cg_field field, double *o
 adem_status adem_fields_integral(const adem_fields *f, adem_cg_field field, double *out,
                                  adem_error *err);
 
-/* Every field as VTK ImageData (.vti, appended raw, point data on the nodes); atomic. */
 /* Adds the world's present state as one frame: its particles (adem_world_get_particles) and the
  * contacts of its last force pass (adem_world_contact_frame), as adem_fields_add takes them. */
 typedef struct adem_world adem_world;
 adem_status adem_fields_add_world(adem_fields *f, const adem_world *w, adem_error *err);
 
+/* Every field as VTK ImageData (.vti, appended raw, point data on the nodes); atomic. */
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err);
 /* Every field as CSV, one row per node: x_m,y_m,z_m (the averaged axes left out), then the
  * fields' components (density_kg_m3, ..., contact_stress_zz_Pa, ...); atomic. */
@@ -123,7 +124,7 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
 
 typedef struct adem_fields_run_options {
   adem_fields_options grid;   /* lo/hi ignored unless box_given */
-  int box_given;              /* 0: the grid spans the particles' centres (over the frames
+  bool box_given;             /* false: the grid spans the particles' centres (over the frames
                                * used) and reaches cutoff widths (Lucy: its support) beyond them,
                                * so that no kernel is cut by the grid's edge; an averaged axis
                                * spans the particles' extent (centre +- radius) */
@@ -132,7 +133,7 @@ typedef struct adem_fields_run_options {
   double cell_diameters;      /* > 0: the cell is this many mean diameters; else grid.cell, and
                                * grid.cell <= 0 is half the width */
   double t0, t1;              /* the frames with t0 <= time <= t1 (t1 < t0: every frame) */
-  int last_only;              /* 1: only the last frame in the window */
+  bool last_only;             /* true: only the last frame in the window */
 } adem_fields_run_options;
 adem_fields_run_options adem_fields_default_run_options(void);
 

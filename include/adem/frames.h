@@ -1,6 +1,7 @@
 /* Reader for adem's particle frames (frames/particles_NNNNNN.vtu): VTK XML UnstructuredGrid with
- * raw appended binary data and UInt64 block headers, as src/output/vtu.c writes them. It returns what
- * the pile and ballast studies need: centres, radii, ids and the frame's time.
+ * raw appended binary data and UInt64 block headers, as src/output/vtu.c writes them (read by
+ * src/output/vtu_read.c). It returns what the pile and ballast studies need: centres, radii, ids
+ * and the frame's time.
  *
  * The file is untrusted input: every offset, size and count is checked against the bytes that are
  * there, and a file that is not such a frame is refused with a message that says what is wrong
@@ -11,7 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {

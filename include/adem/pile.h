@@ -33,9 +33,10 @@
 #ifndef ADEM_PILE_H
 #define ADEM_PILE_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -49,7 +50,7 @@ typedef enum adem_pile_slice_radius {
 
 typedef struct adem_pile_options {
   double floor_z;       /* height of the floor, m */
-  int axis_given;       /* 1: the pile's axis is (axis_x, axis_y); 0: derived (see below) */
+  bool axis_given;      /* true: the pile's axis is (axis_x, axis_y); false: derived (see below) */
   double axis_x, axis_y;
   double band_lo, band_hi; /* the fit band, as fractions of the pile's height H */
   double cell_arc;      /* length along the arc of a cell of method (a), in bin widths */
@@ -80,10 +81,10 @@ typedef struct adem_pile_fit {
 } adem_pile_fit;
 
 /* A point of a profile: rho (radial distance from the axis, or r_eq) and z (height above the
- * floor), both m; used = 1 when the point is inside the fit band and entered the fit. */
+ * floor), both m; used is true when the point is inside the fit band and entered the fit. */
 typedef struct adem_pile_point {
   double rho, z;
-  int used;
+  bool used;
 } adem_pile_point;
 
 typedef struct adem_pile_result {

@@ -2,9 +2,14 @@
 #ifndef ADEM_RUN_H
 #define ADEM_RUN_H
 
+#include <stdbool.h>
 #include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
-#include "adem/adem.h"
+
+#include "adem/base.h"
+#include "adem/case.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -19,9 +24,9 @@ typedef struct adem_progress {
   double steps_per_second; /* the recent rate: over the last ADEM_ETA_WINDOW wall seconds */
   size_t contacts;
   size_t particles;
-  int may_end_early;       /* 1: a run-until condition may end the run before end_time (the ETA
+  bool may_end_early;      /* true: a run-until condition may end the run before end_time (the ETA
                               is then to end_time: at most) */
-  int final;               /* 1: the run's last step (its end time, or a condition met) */
+  bool final;              /* true: the run's last step (its end time, or a condition met) */
   char until[160];         /* the run-until condition against its threshold at its last check
                               ("until: E_k 4.1e-10 > 1e-10 J/particle"); "" without one */
 } adem_progress;

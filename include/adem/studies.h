@@ -8,7 +8,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
+#include "adem/laws.h"
+#include "adem/world.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -18,32 +20,32 @@ extern "C" {
 
 /* Single collisions in bulk: head-on particle-particle and oblique particle-wall impacts, each in
  * its own two-body world, run in parallel over collisions (notes section 7, H section 5). */
-typedef enum adem_collision_kind {
-  ADEM_COLLISION_PAIR = 0, /* two spheres of one material, head-on */
-  ADEM_COLLISION_WALL = 1  /* a sphere on a rigid plane wall at angle psi */
-} adem_collision_kind;
+typedef enum adem_collide_kind {
+  ADEM_COLLIDE_PAIR = 0, /* two spheres of one material, head-on */
+  ADEM_COLLIDE_WALL = 1  /* a sphere on a rigid plane wall at angle psi */
+} adem_collide_kind;
 
 /* What became of a collision (H Fig. 9). */
-typedef enum adem_collision_outcome {
+typedef enum adem_collide_outcome {
   ADEM_OUTCOME_REBOUND = 0,  /* the sphere separates (e1) */
   ADEM_OUTCOME_CAPTURED = 1, /* it stays in contact; no rolling phase (pair, no DTK, ...) */
   ADEM_OUTCOME_ROLLING = 2,  /* it stays in contact and keeps rolling (e2) */
   ADEM_OUTCOME_STUCK = 3     /* it stays in contact and comes to rest (e3) */
-} adem_collision_outcome;
-const char *adem_collision_outcome_name(adem_collision_outcome o); /* "rebound", ... */
+} adem_collide_outcome;
+const char *adem_collide_outcome_name(adem_collide_outcome o); /* "rebound", ... */
 
 /* Called after every time step: time since the start, overlap (m, < 0 while apart), normal
  * approach speed (m/s, > 0 approaching) and the normal contact force (N, > 0 repulsive). */
-typedef void adem_collision_sample_fn(double t, double overlap, double v_n, double force_n,
+typedef void adem_collide_sample_fn(double t, double overlap, double v_n, double force_n,
                                       void *user);
 /* Wall impacts: called after every time step with the time since the start, the centre's travel
  * along the wall since the first touch (m), its speed along the wall (m/s) and |xi| of the DTK
  * contact (m, 0 without contact). */
-typedef void adem_collision_track_fn(double t, double travel, double v_along, double xi,
+typedef void adem_collide_track_fn(double t, double travel, double v_along, double xi,
                                      void *user);
 
-typedef struct adem_collision_spec {
-  adem_collision_kind kind;
+typedef struct adem_collide_spec {
+  adem_collide_kind kind;
   double radius;           /* r_i, m */
   double size_ratio;       /* beta = r_j / r_i (pair only) */
   double density;          /* rho of both spheres, kg/m^3 */
@@ -58,7 +60,7 @@ typedef struct adem_collision_spec {
   double angle;            /* psi, between the velocity and the wall, rad (pi/2: normal impact) */
   double steps_per_tc;     /* time steps per collision time t_c (default 200) */
   double max_periods;      /* in contact this many t_c without a decision: stuck, undecided */
-  adem_collision_sample_fn *sample; /* may be NULL */
+  adem_collide_sample_fn *sample; /* may be NULL */
   void *sample_user;
   /* Deposition on the wall (H section 5.3, Fig. 9): DTK rolling resistance and a constant force
    * through the centre, parallel to the wall, along the tangential impact velocity (+x; +x also
@@ -73,7 +75,7 @@ typedef struct adem_collision_spec {
   double rest_periods;     /* decision window, in rolling periods T_r (default 3) */
   double max_roll_periods; /* longest rolling phase, in T_r (default 400); then undecided */
   bool capture_only;       /* stop at the capture (outcome captured): no rolling phase */
-  adem_collision_track_fn *track; /* may be NULL */
+  adem_collide_track_fn *track; /* may be NULL */
   void *track_user;
   adem_tangential_model tangential; /* tangential law (default: incremental; H14 is `total`) */
   adem_contact_scheme scheme;       /* contact forces in the step (default: second order) */
@@ -83,10 +85,10 @@ typedef struct adem_collision_spec {
   int normal_law;                   /* >= 0: this normal law (a row of laws.h) instead of jkr for
                                      * a surface energy > 0 and hertz for 0 (-1, the default) */
   int rolling_law;                  /* >= 0: this rolling law instead of DTK when dtk is set */
-} adem_collision_spec;
-adem_collision_spec adem_default_collision_spec(void);
+} adem_collide_spec;
+adem_collide_spec adem_default_collide_spec(void);
 
-typedef struct adem_collision_result {
+typedef struct adem_collide_result {
   adem_status status;   /* ADEM_OK, or why this collision could not be run (message) */
   bool stuck;           /* captured: the spheres never separate (the contact's energy says so);
                          * whether the sphere then rolls or rests is in `outcome` */
@@ -105,7 +107,7 @@ typedef struct adem_collision_result {
   double ke_in, ke_out; /* kinetic energy (translation + rotation) before and at the end, J */
   double work;          /* work of all forces and torques over the run (Verlet trapezoid), J */
   /* Deposition (wall with DTK; see adem_collide for the rule) */
-  adem_collision_outcome outcome;
+  adem_collide_outcome outcome;
   double force_ext;     /* F_ext applied, N */
   double xi_crit;       /* critical rolling distance of the contact (H18), m */
   double t_roll;        /* period T_r of rolling oscillations on k_r = 4 F_C at a = a0, s */
@@ -115,42 +117,42 @@ typedef struct adem_collision_result {
   double v_end;         /* speed of the centre along the wall at the end, m/s */
   double rolling_work;  /* work of the rolling couple on the sphere over the run, J */
   char message[256];
-} adem_collision_result;
+} adem_collide_result;
 
 /* Dimensionless groups of H section 5.1 with the text's Ad (notes section 7): lambda =
  * E/(rho v^2 sin^2 psi), Ad = 3 gamma/(rho v^2 sin^2 psi r_i) (1+b^3)/((1+b^2) b) for pairs
  * (b the size ratio), 3 gamma/(rho v^2 sin^2 psi r_i) for a wall. E and gamma are the real ones. */
-double adem_collide_lambda(const adem_collision_spec *s);
-double adem_collide_ad(const adem_collision_spec *s);
+double adem_collide_lambda(const adem_collide_spec *s);
+double adem_collide_ad(const adem_collide_spec *s);
 /* Set E (resp. gamma) so that lambda (resp. Ad) takes the given value at the spec's speed. */
-void adem_collide_set_lambda(adem_collision_spec *s, double lambda);
-void adem_collide_set_ad(adem_collision_spec *s, double ad);
+void adem_collide_set_lambda(adem_collide_spec *s, double lambda);
+void adem_collide_set_ad(adem_collide_spec *s, double ad);
 
 /* Effective radius R, mass m* and the contact law's modulus and surface energy (modified). */
-typedef struct adem_collision_params {
+typedef struct adem_collide_params {
   double R, mstar, E_mod, gamma_mod;
   double v_n;       /* normal impact speed */
   double u_min;     /* JKR energy at equilibrium relative to contact formation (<= 0), J */
   double t_c;       /* Hertz collision time at the speed reached in contact, s */
   double t_osc;     /* period of small oscillations about the JKR equilibrium (0 for Hertz), s */
-} adem_collision_params;
-adem_collision_params adem_collide_params(const adem_collision_spec *s);
+} adem_collide_params;
+adem_collide_params adem_collide_derive(const adem_collide_spec *s);
 
 /* F_yield = k_r xi_crit / r at a = a0 = 4 F_C (a0/12)(delta_gamma/gamma) / r with the real E and
  * gamma of the spec (notes section 4; H writes it without the 1/R). 0 unless a wall with DTK. */
-double adem_collide_yield_force(const adem_collision_spec *s);
+double adem_collide_yield_force(const adem_collide_spec *s);
 /* F_ext of the spec, N. */
-double adem_collide_force(const adem_collision_spec *s);
+double adem_collide_force(const adem_collide_spec *s);
 /* The DTK torque the engine applies (N m, magnitude) to the spec's sphere resting on the wall at
  * a = a0 after rolling a distance xi >= 0 without slip: k_r min(xi, xi_crit) (H20-H22). One force
  * pass of the spec's world, so the material derivation and dtk_modification are the engine's. */
-adem_status adem_collide_dtk_torque(const adem_collision_spec *s, double xi, double *torque,
+adem_status adem_collide_dtk_torque(const adem_collide_spec *s, double xi, double *torque,
                                     adem_error *err);
 
 /* The elastic normal force (N, > 0 repulsive) the engine applies to the spec's sphere resting on
  * the wall with overlap delta >= 0, at rest (no dashpot): one force pass of the spec's world, so
  * its normal law (normal_law) and the material derivation (f, H24) are the engine's. */
-adem_status adem_collide_normal_force(const adem_collision_spec *s, double delta, double *force,
+adem_status adem_collide_normal_force(const adem_collide_spec *s, double delta, double *force,
                                       adem_error *err);
 
 /* Hertz collision time t_c = 2.86827 (m*^2/(R E^2 v))^(1/5) (notes section 6). */
@@ -173,30 +175,30 @@ adem_status adem_collide_normal_force(const adem_collision_spec *s, double delta
  *    is not below the speed at its start. A saturated, decelerating sphere is watched on.
  *  - after max_roll_periods T_r without a decision: undecided, classified by the last step
  *    (saturated: rolling, else stuck). */
-adem_collision_result adem_collide(const adem_collision_spec *spec);
+adem_collide_result adem_collide(const adem_collide_spec *spec);
 /* n collisions over nthreads OpenMP threads; out[k] belongs to specs[k] whatever the threads. */
-void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
+void adem_collide_many(const adem_collide_spec *specs, adem_collide_result *out, size_t n,
                        int nthreads);
 
 /* Sets the parameter x (speed, lambda, ...) of a spec. */
-typedef void adem_collision_param_fn(adem_collision_spec *s, double x, void *user);
+typedef void adem_collide_param_fn(adem_collide_spec *s, double x, void *user);
 /* The value of x in [lo, hi] where the outcome changes between stuck and rebound, to a relative
  * width rel_tol, by multisection in log x (3 collisions per round, run on nthreads). Returns
  * ADEM_ERR_INPUT when lo and hi give the same outcome. */
-adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collision_param_fn *set,
+adem_status adem_collide_threshold(const adem_collide_spec *base, adem_collide_param_fn *set,
                                    void *user, double lo, double hi, double rel_tol, int nthreads,
                                    double *x_crit, adem_error *err);
 
 /* Which two outcomes a threshold separates. */
-typedef enum adem_collision_split {
+typedef enum adem_collide_split {
   ADEM_SPLIT_CAPTURE = 0, /* captured (stuck, rolling or captured) against rebound */
   ADEM_SPLIT_REST = 1     /* comes to rest (stuck) against anything else (rolling, rebound) */
-} adem_collision_split;
+} adem_collide_split;
 /* adem_collide_threshold for either split. The capture split skips the rolling phase
  * (capture_only): whether the sphere rolls or stops does not change a capture. */
-adem_status adem_collide_threshold_split(const adem_collision_spec *base,
-                                         adem_collision_param_fn *set, void *user,
-                                         adem_collision_split split, double lo, double hi,
+adem_status adem_collide_threshold_split(const adem_collide_spec *base,
+                                         adem_collide_param_fn *set, void *user,
+                                         adem_collide_split split, double lo, double hi,
                                          double rel_tol, int nthreads, double *x_crit,
                                          adem_error *err);
 
@@ -209,12 +211,12 @@ size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double
 /* The PSL sphere of 1.27 um on quartz of H Fig. 5 (a wall impact), from the case file
  * cases/haervig/psl-quartz.yaml (embedded at build time): kind, radius, density, E*, nu,
  * restitution and surface energy; the rest of *s is left as it is. */
-adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err);
+adem_status adem_collide_psl_quartz(adem_collide_spec *s, adem_error *err);
 
 /* ---------------------------------------------------------------- validations */
 
 /* Paper reproductions (`adem validate`): each writes DIR/NAME.csv and DIR/NAME.png and reports
- * the paper's claim, the figure measured here and pass/fail; adem_validate_run collects them in
+ * the paper's claim, the figure measured here and pass/fail; adem_validation_run collects them in
  * DIR/summary.json and DIR/summary.md. */
 typedef struct adem_validation_context {
   const char *out_dir;
@@ -252,27 +254,8 @@ const adem_validation *adem_validation_find(const char *name);
 
 /* Runs the named validations (all when n == 0) and writes the summaries. *failed counts the
  * validations whose claim did not hold. */
-adem_status adem_validate_run(const char *const *names, int n, const adem_validation_context *ctx,
+adem_status adem_validation_run(const char *const *names, int n, const adem_validation_context *ctx,
                               int *failed, adem_error *err);
-
-/* DIR/NAME.EXT; a fresh string. */
-char *adem_validate_path(const adem_validation_context *ctx, const char *name, const char *ext);
-
-/* DIR/NAME.png drawn by gnuplot from `body`, in which the gnuplot variable f holds the path of
- * DIR/NAME.csv. */
-adem_status adem_validate_plot(const adem_validation_context *ctx, const char *name, int width,
-                               int height, const char *body, adem_error *err);
-
-/* A table written to CSV atomically: header names quantity and unit ("v_impact_m_s,e_eff"). */
-typedef struct adem_table {
-  size_t ncols, nrows, cap;
-  char *header;
-  double *data; /* row-major */
-} adem_table;
-adem_status adem_table_init(adem_table *t, const char *header);
-adem_status adem_table_add(adem_table *t, const double *row);
-adem_status adem_table_write_csv(const adem_table *t, const char *path, adem_error *err);
-void adem_table_free(adem_table *t);
 
 /* Validations of each paper (validate_haervig.c, validate_irazabal.c). */
 extern const adem_validation adem_validations_haervig[];

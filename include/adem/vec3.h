@@ -3,7 +3,7 @@
 #define ADEM_VEC3_H
 
 #include <math.h>
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #define ADEM_PI 3.14159265358979323846
 

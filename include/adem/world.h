@@ -2,12 +2,19 @@
 #ifndef ADEM_WORLD_H
 #define ADEM_WORLD_H
 
-#include "adem/adem.h"
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "adem/base.h"
 #include "adem/laws.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* The world (opaque): made by adem_world_create, or by loading a case (adem/case.h). */
+typedef struct adem_world adem_world;
 
 /* A material. Walls have one too; a rigid wall material has E = infinity. */
 typedef struct adem_material_def {
@@ -18,7 +25,7 @@ typedef struct adem_material_def {
   double restitution;      /* e, in (0, 1] */
   double friction;         /* sliding friction coefficient mu_s */
   double stiffness_factor; /* f = E_mod/E in (0, 1]; H24 */
-  int rigid;               /* 1: E = infinity (walls only) */
+  bool rigid;              /* true: E = infinity (walls only) */
   /* The contact laws' parameters (adem/laws.h), by id: param[ADEM_PARAM_SURFACE_ENERGY] is
    * gamma, J/m^2, per surface; ... Defaults from the parameter rows. */
   double param[ADEM_PARAM_COUNT];
@@ -37,10 +44,10 @@ typedef struct adem_interaction_def {
   adem_tangential_model tangential;
   adem_rolling_model rolling;
   double param[ADEM_PARAM_COUNT];
-  /* DTK under reduced stiffness: 1 (default) keeps F_C, a0 and xi_crit of the real material and
-   * takes only (a/a0)^(3/2) from the modified one (H section 3.2); 0 takes all from the modified
+  /* DTK under reduced stiffness: true (default) keeps F_C, a0 and xi_crit of the real material and
+   * takes only (a/a0)^(3/2) from the modified one (H section 3.2); false takes all from the modified
    * material, for comparison. */
-  int dtk_rolling_modification;
+  bool dtk_rolling_modification;
 } adem_interaction_def;
 adem_interaction_def adem_default_interaction_def(void);
 
@@ -83,14 +90,14 @@ adem_plane_def adem_default_plane_def(void);
  * position integrated (x += v dt). Stable for gain K dt < 1, K the stiffness of what the wall
  * presses on. */
 typedef struct adem_servo_def {
-  int on;                        /* 0: no servo (the rest is ignored) */
+  bool on;                       /* false: no servo (the rest is ignored) */
   adem_vec3 axis;                /* any length > 0; unit once set */
   double target_force;           /* N: wanted force of the particles on the wall along axis */
   double gain;                   /* m/s per N, > 0 */
   double max_speed;              /* m/s, > 0 */
   double filter;                 /* s >= 0: time constant of a low-pass on the measured force */
   double travel_min, travel_max; /* m: limits of the servo displacement (min <= 0 <= max) */
-  int unmeasured;                /* 1: a mesh group that moves with its file's servo but whose
+  bool unmeasured;               /* true: a mesh group that moves with its file's servo but whose
                                     load is not measured (`servo.groups` leaves it out) */
 } adem_servo_def;
 
@@ -121,7 +128,7 @@ typedef struct adem_mesh_transform {
   double rotation[3][3]; /* R, a proper rotation (orthonormal, det +1), row-major: x'_i = R_ij x_j */
   adem_vec3 translation; /* t, m */
   int material;          /* world material index of every triangle */
-  int own_vertices;      /* 1: share no vertex with other groups, so that the group can move on
+  bool own_vertices;     /* true: share no vertex with other groups, so that the group can move on
                             its own (a pushed sleeper); 0: join equal vertices of other groups */
 } adem_mesh_transform;
 /* s = 1, R = identity, t = 0, material 0, shared vertices. */
@@ -419,7 +426,7 @@ typedef struct adem_pair_info {
   double param[ADEM_PARAM_COUNT];   /* the pair's value of each law parameter */
   double param_a[ADEM_PARAM_COUNT]; /* material a's (or the interaction's) value */
   double param_b[ADEM_PARAM_COUNT];
-  int set_restitution, set_friction, set_param[ADEM_PARAM_COUNT]; /* from an interaction entry */
+  bool set_restitution, set_friction, set_param[ADEM_PARAM_COUNT]; /* from an interaction entry */
 } adem_pair_info;
 adem_status adem_world_pair_info(adem_world *w, int material_a, int material_b,
                                  adem_pair_info *out, adem_error *err);

@@ -7,8 +7,8 @@ message instead of read wrong.
 import ctypes
 import ctypes.util
 import os
-from ctypes import (POINTER, Structure, c_char, c_char_p, c_double, c_int, c_int32, c_int64,
-                    c_size_t, c_uint, c_uint64, c_void_p)
+from ctypes import (POINTER, Structure, c_bool, c_char, c_char_p, c_double, c_int, c_int32,
+                    c_int64, c_size_t, c_uint, c_uint64, c_void_p)
 
 SONAME = "libadem.so.0"
 
@@ -91,7 +91,7 @@ class Error(Structure):
 class MaterialDef(Structure):
     _fields_ = [("name", c_char * NAME_MAX), ("density", c_double), ("young", c_double),
                 ("poisson", c_double), ("restitution", c_double), ("friction", c_double),
-                ("stiffness_factor", c_double), ("rigid", c_int),
+                ("stiffness_factor", c_double), ("rigid", c_bool),
                 ("param", c_double * PARAM_COUNT)]
 
 
@@ -99,7 +99,7 @@ class InteractionDef(Structure):
     _fields_ = [("material_a", c_int), ("material_b", c_int), ("restitution", c_double),
                 ("friction", c_double), ("normal", c_int), ("damping", c_int),
                 ("tangential", c_int), ("rolling", c_int), ("param", c_double * PARAM_COUNT),
-                ("dtk_rolling_modification", c_int)]
+                ("dtk_rolling_modification", c_bool)]
 
 
 class ParticleDef(Structure):
@@ -114,9 +114,9 @@ class PlaneDef(Structure):
 
 
 class ServoDef(Structure):
-    _fields_ = [("on", c_int), ("axis", Vec3), ("target_force", c_double), ("gain", c_double),
+    _fields_ = [("on", c_bool), ("axis", Vec3), ("target_force", c_double), ("gain", c_double),
                 ("max_speed", c_double), ("filter", c_double), ("travel_min", c_double),
-                ("travel_max", c_double), ("unmeasured", c_int)]
+                ("travel_max", c_double), ("unmeasured", c_bool)]
 
 
 class MotionDef(Structure):
@@ -127,7 +127,7 @@ class MotionDef(Structure):
 
 class MeshTransform(Structure):
     _fields_ = [("scale", c_double), ("rotation", (c_double * 3) * 3), ("translation", Vec3),
-                ("material", c_int), ("own_vertices", c_int)]
+                ("material", c_int), ("own_vertices", c_bool)]
 
 
 class Diagnostics(Structure):
@@ -155,7 +155,7 @@ class Progress(Structure):
                 ("total_steps", c_uint64), ("wall_seconds", c_double),
                 ("eta_seconds", c_double), ("eta_rough", c_int),
                 ("steps_per_second", c_double), ("contacts", c_size_t),
-                ("particles", c_size_t), ("may_end_early", c_int), ("final", c_int),
+                ("particles", c_size_t), ("may_end_early", c_bool), ("final", c_bool),
                 ("until", c_char * 160)]
 
 
@@ -175,13 +175,13 @@ class VtuFrame(Structure):
 
 class FieldsOptions(Structure):
     _fields_ = [("kernel", c_int), ("width", c_double), ("cutoff", c_double), ("cell", c_double),
-                ("lo", c_double * 3), ("hi", c_double * 3), ("average", c_int * 3)]
+                ("lo", c_double * 3), ("hi", c_double * 3), ("average", c_bool * 3)]
 
 
 class FieldsRunOptions(Structure):
-    _fields_ = [("grid", FieldsOptions), ("box_given", c_int), ("width_diameters", c_double),
+    _fields_ = [("grid", FieldsOptions), ("box_given", c_bool), ("width_diameters", c_double),
                 ("cell_diameters", c_double), ("t0", c_double), ("t1", c_double),
-                ("last_only", c_int)]
+                ("last_only", c_bool)]
 
 
 class FieldsRunInfo(Structure):

@@ -100,7 +100,7 @@ class World:
         d.name = name.encode()
         d.density, d.young, d.poisson = density, young, poisson
         d.restitution, d.friction, d.stiffness_factor = restitution, friction, stiffness_factor
-        d.rigid = 1 if rigid else 0
+        d.rigid = bool(rigid)
         for k, v in params.items():
             i = _param_index(k)
             if i is None:
@@ -139,7 +139,7 @@ class World:
                            ("rolling", rolling)):
             if name is not None:
                 setattr(d, slot, _law(slot, name))
-        d.dtk_rolling_modification = 1 if dtk_rolling_modification else 0
+        d.dtk_rolling_modification = bool(dtk_rolling_modification)
         for k, v in params.items():
             i = _param_index(k)
             if i is None:
@@ -212,7 +212,7 @@ class World:
         tf.scale = scale
         tf.translation = vec(translation)
         tf.material = self.material(material)
-        tf.own_vertices = 1 if own_vertices else 0
+        tf.own_vertices = bool(own_vertices)
         if rotation is not None:
             r = np.asarray(rotation, dtype=np.float64)
             if r.shape == (3, 3):

@@ -3,7 +3,7 @@
 #include <string.h>
 
 #include "cylinder.h"
-#include "world.h"
+#include "world_internal.h"
 
 adem_status adem_wall_check_shape(const adem_plane_def *d, adem_error *err) {
   switch (d->shape) {

@@ -16,7 +16,6 @@
 #include <math.h>
 #include <stdbool.h>
 
-#include "adem/adem.h"
 #include "adem/vec3.h"
 #include "adem/world.h"
 #include "walls.h"

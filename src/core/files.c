@@ -1,6 +1,5 @@
-/* Reading whole files and composing paths: the only file access of the core and input layers
- * (writing is output/fileio.h, atomic). */
-#include "files.h"
+/* Reading whole files and composing paths (writing atomically: fileio.c beside it). */
+#include "adem/files.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -5,7 +5,7 @@
 #ifndef ADEM_FORCE_PASS_H
 #define ADEM_FORCE_PASS_H
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "materials.h"
 #include "neighbors.h"
 #include "pairs.h"

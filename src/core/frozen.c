@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "world.h"
+#include "world_internal.h"
 
 /* The motion of the wall particle i moves with, or NULL (fixed in space). */
 static const adem_motion *motion_of(const adem_world *w, size_t i) {

@@ -2,7 +2,7 @@
 #ifndef ADEM_LOG_H
 #define ADEM_LOG_H
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 /* Nested: adem_log_mute(1) silences the log until the matching adem_log_mute(0). Used while a
  * case is loaded again for a stage, so that its warnings are not repeated. */

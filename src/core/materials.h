@@ -6,7 +6,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "adem/laws.h"
 #include "law_hooks.h"
 #include "laws_kernels.h"

@@ -8,7 +8,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
 #include "adem/world.h"
 
 /* Largest deviation from coplanar (radians) for an edge to count as flat. STL stores float32

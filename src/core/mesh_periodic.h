@@ -6,7 +6,7 @@
 #ifndef ADEM_MESH_PERIODIC_H
 #define ADEM_MESH_PERIODIC_H
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "mesh.h"
 
 /* Accepts the mesh in a box periodic along axis (0..2) from lo to lo + len when no triangle

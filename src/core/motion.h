@@ -6,7 +6,6 @@
 
 #include <stdbool.h>
 #include <stddef.h>
-#include "adem/adem.h"
 #include "adem/world.h"
 #include "stream.h"
 

@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "pairs.h"
 #include "particles.h"
 #include "periodic.h"

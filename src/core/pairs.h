@@ -11,7 +11,8 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
+#include "adem/laws.h"
 #include "mesh_contact.h"
 #include "soa.h"
 #include "stream.h"

@@ -10,7 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
+#include "adem/laws.h"
 #include "periodic.h"
 #include "soa.h"
 #include "stream.h"

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "world.h"
+#include "world_internal.h"
 
 enum { GONE = SIZE_MAX };
 

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "mesh_contact.h"
-#include "world.h"
+#include "world_internal.h"
 
 static adem_vec3 tangential(adem_vec3 v, adem_vec3 n) { return v3_sub(v, v3_scale(n, v3_dot(v, n))); }
 

@@ -7,7 +7,7 @@
 
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 #include "stream.h"
 
 typedef struct adem_soa_field {

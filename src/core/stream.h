@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/base.h"
 
 #define ADEM_FNV_START 0xcbf29ce484222325ULL
 /* FNV-1a of n bytes, continuing from h (start with ADEM_FNV_START). */

@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "mesh.h"
 #include "motion.h"
 #include "stream.h"

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "world.h"
+#include "world_internal.h"
 
 /* The map is a cache: id_map[id] is where particle id was stored when it was last built. Every
  * look-up checks it against p.id, so a reordering (neighbour builds sort by cell, the MPI split

@@ -13,7 +13,7 @@
 #include "parallel.h"
 #include "rng.h"
 #include "step_limit.h"
-#include "world.h"
+#include "world_internal.h"
 #include "world_parts.h"
 #include "cylinder.h"
 #include "mesh_periodic.h"

@@ -2,7 +2,7 @@
 #ifndef ADEM_WORLD_PARTS_H
 #define ADEM_WORLD_PARTS_H
 
-#include "world.h"
+#include "world_internal.h"
 
 /* ---- checks (world_checks.c) ---- */
 /* Periodic boxes the run cannot use: a length below 2 (largest diameter + skin), where a pair

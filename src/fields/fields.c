@@ -565,12 +565,12 @@ static const char *byte_order(void) {
   return b == 1 ? "LittleEndian" : "BigEndian";
 }
 
-#include "adem/output.h"
+#include "adem/files.h"
 
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err) {
   if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *fp = af.f;
   double sp[3];
@@ -611,16 +611,16 @@ adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_e
   }
   fprintf(fp, "\n  </AppendedData>\n</VTKFile>\n");
   if (!ok || ferror(fp)) {
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_error *err) {
   if (!f->frames) return adem_error_set(err, ADEM_ERR_INPUT, "no frame was added");
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *fp = af.f;
   int first = 1;
@@ -652,8 +652,8 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
     fputc('\n', fp);
   }
   if (ferror(fp)) {
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }

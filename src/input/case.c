@@ -1,6 +1,8 @@
 /* Case files: YAML read with libyaml, --set overrides grafted onto the document, every key checked
  * against the schema table (schema.c), then the world built from it. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
+#include "adem/files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +26,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---- sections ---- */
 

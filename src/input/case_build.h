@@ -11,12 +11,13 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "case_yaml.h"
 #include "insert.h"
 #include "stages.h"
 #include "until.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Sets larger than this are surely a typo and would only exhaust memory. */
 #define MAX_SET_SPHERES 100000000.0

@@ -1,6 +1,8 @@
 /* Case files: `materials`, `interactions` (the law of each pair, its checks and warnings) and
  * `groups`. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +13,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +25,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Index of the material called name (given at node), or an error naming the known ones. */
 adem_status adem_case_find_material(case_ctx *ctx, const char *name, const yaml_node_t *node,

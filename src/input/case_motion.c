@@ -1,5 +1,5 @@
 /* Case files: a wall's `motion` (tables, velocities, rotations) and its `servo`. */
-#include "adem/adem.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -10,7 +10,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -23,7 +22,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---- wall motion and mesh walls ---- */
 

@@ -1,5 +1,6 @@
 /* Case files: `output`, its tracked particles and counted regions. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -10,7 +11,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -23,7 +23,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* output.track: ids of particles already created (ids count from 0 in order of creation, so
  * particle id k was made from ctx->pos[k]), without repeats. */

@@ -1,6 +1,7 @@
 /* Case files: `particles`, the sets of spheres made at the start (lists, lattices, random fills,
  * a checkpoint's state, frozen sets), and the memory check of what they ask for. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +12,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
+#include "adem/files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +25,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 void adem_case_box_include(case_ctx *ctx, adem_vec3 lo, adem_vec3 hi) {
   if (!ctx->has_box) {

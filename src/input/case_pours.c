@@ -1,6 +1,7 @@
 /* Case files: size distributions and regions (shared by random sets, pours and outputs) and
  * `pours`. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +12,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +24,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---- insertion: size distributions, regions, random fills ---- */
 

@@ -1,6 +1,8 @@
 /* Case files: `time.until` (run-until conditions), `time.step` (the proposal and the checks of a
  * step given) and the load-time warnings about forces that pull contacts apart. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +13,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +25,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---- run-until conditions ---- */
 

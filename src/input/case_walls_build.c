@@ -1,6 +1,7 @@
 /* Case files: `walls` (planes, boxes, mesh walls from STL files; cylinders and plates in
  * case_walls.c). */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 
 #include <errno.h>
 #include <math.h>
@@ -11,7 +12,6 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "stl.h"
 #include "log.h"
 #include "rng.h"
@@ -24,7 +24,7 @@
 #include "schema.h"
 #include "stages.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
   const adem_world *w = ctx->w;

@@ -9,10 +9,11 @@
 #include <stdint.h>
 #include <yaml.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "log.h"
 #include "schema.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define KEY_PATH_MAX 256
 #define LOC_MAX 640

@@ -11,7 +11,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "mesh.h"
 #include "rng.h"
 

@@ -12,7 +12,7 @@
 #include "log.h"
 #include "adem/vec3.h"
 #include "stl.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---------------------------------------------------------------- size distributions */
 

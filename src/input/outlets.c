@@ -10,7 +10,7 @@
 #include "insert.h"
 #include "log.h"
 #include "schedule.h"
-#include "world.h"
+#include "world_internal.h"
 
 enum { OUTLET_DEFAULT_STEPS = 100 };
 

@@ -17,7 +17,7 @@
 
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
 #include "stream.h"
 
 struct case_ctx;

@@ -12,7 +12,7 @@
 #include "insert.h"
 #include "log.h"
 #include "schedule.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---------------------------------------------------------------- building */
 

@@ -16,7 +16,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "motion.h"
 #include "stream.h"
 #include "until.h"

@@ -10,9 +10,9 @@
 #include <string.h>
 
 #include "adem/vec3.h"
-#include "files.h"
+#include "adem/files.h"
 #include "log.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* ---------------------------------------------------------------- ASCII STL */
 

@@ -2,9 +2,10 @@
 #ifndef ADEM_STL_H
 #define ADEM_STL_H
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "mesh.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Reads an ASCII or binary STL file, transforms it, and appends it to mesh as one group per file
  * (or per `solid` block of an ASCII file with several). The group is named group_name if given,

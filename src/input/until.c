@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 void adem_until_init(adem_until *u, const adem_until_def *def) {
   memset(u, 0, sizeof *u);

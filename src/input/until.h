@@ -16,7 +16,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/world.h"
 #include "stream.h"
 
 typedef enum adem_until_wall_kind {

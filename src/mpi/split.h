@@ -12,8 +12,8 @@
 
 #include <mpi.h>
 
-#include "adem/adem.h"
-#include "world.h"
+#include "adem/world.h"
+#include "world_internal.h"
 
 typedef struct adem_split adem_split;
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "fileio.h"
+#include "adem/files.h"
 #include "output.h"
 #include "periodic.h"
 #include "vtu.h"
@@ -207,7 +207,7 @@ adem_status adem_contact_write_vtp(const adem_world *w, const adem_contact_recor
     bytes[k] = (k == 9 || k == 10 ? 2 : 1) * n * per;
   }
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *f = af.f;
   fprintf(f,
@@ -244,10 +244,10 @@ adem_status adem_contact_write_vtp(const adem_world *w, const adem_contact_recor
   fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
   if (!ok || ferror(f)) {
     int e = errno ? errno : EIO;
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 /* ---------------------------------------------------------------- CSV */
@@ -260,7 +260,7 @@ adem_status adem_contact_write_csv(const adem_contact_record *c, size_t n, const
                                    adem_error *err) {
   static const char *const kinds[] = {"particle", "plane", "mesh"};
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *f = af.f;
   fputs(adem_contact_csv_header, f);
@@ -277,10 +277,10 @@ adem_status adem_contact_write_csv(const adem_contact_record *c, size_t n, const
   }
   if (ferror(f)) {
     int e = errno ? errno : EIO;
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 /* ---------------------------------------------------------------- the run's contact frames */

@@ -10,8 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "adem/adem.h"
-#include "world.h"
+#include "adem/world.h"
+#include "world_internal.h"
 
 /* One touching contact as the frames write it. */
 typedef struct adem_contact_record {

@@ -1,5 +1,5 @@
 #include "output.h"
-#include "plot.h"
+#include "adem/internal/plot.h"
 #include "vtu.h"
 
 #include <errno.h>
@@ -11,10 +11,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
-#include "world.h"
+#include "world_internal.h"
 #include "cylinder.h"
 
 _Static_assert(sizeof(adem_vec3) == 3 * sizeof(double), "adem_vec3 must be three packed doubles");
@@ -187,7 +186,7 @@ adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, s
 adem_status adem_output_write_pvtu(const char *path, const char *const *pieces, int npieces,
                                    adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *f = af.f;
   fprintf(f,
@@ -211,10 +210,10 @@ adem_status adem_output_write_pvtu(const char *path, const char *const *pieces, 
   for (int k = 0; k < npieces; ++k) fprintf(f, "    <Piece Source=\"%s\"/>\n", pieces[k]);
   fprintf(f, "  </PUnstructuredGrid>\n</VTKFile>\n");
   if (ferror(f)) {
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s", path);
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 /* ---------------------------------------------------------------- PVD */
@@ -241,7 +240,7 @@ adem_status adem_output_pvd_add(adem_pvd *pvd, double time, const char *file, ad
 
 adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   fprintf(af.f,
           "<?xml version=\"1.0\"?>\n"
@@ -252,7 +251,7 @@ adem_status adem_output_pvd_write(const adem_pvd *pvd, const char *path, adem_er
     fprintf(af.f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"%s\"/>\n",
             pvd->time[k], pvd->file[k]);
   fprintf(af.f, "  </Collection>\n</VTKFile>\n");
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 void adem_output_pvd_free(adem_pvd *pvd) {
@@ -363,14 +362,14 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
   adem_error rd;
   if (adem_file_read_all(path, &text, &len, &rd) != ADEM_OK) {
     adem_log(ADEM_LOG_WARN, "%s is missing; the time series restarts at t = %.9g s", path, t_resume);
-    return adem_fileio_write_all(path, header, strlen(header), err);
+    return adem_file_write_all(path, header, strlen(header), err);
   }
   size_t keep = 0;
   char *nl = strchr(text, '\n');
   if (!nl || strncmp(text, header, (size_t)(nl - text) + 1) != 0) {
     adem_log(ADEM_LOG_WARN, "%s has another header than this case; it is started again", path);
     free(text);
-    return adem_fileio_write_all(path, header, strlen(header), err);
+    return adem_file_write_all(path, header, strlen(header), err);
   }
   keep = (size_t)(nl - text) + 1;
   while (keep < len) {
@@ -383,7 +382,7 @@ static adem_status csv_truncate(const char *path, const char *header, double t_r
     keep = (size_t)(end - text) + 1;
   }
   adem_status st = ADEM_OK;
-  if (keep != len) st = adem_fileio_write_all(path, text, keep, err);
+  if (keep != len) st = adem_file_write_all(path, text, keep, err);
   free(text);
   return st;
 }
@@ -398,7 +397,7 @@ static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
   char *path = adem_file_join(o->dir, "mesh.pvd");
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   free(path);
   if (st) return st;
   fprintf(af.f,
@@ -411,7 +410,7 @@ static adem_status mesh_pvd_write(const adem_output *o, adem_error *err) {
             "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"frames/mesh_%06zu.vtu\"/>\n",
             o->pvd.time[k], k);
   fprintf(af.f, "  </Collection>\n</VTKFile>\n");
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 static adem_status mesh_frame(const adem_output *o, const adem_world *w, adem_error *err) {
@@ -436,8 +435,8 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
   if (extra) o->extra = *extra;
   o->frames = frames;
   o->csv = csv;
-  adem_status st = adem_fileio_mkdir_p(dir, err);
-  if (!st) st = adem_fileio_check_writable(dir, err);
+  adem_status st = adem_file_mkdir_p(dir, err);
+  if (!st) st = adem_file_check_writable(dir, err);
   if (st) return st;
   o->dir = adem_file_join(dir, "");
   o->pvd_path = adem_file_join(dir, "particles.pvd");
@@ -450,8 +449,8 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   if (frames) {
-    st = adem_fileio_mkdir_p(frames_dir, err);
-    if (!st) st = adem_fileio_check_writable(frames_dir, err);
+    st = adem_file_mkdir_p(frames_dir, err);
+    if (!st) st = adem_file_check_writable(frames_dir, err);
     if (!st && resume) {
       st = pvd_reload(&o->pvd, o->pvd_path, frames_done, frame_period, err);
       o->next_frame = frames_done;
@@ -465,7 +464,7 @@ adem_status adem_output_open(adem_output *o, const char *dir, const adem_world *
     char *header = adem_output_csv_header(w, &o->track, &o->extra);
     if (!header) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     else if (resume) st = csv_truncate(o->csv_path, header, t_resume, drop_resume_row, err);
-    else st = adem_fileio_write_all(o->csv_path, header, strlen(header), err);
+    else st = adem_file_write_all(o->csv_path, header, strlen(header), err);
     free(header);
     if (!st) {
       o->csv_fd = open(o->csv_path, O_WRONLY | O_APPEND | O_CLOEXEC);

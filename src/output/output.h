@@ -5,7 +5,7 @@
 #define ADEM_OUTPUT_H
 
 #include <stdbool.h>
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "mesh.h"
 
 /* The mesh as a VTU UnstructuredGrid of triangles with cell data group, normal, force (the force

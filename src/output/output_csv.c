@@ -1,7 +1,7 @@
 /* Output: the run's CSV, a row per interval of the energies, wall loads and motions, tracked
  * particles and regions (output.h), and its plots. */
 #include "output.h"
-#include "plot.h"
+#include "adem/internal/plot.h"
 #include "vtu.h"
 
 #include <errno.h>
@@ -13,10 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "files.h"
-#include "fileio.h"
 #include "log.h"
-#include "world.h"
+#include "world_internal.h"
 #include "cylinder.h"
 
 /* ---------------------------------------------------------------- CSV */

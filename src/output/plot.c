@@ -1,5 +1,5 @@
 /* PNG plots through gnuplot, written to a temporary file and renamed into place. */
-#include "plot.h"
+#include "adem/internal/plot.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -10,8 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
 
 extern char **environ;
@@ -55,11 +54,11 @@ static int run_gnuplot(const char *script, const char *errfile) {
 adem_status adem_plot_png(const char *png_path, int width, int height, const char *body,
                           adem_error *err) {
   char *png_tmp = NULL, *script_path = NULL, *err_path = NULL;
-  adem_status st = adem_fileio_temp_next_to(png_path, &png_tmp, err);
+  adem_status st = adem_file_temp_next_to(png_path, &png_tmp, err);
   if (st) return st;
   adem_error e2;
-  if (adem_fileio_temp_next_to(png_path, &script_path, &e2) ||
-      adem_fileio_temp_next_to(png_path, &err_path, &e2)) {
+  if (adem_file_temp_next_to(png_path, &script_path, &e2) ||
+      adem_file_temp_next_to(png_path, &err_path, &e2)) {
     unlink(png_tmp);
     free(png_tmp);
     if (script_path) {
@@ -85,13 +84,13 @@ adem_status adem_plot_png(const char *png_path, int width, int height, const cha
              "%s\n",
              width, height, width, height, adem_plot_quote(png_tmp, quoted, qn), body);
     adem_error we;
-    if (adem_fileio_write_all(script_path, script, strlen(script), &we) == ADEM_OK)
+    if (adem_file_write_all(script_path, script, strlen(script), &we) == ADEM_OK)
       rc = run_gnuplot(script_path, err_path);
   }
   free(quoted);
   free(script);
   if (rc == 0) {
-    st = adem_fileio_rename_into_place(png_tmp, png_path, err);
+    st = adem_file_rename_into_place(png_tmp, png_path, err);
   } else if (rc == 127) {
     adem_log(ADEM_LOG_WARN, "gnuplot was not found: %s is not drawn", png_path);
   } else {

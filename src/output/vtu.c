@@ -7,8 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "files.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "log.h"
 
 const char *adem_vtu_byte_order(void) {
@@ -21,7 +20,7 @@ const char *adem_vtu_byte_order(void) {
 adem_status adem_vtu_write(const char *path, const adem_vtu_layout *lay, const adem_vtu_array *arr,
                            int narr, adem_vtu_put_fn *put, void *user, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   FILE *f = af.f;
   fprintf(f,
@@ -58,8 +57,8 @@ adem_status adem_vtu_write(const char *path, const adem_vtu_layout *lay, const a
   fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
   if (!ok || ferror(f)) {
     int e = errno ? errno : EIO;
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e));
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }

@@ -5,7 +5,7 @@
 
 #include <stddef.h>
 #include <stdio.h>
-#include "adem/adem.h"
+#include "adem/base.h"
 
 typedef struct adem_vtu_array {
   const char *name, *type; /* "radius", "Float64" */

@@ -2,7 +2,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/frames.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/binding.h"
 
 adem_world *adem_case_world(adem_case *c) { return c->world; }

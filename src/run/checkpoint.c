@@ -16,15 +16,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
-#include "files.h"
-#include "fileio.h"
+#include "adem/case.h"
+#include "adem/run.h"
+#include "adem/world.h"
+#include "adem/files.h"
 #include "insert.h"
 #include "log.h"
 #include "outlets.h"
 #include "stages.h"
 #include "stream.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define CKPT_MAGIC ADEM_CKPT_MAGIC
 #define CKPT_WORLD_MAGIC "ADEMWRLD" /* a world made through the API, set-up included */
@@ -88,7 +89,7 @@ typedef void save_fn(adem_writer *wr, const void *what, int *nomem);
 static adem_status write_file(const char *path, const char *magic, save_fn *save,
                               const void *what, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   unsigned char h[CKPT_HEADER_BYTES];
   header_bytes(h, magic, 0, 0); /* rewritten once the payload's size and hash are known */
@@ -104,10 +105,10 @@ static adem_status write_file(const char *path, const char *magic, save_fn *save
   }
   if (failed) {
     int e = nomem ? ENOMEM : errno ? errno : EIO;
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write checkpoint %s: %s", path, strerror(e));
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 static int count_sink(void *ctx, const void *data, size_t n) {

@@ -1,7 +1,7 @@
 /* The run's time estimate from its recent rate (adem/run.h). */
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/run.h"
 
 void adem_eta_init(adem_eta *e) { memset(e, 0, sizeof *e); }
 

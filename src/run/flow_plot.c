@@ -4,8 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
-#include "adem/output.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
 #include "flow_plot.h"
 
 /* The 1-based column of `name` in the CSV header line, 0 if absent. */

@@ -4,7 +4,7 @@
 
 #include <stdbool.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
 #include "outlets.h"
 
 /* Draws png from csv when the case has outlets or mass flows (nothing otherwise). */

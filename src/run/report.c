@@ -6,13 +6,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "insert.h"
 #include "log.h"
 #include "schedule.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 static double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
 

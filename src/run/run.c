@@ -11,9 +11,11 @@
 #include <string.h>
 #include <time.h>
 
-#include "adem/adem.h"
-#include "files.h"
-#include "fileio.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/run.h"
+#include "adem/world.h"
+#include "adem/files.h"
 #include "flow_plot.h"
 #include "insert.h"
 #include "log.h"
@@ -21,7 +23,7 @@
 #include "output.h"
 #include "schedule.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 #ifdef ADEM_HAVE_MPI
 #include "split.h"
 #endif
@@ -507,8 +509,8 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
 
   /* Fail on an unwritable folder before any expensive set-up. */
   adem_status st = ADEM_OK;
-  if (rs->writer) st = adem_fileio_mkdir_p(dir, err);
-  if (!st && rs->writer) st = adem_fileio_check_writable(dir, err);
+  if (rs->writer) st = adem_file_mkdir_p(dir, err);
+  if (!st && rs->writer) st = adem_file_check_writable(dir, err);
   st = split_agree(rs, st, err);
   if (st) return st;
   if (!w->prepared) {

@@ -8,7 +8,11 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/pile.h"
+#include "adem/run.h"
 #include "adem/calibrate.h"
 
 adem_calib_options adem_calib_default_options(void) {
@@ -389,7 +393,7 @@ static adem_status evaluate(calib *cb, const double *xs, int n, adem_error *err)
                o->vary.key, xtext, y);
       continue;
     }
-    if ((st = adem_fileio_mkdir_p(r->dir, err))) break;
+    if ((st = adem_file_mkdir_p(r->dir, err))) break;
     const char **js = sets + (size_t)k * (size_t)nsets;
     for (int j = 0; j < o->nsets; ++j) js[j] = o->sets[j];
     snprintf(own[2 * k], sizeof own[0], "%s=%s", o->vary.key, xtext);
@@ -412,7 +416,7 @@ static adem_status evaluate(calib *cb, const double *xs, int n, adem_error *err)
                             r->dir, o->vary.key, vtext, xtext);
     } else {
       resume = 0;
-      if (vpath) st = adem_fileio_write_all(vpath, xtext, strlen(xtext), err);
+      if (vpath) st = adem_file_write_all(vpath, xtext, strlen(xtext), err);
     }
     free(vpath);
     free(vtext);
@@ -439,7 +443,7 @@ static adem_status evaluate(calib *cb, const double *xs, int n, adem_error *err)
       char row[256];
       int len = snprintf(row, sizeof row, "%.17g %.17g %.6f\n", r->x, r->y, r->wall_s);
       char *path = adem_file_join(r->dir, "calibrate.row");
-      st = path ? adem_fileio_write_all(path, row, (size_t)len, err)
+      st = path ? adem_file_write_all(path, row, (size_t)len, err)
                 : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
       free(path);
       adem_log(ADEM_LOG_INFO, "calibrate: run %zu (%s = %.6g): %.6g in %.0f s",
@@ -561,7 +565,7 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
     adem_case_free(c);
     if (st) return st;
   }
-  adem_status st = adem_fileio_mkdir_p(cb.runs_dir, err);
+  adem_status st = adem_file_mkdir_p(cb.runs_dir, err);
   if (st) return st;
 
   const double lo = o->vary.lo, hi = o->vary.hi;
@@ -634,7 +638,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
   /* runs.csv */
   if (!st) {
     adem_afile af;
-    st = adem_fileio_open(&af, csv, err);
+    st = adem_file_open(&af, csv, err);
     if (!st) {
       fprintf(af.f, "run,value,measured,target,tolerance,within,wall_s,dir\n");
       for (size_t i = 0; i < res->nruns; ++i) {
@@ -642,7 +646,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
         fprintf(af.f, "%zu,%.17g,%.17g,%.17g,%.17g,%d,%.3f,%s\n", i + 1, r->x, r->y, t->value,
                 t->tol, fabs(r->y - t->value) <= t->tol, r->wall_s, r->dir);
       }
-      st = adem_fileio_commit(&af, err);
+      st = adem_file_commit(&af, err);
     }
   }
   /* response.png: the runs, the target band, the best run */
@@ -699,7 +703,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
                          o->case_path, o->vary.key, res->x_best, t->text, res->y_best,
                          res->found ? ", within the tolerance" : ", NOT within the tolerance",
                          o->case_path, yaml);
-        st = adem_fileio_write_all(best, all, (size_t)n, err);
+        st = adem_file_write_all(best, all, (size_t)n, err);
         free(all);
       }
     }
@@ -710,7 +714,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
   /* summary.md */
   if (!st) {
     adem_afile af;
-    st = adem_fileio_open(&af, md, err);
+    st = adem_file_open(&af, md, err);
     if (!st) {
       double total = 0.0;
       for (size_t i = 0; i < res->nruns; ++i) total += res->runs[i].wall_s;
@@ -741,7 +745,7 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
       }
       fprintf(af.f, "\nFiles: runs.csv, response.png, best.yaml, runs/run-NNN/ (each run's "
                     "output).\n");
-      st = adem_fileio_commit(&af, err);
+      st = adem_file_commit(&af, err);
     }
   }
   free(csv);

@@ -1,7 +1,10 @@
 /* Single collisions in bulk (notes section 7). Each collision is a world of one or two spheres
  * built through the public API and stepped by the engine itself, so what is measured is what a
  * run computes. */
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "embedded.h"
 
@@ -14,10 +17,10 @@
 #include <omp.h>
 #endif
 
-adem_collision_spec adem_default_collision_spec(void) {
-  adem_collision_spec s;
+adem_collide_spec adem_default_collide_spec(void) {
+  adem_collide_spec s;
   memset(&s, 0, sizeof s);
-  s.kind = ADEM_COLLISION_PAIR;
+  s.kind = ADEM_COLLIDE_PAIR;
   s.radius = 1e-6;
   s.size_ratio = 1.0;
   s.density = 1000.0;
@@ -41,7 +44,7 @@ adem_collision_spec adem_default_collision_spec(void) {
   return s;
 }
 
-adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err) {
+adem_status adem_collide_psl_quartz(adem_collide_spec *s, adem_error *err) {
   adem_case *c = NULL;
   adem_status st = adem_case_load_string(adem_case_haervig_psl_quartz_yaml,
                                          "cases/haervig/psl-quartz.yaml", NULL, 0, &c, err);
@@ -56,7 +59,7 @@ adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err) {
                           "cases/haervig/psl-quartz.yaml must hold material `psl` and one sphere");
   }
   const adem_material_def *m = adem_world_material(w, k);
-  s->kind = ADEM_COLLISION_WALL;
+  s->kind = ADEM_COLLIDE_WALL;
   s->radius = r;
   s->density = m->density;
   s->poisson = m->poisson;
@@ -67,7 +70,7 @@ adem_status adem_collide_psl_quartz(adem_collision_spec *s, adem_error *err) {
   return ADEM_OK;
 }
 
-const char *adem_collision_outcome_name(adem_collision_outcome o) {
+const char *adem_collide_outcome_name(adem_collide_outcome o) {
   switch (o) {
     case ADEM_OUTCOME_REBOUND: return "rebound";
     case ADEM_OUTCOME_CAPTURED: return "captured";
@@ -77,57 +80,57 @@ const char *adem_collision_outcome_name(adem_collision_outcome o) {
   return "?";
 }
 
-static double sin2_angle(const adem_collision_spec *s) {
-  if (s->kind != ADEM_COLLISION_WALL) return 1.0;
+static double sin2_angle(const adem_collide_spec *s) {
+  if (s->kind != ADEM_COLLIDE_WALL) return 1.0;
   double sp = sin(s->angle);
   return sp * sp;
 }
 
 /* (1 + b^3)/((1 + b^2) b) of the text's Ad (H section 5.1); 1 for equal spheres. */
-static double ad_size_factor(const adem_collision_spec *s) {
-  if (s->kind == ADEM_COLLISION_WALL) return 1.0;
+static double ad_size_factor(const adem_collide_spec *s) {
+  if (s->kind == ADEM_COLLIDE_WALL) return 1.0;
   double b = s->size_ratio;
   return (1.0 + b * b * b) / ((1.0 + b * b) * b);
 }
 
-double adem_collide_lambda(const adem_collision_spec *s) {
+double adem_collide_lambda(const adem_collide_spec *s) {
   return s->young / (s->density * s->speed * s->speed * sin2_angle(s));
 }
 
-double adem_collide_ad(const adem_collision_spec *s) {
+double adem_collide_ad(const adem_collide_spec *s) {
   return 3.0 * s->surface_energy / (s->density * s->speed * s->speed * sin2_angle(s) * s->radius) *
          ad_size_factor(s);
 }
 
-void adem_collide_set_lambda(adem_collision_spec *s, double lambda) {
+void adem_collide_set_lambda(adem_collide_spec *s, double lambda) {
   s->young = lambda * s->density * s->speed * s->speed * sin2_angle(s);
 }
 
-void adem_collide_set_ad(adem_collision_spec *s, double ad) {
+void adem_collide_set_ad(adem_collide_spec *s, double ad) {
   s->surface_energy =
       ad * s->density * s->speed * s->speed * sin2_angle(s) * s->radius / (3.0 * ad_size_factor(s));
 }
 
-double adem_collide_yield_force(const adem_collision_spec *s) {
-  if (s->kind != ADEM_COLLISION_WALL || !s->dtk || !(s->surface_energy > 0.0)) return 0.0;
+double adem_collide_yield_force(const adem_collide_spec *s) {
+  if (s->kind != ADEM_COLLIDE_WALL || !s->dtk || !(s->surface_energy > 0.0)) return 0.0;
   double r = s->radius;
   double f_c = adem_law_jkr_critical_force(s->surface_energy, r);
   double xi_crit = adem_law_jkr_a0(s->surface_energy, r, s->young) / 12.0 * s->hysteresis; /* H18 */
   return 4.0 * f_c * xi_crit / r; /* k_r xi_crit / R at a = a0 (H20-H21, notes section 4) */
 }
 
-double adem_collide_force(const adem_collision_spec *s) {
+double adem_collide_force(const adem_collide_spec *s) {
   return s->force_ext + s->force_hat * adem_collide_yield_force(s);
 }
 
 
 static double sphere_mass(double rho, double r) { return rho * (4.0 / 3.0) * ADEM_PI * r * r * r; }
 
-adem_collision_params adem_collide_params(const adem_collision_spec *s) {
-  adem_collision_params p;
+adem_collide_params adem_collide_derive(const adem_collide_spec *s) {
+  adem_collide_params p;
   memset(&p, 0, sizeof p);
   double ri = s->radius, mi = sphere_mass(s->density, ri);
-  if (s->kind == ADEM_COLLISION_WALL) {
+  if (s->kind == ADEM_COLLIDE_WALL) {
     p.R = ri;
     p.mstar = mi;
   } else {
@@ -155,12 +158,12 @@ adem_collision_params adem_collide_params(const adem_collision_spec *s) {
 /* Contact energy of the normal motion relative to the state where the contact forms (delta = 0):
  * kinetic energy of the normal relative motion plus the JKR energy. Damping only lowers it and
  * the simplified contact breaks at delta = 0, so once it is below zero the spheres cannot part. */
-static double normal_energy(const adem_collision_params *p, double delta, double v_n) {
+static double normal_energy(const adem_collide_params *p, double delta, double v_n) {
   double a = adem_law_jkr_contact_radius(p->gamma_mod, p->R, p->E_mod, delta); /* H10 */
   return 0.5 * p->mstar * v_n * v_n + adem_law_jkr_energy(p->gamma_mod, p->R, p->E_mod, a);
 }
 
-static adem_collision_result failed(adem_collision_result r, adem_status st, const char *msg) {
+static adem_collide_result failed(adem_collide_result r, adem_status st, const char *msg) {
   r.status = st;
   snprintf(r.message, sizeof r.message, "%.255s", msg);
   return r;
@@ -168,7 +171,7 @@ static adem_collision_result failed(adem_collision_result r, adem_status st, con
 
 /* Builds the world of one collision: materials with the requested effective values, the spheres
  * just apart (a step and a half of travel), and the wall for a wall impact. */
-static adem_status build_world(const adem_collision_spec *s, const adem_collision_params *p,
+static adem_status build_world(const adem_collide_spec *s, const adem_collide_params *p,
                                double dt, adem_world *w, adem_error *err) {
   adem_world_set_threads(w, 1);
   adem_world_set_gravity(w, v3_zero());
@@ -176,7 +179,7 @@ static adem_status build_world(const adem_collision_spec *s, const adem_collisio
   adem_world_set_max_overlap_ratio(w, 1.0); /* soft spheres overlap a lot; H makes no limit */
   adem_world_set_dt(w, dt);
   adem_world_set_contact_scheme(w, s->scheme);
-  bool wall = s->kind == ADEM_COLLISION_WALL;
+  bool wall = s->kind == ADEM_COLLIDE_WALL;
   double nu = s->poisson;
   /* 1/E* = sum (1 - nu^2)/E_k (H2): a rigid wall leaves all compliance to the sphere. */
   double E_sphere = (wall ? 1.0 : 2.0) * (1.0 - nu * nu) * s->young;
@@ -347,8 +350,8 @@ typedef struct rolling_scales {
   double xi_crit, t_roll, v_rest;
 } rolling_scales;
 
-static rolling_scales rolling_scales_of(const adem_collision_spec *s,
-                                        const adem_collision_params *p) {
+static rolling_scales rolling_scales_of(const adem_collide_spec *s,
+                                        const adem_collide_params *p) {
   /* with keep_gamma the world's real material is the softened one: (E_mod, gamma) */
   bool real = s->dtk_modification && !s->keep_gamma;
   double g = real ? s->surface_energy : p->gamma_mod, E = real ? s->young : p->E_mod;
@@ -363,8 +366,8 @@ static rolling_scales rolling_scales_of(const adem_collision_spec *s,
 
 static double along_wall(adem_vec3 a, adem_vec3 b) { return hypot(b.x - a.x, b.y - a.y); }
 
-static const char *check_spec(const adem_collision_spec *s) {
-  bool wall = s->kind == ADEM_COLLISION_WALL;
+static const char *check_spec(const adem_collide_spec *s) {
+  bool wall = s->kind == ADEM_COLLIDE_WALL;
   if (!(s->radius > 0.0) || !(s->density > 0.0) || !(s->young > 0.0) ||
       !(s->at_rest || s->speed > 0.0) || !(s->steps_per_tc >= 10.0) || !(s->max_periods > 0.0) ||
       !(s->surface_energy >= 0.0) || (!wall && !(s->size_ratio > 0.0)))
@@ -391,14 +394,14 @@ static const char *check_spec(const adem_collision_spec *s) {
   return NULL;
 }
 
-adem_collision_result adem_collide(const adem_collision_spec *s) {
-  adem_collision_result r;
+adem_collide_result adem_collide(const adem_collide_spec *s) {
+  adem_collide_result r;
   memset(&r, 0, sizeof r);
   r.t_rest = NAN;
-  bool wall = s->kind == ADEM_COLLISION_WALL;
+  bool wall = s->kind == ADEM_COLLIDE_WALL;
   const char *bad = check_spec(s);
   if (bad) return failed(r, ADEM_ERR_INPUT, bad);
-  adem_collision_params p = adem_collide_params(s);
+  adem_collide_params p = adem_collide_derive(s);
   bool adhesive = p.gamma_mod > 0.0;
   /* at rest only the oscillation about the equilibrium sets the step */
   double t_ref = s->at_rest ? 0.5 * p.t_osc : adhesive ? fmin(p.t_c, 0.5 * p.t_osc) : p.t_c;
@@ -588,17 +591,17 @@ adem_collision_result adem_collide(const adem_collision_spec *s) {
   return r;
 }
 
-adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, double *torque,
+adem_status adem_collide_dtk_torque(const adem_collide_spec *spec, double xi, double *torque,
                                     adem_error *err) {
-  adem_collision_spec s = *spec;
+  adem_collide_spec s = *spec;
   s.at_rest = true;
   s.force_ext = s.force_hat = 0.0;
   const char *bad = check_spec(&s);
-  if (!bad && !(s.kind == ADEM_COLLISION_WALL && s.dtk))
+  if (!bad && !(s.kind == ADEM_COLLIDE_WALL && s.dtk))
     bad = "the DTK torque needs a wall spec with DTK";
   if (!bad && !(xi >= 0.0 && isfinite(xi))) bad = "the rolling distance must be finite and >= 0";
   if (bad) return adem_error_set(err, ADEM_ERR_INPUT, "%s", bad);
-  adem_collision_params p = adem_collide_params(&s);
+  adem_collide_params p = adem_collide_derive(&s);
   double dt = 0.5 * p.t_osc / s.steps_per_tc;
   adem_world *w = adem_world_create();
   if (!w) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -619,17 +622,17 @@ adem_status adem_collide_dtk_torque(const adem_collision_spec *spec, double xi, 
   return st;
 }
 
-adem_status adem_collide_normal_force(const adem_collision_spec *spec, double delta, double *force,
+adem_status adem_collide_normal_force(const adem_collide_spec *spec, double delta, double *force,
                                       adem_error *err) {
-  adem_collision_spec s = *spec;
+  adem_collide_spec s = *spec;
   s.at_rest = s.surface_energy > 0.0; /* built at the JKR equilibrium, then moved */
   s.dtk = false;
   s.force_ext = s.force_hat = 0.0;
   const char *bad = check_spec(&s);
-  if (!bad && s.kind != ADEM_COLLISION_WALL) bad = "the normal force needs a wall spec";
+  if (!bad && s.kind != ADEM_COLLIDE_WALL) bad = "the normal force needs a wall spec";
   if (!bad && !(delta >= 0.0 && delta < s.radius)) bad = "the overlap must be in [0, r)";
   if (bad) return adem_error_set(err, ADEM_ERR_INPUT, "%s", bad);
-  adem_collision_params p = adem_collide_params(&s);
+  adem_collide_params p = adem_collide_derive(&s);
   double t_ref = p.gamma_mod > 0.0 ? 0.5 * p.t_osc : p.t_c;
   adem_world *w = adem_world_create();
   if (!w) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -647,7 +650,7 @@ adem_status adem_collide_normal_force(const adem_collision_spec *spec, double de
   return st;
 }
 
-void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *out, size_t n,
+void adem_collide_many(const adem_collide_spec *specs, adem_collide_result *out, size_t n,
                        int nthreads) {
   if (nthreads < 1) nthreads = 1;
   long long count = (long long)n;
@@ -658,27 +661,27 @@ void adem_collide_many(const adem_collision_spec *specs, adem_collision_result *
   (void)nthreads;
 }
 
-adem_status adem_collide_threshold(const adem_collision_spec *base, adem_collision_param_fn *set,
+adem_status adem_collide_threshold(const adem_collide_spec *base, adem_collide_param_fn *set,
                                    void *user, double lo, double hi, double rel_tol, int nthreads,
                                    double *x_crit, adem_error *err) {
   return adem_collide_threshold_split(base, set, user, ADEM_SPLIT_CAPTURE, lo, hi, rel_tol,
                                       nthreads, x_crit, err);
 }
 
-static bool split_side(adem_collision_split split, const adem_collision_result *r) {
+static bool split_side(adem_collide_split split, const adem_collide_result *r) {
   return split == ADEM_SPLIT_REST ? r->outcome == ADEM_OUTCOME_STUCK : r->stuck;
 }
 
-adem_status adem_collide_threshold_split(const adem_collision_spec *base,
-                                         adem_collision_param_fn *set, void *user,
-                                         adem_collision_split split, double lo, double hi,
+adem_status adem_collide_threshold_split(const adem_collide_spec *base,
+                                         adem_collide_param_fn *set, void *user,
+                                         adem_collide_split split, double lo, double hi,
                                          double rel_tol, int nthreads, double *x_crit,
                                          adem_error *err) {
   enum { INNER = 3 }; /* fixed, so the result does not depend on the thread count */
-  adem_collision_spec sp[INNER + 2];
-  adem_collision_result res[INNER + 2];
+  adem_collide_spec sp[INNER + 2];
+  adem_collide_result res[INNER + 2];
   double x[INNER + 2] = {lo, hi};
-  adem_collision_spec base_copy = *base;
+  adem_collide_spec base_copy = *base;
   if (split == ADEM_SPLIT_CAPTURE) base_copy.capture_only = true;
   base = &base_copy;
   for (int k = 0; k < 2; ++k) {

@@ -11,7 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/frames.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/run.h"
+#include "adem/world.h"
 #include "adem/drum.h"
 #include "adem/vec3.h"
 
@@ -371,7 +376,7 @@ static adem_status write_outputs(const char *outdir, const drum_setup *s, adem_d
   char *csv = adem_file_join(outdir, "drum.csv"), *png = adem_file_join(outdir, "drum.png");
   adem_status st = !csv || !png ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory") : ADEM_OK;
   adem_afile af;
-  if (!st) st = adem_fileio_open(&af, csv, err);
+  if (!st) st = adem_file_open(&af, csv, err);
   if (!st) {
     fprintf(af.f, "time_s,angle_fit_deg,fit_r2,angle_cm_deg,flowing_layer_m,wall_corotation,"
                   "wall_slip_m_s,wall_layer_particles,gravity_moment_Nm\n");
@@ -381,7 +386,7 @@ static adem_status write_outputs(const char *outdir, const drum_setup *s, adem_d
               f->fit_r2, f->angle_cm_deg, f->layer_m, f->corotation, f->slip_m_s, f->wall_layer,
               f->moment_Nm);
     }
-    st = adem_fileio_commit(&af, err);
+    st = adem_file_commit(&af, err);
   }
   if (!st) {
     char q[4096], body[8192];

@@ -155,22 +155,22 @@ adem_normal_ode_result adem_normal_ode_collide(const adem_normal_ode *p, double 
   return r;
 }
 
-adem_normal_ode adem_normal_ode_of(const adem_collision_spec *s) {
-  adem_collision_params cp = adem_collide_params(s);
+adem_normal_ode adem_normal_ode_of(const adem_collide_spec *s) {
+  adem_collide_params cp = adem_collide_derive(s);
   double l = log(s->restitution);
   adem_normal_ode p = {cp.mstar, cp.R, cp.E_mod, cp.gamma_mod, l / sqrt(l * l + ADEM_PI * ADEM_PI)};
   return p;
 }
 
-static bool ode_stuck(const adem_collision_spec *base, adem_normal_ode_param_fn *set, void *user,
+static bool ode_stuck(const adem_collide_spec *base, adem_normal_ode_param_fn *set, void *user,
                       double x) {
-  adem_collision_spec s = *base;
+  adem_collide_spec s = *base;
   set(&s, x, user);
   adem_normal_ode p = adem_normal_ode_of(&s);
-  return adem_normal_ode_collide(&p, adem_collide_params(&s).v_n, 1e-10, NULL, NULL).stuck;
+  return adem_normal_ode_collide(&p, adem_collide_derive(&s).v_n, 1e-10, NULL, NULL).stuck;
 }
 
-double adem_normal_ode_threshold(const adem_collision_spec *base, adem_normal_ode_param_fn *set,
+double adem_normal_ode_threshold(const adem_collide_spec *base, adem_normal_ode_param_fn *set,
                                  void *user, double lo, double hi, double rel_tol) {
   bool side = ode_stuck(base, set, user, lo);
   if (side == ode_stuck(base, set, user, hi)) return NAN;

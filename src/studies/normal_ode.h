@@ -13,7 +13,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "adem/adem.h"
+#include "adem/studies.h"
 
 typedef struct adem_normal_ode {
   double mstar, R;   /* effective mass and radius */
@@ -40,14 +40,14 @@ adem_normal_ode_result adem_normal_ode_collide(const adem_normal_ode *p, double 
 double adem_normal_ode_force(const adem_normal_ode *p, double delta);
 
 /* The ODE of a collision spec (its effective radius, mass, modified E and gamma, H12's beta). */
-adem_normal_ode adem_normal_ode_of(const adem_collision_spec *s);
+adem_normal_ode adem_normal_ode_of(const adem_collide_spec *s);
 
-/* Sets the parameter x of a spec (as adem_collision_param_fn). */
-typedef void adem_normal_ode_param_fn(adem_collision_spec *s, double x, void *user);
+/* Sets the parameter x of a spec (as adem_collide_param_fn). */
+typedef void adem_normal_ode_param_fn(adem_collide_spec *s, double x, void *user);
 
 /* The value of x in [lo, hi] where the ODE's outcome changes between stuck and rebound, to a
  * relative width rel_tol (bisection in log x); NAN when lo and hi give the same outcome. */
-double adem_normal_ode_threshold(const adem_collision_spec *base, adem_normal_ode_param_fn *set,
+double adem_normal_ode_threshold(const adem_collide_spec *base, adem_normal_ode_param_fn *set,
                                  void *user, double lo, double hi, double rel_tol);
 
 #endif

@@ -6,7 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/frames.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/pile.h"
 
 adem_status adem_frames_last(const char *outdir, char **path, adem_error *err) {
   *path = NULL;
@@ -47,7 +50,7 @@ adem_status adem_frames_last(const char *outdir, char **path, adem_error *err) {
  * whether each entered its fit. */
 static adem_status write_profile(const char *csv, const adem_pile_result *r, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, csv, err);
+  adem_status st = adem_file_open(&af, csv, err);
   if (st) return st;
   fprintf(af.f, "kind,rho_m,z_m,used\n");
   for (size_t i = 0; i < r->n_surface_pts; ++i)
@@ -57,14 +60,14 @@ static adem_status write_profile(const char *csv, const adem_pile_result *r, ade
     fprintf(af.f, "1,%.9g,%.9g,%d\n", r->slice_pts[i].rho, r->slice_pts[i].z, r->slice_pts[i].used);
   for (size_t i = 0; i < r->n_ring_pts; ++i)
     fprintf(af.f, "2,%.9g,%.9g,%d\n", r->ring_pts[i].rho, r->ring_pts[i].z, r->ring_pts[i].used);
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 /* Every measure of the pile as one row (docs/validation.md, "The measure"). */
 static adem_status write_measures(const char *csv, double time, const adem_pile_result *r,
                                   adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, csv, err);
+  adem_status st = adem_file_open(&af, csv, err);
   if (st) return st;
   fprintf(af.f, "time_s,particles,height_m,mean_diameter_m,angle_lab_deg,angle_lab_plain_deg,"
                 "skirt_level_m,lab_base_radius_m,lab_base_sd_m,base_rings,angle_surface_deg,"
@@ -77,7 +80,7 @@ static adem_status write_measures(const char *csv, double time, const adem_pile_
           r->surface.r2, r->angle_slices_deg, r->slices.r2, r->angle_ringtop_deg, r->ringtop.r2,
           r->ringtop.n, r->angle_footprint_deg, r->footprint_radius, r->base_radius, r->axis_x,
           r->axis_y);
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 static adem_status plot_profile(const char *png, const char *csv, const adem_pile_result *r,

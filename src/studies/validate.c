@@ -1,6 +1,10 @@
 /* The registry of paper reproductions, their summaries, and CSV tables. */
-#include "adem/adem.h"
+#include "adem/laws.h"
+#include "adem/files.h"
+#include "adem/internal/plot.h"
+#include "adem/studies.h"
 #include "adem/vec3.h"
+#include "table.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,17 +34,17 @@ const adem_validation *adem_validation_find(const char *name) {
   return NULL;
 }
 
-char *adem_validate_path(const adem_validation_context *ctx, const char *name, const char *ext) {
+char *adem_validation_path(const adem_validation_context *ctx, const char *name, const char *ext) {
   size_t n = strlen(ctx->out_dir) + strlen(name) + strlen(ext) + 3;
   char *p = malloc(n);
   if (p) snprintf(p, n, "%s/%s.%s", ctx->out_dir, name, ext);
   return p;
 }
 
-adem_status adem_validate_plot(const adem_validation_context *ctx, const char *name, int width,
+adem_status adem_validation_plot(const adem_validation_context *ctx, const char *name, int width,
                                int height, const char *body, adem_error *err) {
-  char *csv = adem_validate_path(ctx, name, "csv");
-  char *png = adem_validate_path(ctx, name, "png");
+  char *csv = adem_validation_path(ctx, name, "csv");
+  char *png = adem_validation_path(ctx, name, "png");
   size_t qn = csv ? 2 * strlen(csv) + 3 : 0, n = strlen(body) + qn + 16;
   char *q = malloc(qn ? qn : 1), *script = malloc(n);
   adem_status st = ADEM_OK;
@@ -83,13 +87,13 @@ adem_status adem_table_add(adem_table *t, const double *row) {
 
 adem_status adem_table_write_csv(const adem_table *t, const char *path, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   fprintf(af.f, "%s\n", t->header);
   for (size_t r = 0; r < t->nrows; ++r)
     for (size_t c = 0; c < t->ncols; ++c)
       fprintf(af.f, "%.10g%c", t->data[r * t->ncols + c], c + 1 == t->ncols ? '\n' : ',');
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
 void adem_table_free(adem_table *t) {
@@ -146,7 +150,7 @@ static adem_status write_summaries(const adem_validation_context *ctx, const res
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, json_path, err);
+  adem_status st = adem_file_open(&af, json_path, err);
   if (!st) {
     fprintf(af.f, "{\n  \"adem\": \"%s\",\n  \"validations\": [\n", ADEM_VERSION_STRING);
     for (size_t k = 0; k < n; ++k) {
@@ -168,9 +172,9 @@ static adem_status write_summaries(const adem_validation_context *ctx, const res
               r[k].v->name, k + 1 < n ? "," : "");
     }
     fprintf(af.f, "  ]\n}\n");
-    st = adem_fileio_commit(&af, err);
+    st = adem_file_commit(&af, err);
   }
-  if (!st) st = adem_fileio_open(&af, md_path, err);
+  if (!st) st = adem_file_open(&af, md_path, err);
   if (!st) {
     fprintf(af.f, "# adem %s: paper reproductions\n\n", ADEM_VERSION_STRING);
     fprintf(af.f, "| name | source | claim | measured | result |\n|---|---|---|---|---|\n");
@@ -191,7 +195,7 @@ static adem_status write_summaries(const adem_validation_context *ctx, const res
         md_cell(af.f, r[k].report.notes);
         fprintf(af.f, "\n");
       }
-    st = adem_fileio_commit(&af, err);
+    st = adem_file_commit(&af, err);
   }
   free(json_path);
   free(md_path);
@@ -204,7 +208,7 @@ static double seconds_now(void) {
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-adem_status adem_validate_run(const char *const *names, int n, const adem_validation_context *ctx,
+adem_status adem_validation_run(const char *const *names, int n, const adem_validation_context *ctx,
                               int *failed, adem_error *err) {
   *failed = 0;
   size_t count = n > 0 ? (size_t)n : adem_validation_count();
@@ -216,8 +220,8 @@ adem_status adem_validate_run(const char *const *names, int n, const adem_valida
     return adem_error_set(err, ADEM_ERR_INPUT, "unknown normal law '%s'", ctx->normal_law);
   if (ctx->rolling_law && !adem_law_find(ADEM_SLOT_ROLLING, ctx->rolling_law))
     return adem_error_set(err, ADEM_ERR_INPUT, "unknown rolling law '%s'", ctx->rolling_law);
-  adem_status st = adem_fileio_mkdir_p(ctx->out_dir, err);
-  if (!st) st = adem_fileio_check_writable(ctx->out_dir, err);
+  adem_status st = adem_file_mkdir_p(ctx->out_dir, err);
+  if (!st) st = adem_file_check_writable(ctx->out_dir, err);
   if (st) return st;
   result_entry *r = calloc(count ? count : 1, sizeof *r);
   if (!r) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");

@@ -11,8 +11,12 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/run.h"
+#include "adem/studies.h"
 #include "embedded.h"
+#include "table.h"
 
 /* One push: Table 2's E and step; the speed; the end time (0.19 s settle + the push). */
 typedef struct push_config {
@@ -56,7 +60,7 @@ static int exists(const char *path) {
 static adem_status write_file(const char *dir, const char *name, const char *text, adem_error *err) {
   char *path = adem_file_join(dir, name);
   if (!path) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  adem_status st = adem_fileio_write_all(path, text, strlen(text), err);
+  adem_status st = adem_file_write_all(path, text, strlen(text), err);
   free(path);
   return st;
 }
@@ -81,7 +85,7 @@ static adem_status write_inputs(const char *base, adem_error *err) {
   };
   char *mdir = adem_file_join(base, "meshes");
   char *qdir = mdir ? adem_file_join(mdir, "quick") : NULL;
-  adem_status st = qdir ? adem_fileio_mkdir_p(qdir, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = qdir ? adem_file_mkdir_p(qdir, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   for (size_t k = 0; !st && k < sizeof mesh / sizeof mesh[0]; ++k)
     st = write_file(mdir, mesh[k].name, mesh[k].text, err);
   for (size_t k = 0; !st && k < sizeof quick / sizeof quick[0]; ++k)
@@ -388,7 +392,7 @@ static double mean_over(const double *v, size_t stride, double u0, double u1) {
 static adem_status ballast_runs(const adem_validation_context *ctx, char **base_out, adem_error *err) {
   char *base = adem_file_join(ctx->out_dir, "irazabal-ballast");
   if (!base) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  adem_status st = adem_fileio_mkdir_p(base, err);
+  adem_status st = adem_file_mkdir_p(base, err);
   if (!st) st = write_inputs(base, err);
   if (!st) st = run_pack(ctx, base, err);
   int n = ctx->quick ? NQUICK : NFULL;
@@ -441,7 +445,7 @@ static adem_status fig16(const adem_validation_context *ctx, const char *name,
     if (!ctx->quick) row[5] = res[SLOW].R[b] * 1e-3;
     if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  char *csv = adem_validate_path(ctx, name, "csv");
+  char *csv = adem_validation_path(ctx, name, "csv");
   if (!st) st = csv ? adem_table_write_csv(&tab, csv, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   free(csv);
   adem_table_free(&tab);
@@ -527,7 +531,7 @@ static adem_status fig16(const adem_validation_context *ctx, const char *name,
              "     f skip 1 using 1:4 with lines lw 2 title 'E = 17.7 GPa', \\\n"
              "     f skip 1 using 1:5 with lines lw 2 title 'E = 23.6 GPa', \\\n"
              "     f skip 1 using 1:6 with lines dt 2 lw 2 lc rgb 'black' title '17.7 GPa, half speed'\n");
-  (void)adem_validate_plot(ctx, name, 1000, 650, body, err);
+  (void)adem_validation_plot(ctx, name, 1000, 650, body, err);
   free(res);
   return ADEM_OK;
 }
@@ -556,7 +560,7 @@ static adem_status fig17(const adem_validation_context *ctx, const char *name,
                      r->share[b][2], r->share[b][3]};
     if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  char *csv = adem_validate_path(ctx, name, "csv");
+  char *csv = adem_validation_path(ctx, name, "csv");
   if (!st) st = csv ? adem_table_write_csv(&tab, csv, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   free(csv);
   adem_table_free(&tab);
@@ -615,7 +619,7 @@ static adem_status fig17(const adem_validation_context *ctx, const char *name,
            "     f skip 1 using 1:(100*$5) with lines lw 2 title 'shoulder', \\\n"
            "     '-' using 1:2 with points pt 7 ps 1.5 lc rgb 'black' title 'paper: base ~50%% at 0, ~20%% at 3 mm'\n"
            "0 50\n3 20\ne\n", p->label);
-  (void)adem_validate_plot(ctx, name, 1000, 650, body, err);
+  (void)adem_validation_plot(ctx, name, 1000, 650, body, err);
   free(r);
   return ADEM_OK;
 }

@@ -7,9 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
 #include "adem/vec3.h"
 #include "normal_ode.h"
+#include "table.h"
 
 #define NF 3
 static const double stiffness[NF] = {1.0, 0.1, 0.01}; /* E_mod/E of Figs. 5 and 13 */
@@ -26,8 +28,8 @@ static int normal_law_id(const adem_validation_context *ctx) {
 
 /* PSL sphere on polished quartz (H Fig. 5, notes section 8), as cases/haervig/psl-quartz.yaml
  * gives it: the wall is rigid and the effective modulus is 271 MPa. */
-static adem_collision_spec psl_on_quartz(double f, bool keep_gamma, double speed) {
-  adem_collision_spec s = adem_default_collision_spec();
+static adem_collide_spec psl_on_quartz(double f, bool keep_gamma, double speed) {
+  adem_collide_spec s = adem_default_collide_spec();
   s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   if (adem_collide_psl_quartz(&s, NULL)) abort(); /* the embedded case file is tested to load */
   s.stiffness_factor = f;
@@ -36,12 +38,12 @@ static adem_collision_spec psl_on_quartz(double f, bool keep_gamma, double speed
   return s;
 }
 
-static void set_speed(adem_collision_spec *s, double x, void *user) {
+static void set_speed(adem_collide_spec *s, double x, void *user) {
   (void)user;
   s->speed = x;
 }
 
-static void set_lambda(adem_collision_spec *s, double x, void *user) {
+static void set_lambda(adem_collide_spec *s, double x, void *user) {
   (void)user;
   adem_collide_set_lambda(s, x);
 }
@@ -59,7 +61,7 @@ static adem_status nomem(adem_error *err) {
 }
 
 /* First failed collision of a batch, as an error. */
-static adem_status batch_status(const adem_collision_result *r, size_t n, adem_error *err) {
+static adem_status batch_status(const adem_collide_result *r, size_t n, adem_error *err) {
   for (size_t k = 0; k < n; ++k)
     if (r[k].status)
       return adem_error_set(err, r[k].status, "collision %zu: %s", k, r[k].message);
@@ -70,10 +72,10 @@ static adem_status batch_status(const adem_collision_result *r, size_t n, adem_e
  * the CSV's path. */
 static adem_status write_outputs(const adem_validation_context *ctx, const char *name,
                                  const adem_table *t, const char *body, adem_error *err) {
-  char *csv = adem_validate_path(ctx, name, "csv");
+  char *csv = adem_validation_path(ctx, name, "csv");
   adem_status st = csv ? adem_table_write_csv(t, csv, err) : nomem(err);
   free(csv);
-  if (!st) st = adem_validate_plot(ctx, name, 1000, 700, body, err);
+  if (!st) st = adem_validation_plot(ctx, name, 1000, 700, body, err);
   return st;
 }
 
@@ -85,7 +87,7 @@ static adem_status write_outputs(const adem_validation_context *ctx, const char 
 enum { FIG3_LAWS = 4 }; /* original; E reduced, gamma kept; H24; Hertz of the original */
 
 typedef struct fig3_law {
-  adem_collision_spec s;
+  adem_collide_spec s;
   adem_normal_ode ref; /* the paper's law with the same E_mod, gamma_mod */
   double fc;           /* 3 pi gamma_mod R (0 for Hertz) */
 } fig3_law;
@@ -193,10 +195,10 @@ static adem_status fig3(const adem_validation_context *ctx, const char *name,
              "unset multiplot\n",
              -0.1 * d_max * 1e9, d_max * 1e9, -1.2 * fc0 * 1e6, 1.5 * fc0 * 1e6,
              -0.1 * d_max / dc0, d_max / dc0, 1.5);
-    char *csv = adem_validate_path(ctx, name, "csv");
+    char *csv = adem_validation_path(ctx, name, "csv");
     st = csv ? adem_table_write_csv(&t, csv, err) : nomem(err);
     free(csv);
-    if (!st) st = adem_validate_plot(ctx, name, 1600, 700, body, err);
+    if (!st) st = adem_validation_plot(ctx, name, 1600, 700, body, err);
   }
   adem_table_free(&t);
   if (st) return st;
@@ -254,22 +256,22 @@ enum { FIG5_COLS = 5 }; /* H24 at f = 1, 0.1, 0.01; gamma kept at f = 0.1, 0.01 
  * collision) smaller. Tolerance: 4 times that error at 1000 steps, 1.3 times at 200 (quick). */
 static double e_eff_tol(const adem_validation_context *ctx) { return ctx->quick ? 1e-3 : 2e-4; }
 
-static adem_collision_spec fig5_spec(const adem_validation_context *ctx, int col, double v,
+static adem_collide_spec fig5_spec(const adem_validation_context *ctx, int col, double v,
                                      double steps) {
   static const double f[FIG5_COLS] = {1.0, 0.1, 0.01, 0.1, 0.01};
-  adem_collision_spec s = psl_on_quartz(f[col], col >= NF, v);
+  adem_collide_spec s = psl_on_quartz(f[col], col >= NF, v);
   s.steps_per_tc = steps;
   s.normal_law = normal_law_id(ctx);
   return s;
 }
 
 /* e_eff and capture of the independent reference (normal_ode.c) for a spec. */
-static adem_normal_ode_result ode_collide(const adem_collision_spec *s) {
+static adem_normal_ode_result ode_collide(const adem_collide_spec *s) {
   adem_normal_ode p = adem_normal_ode_of(s);
-  return adem_normal_ode_collide(&p, adem_collide_params(s).v_n, ODE_RTOL, NULL, NULL);
+  return adem_normal_ode_collide(&p, adem_collide_derive(s).v_n, ODE_RTOL, NULL, NULL);
 }
 
-static void set_speed_ode(adem_collision_spec *s, double x, void *user) {
+static void set_speed_ode(adem_collide_spec *s, double x, void *user) {
   (void)user;
   s->speed = x;
 }
@@ -278,8 +280,8 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
                         adem_validation_report *rep, adem_error *err) {
   size_t nv = ctx->quick ? 12 : 60;
   size_t n = nv * FIG5_COLS;
-  adem_collision_spec *sp = malloc(n * sizeof *sp);
-  adem_collision_result *res = malloc(n * sizeof *res);
+  adem_collide_spec *sp = malloc(n * sizeof *sp);
+  adem_collide_result *res = malloc(n * sizeof *res);
   double *e_ode = malloc(n * sizeof *e_ode);
   if (!sp || !res || !e_ode) {
     free(sp);
@@ -290,8 +292,8 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
   /* One time step for every f at a speed: the stiffest case's (f = 1), so that the softer cases
    * take more steps per collision and the comparison measures physics, not a rescaling of the
    * same discrete map. First the f = 1 collisions, then the others at their step. */
-  adem_collision_spec *sp1 = malloc(nv * sizeof *sp1);
-  adem_collision_result *res1 = malloc(nv * sizeof *res1);
+  adem_collide_spec *sp1 = malloc(nv * sizeof *sp1);
+  adem_collide_result *res1 = malloc(nv * sizeof *res1);
   if (!sp1 || !res1) {
     free(sp), free(res), free(e_ode), free(sp1), free(res1);
     return nomem(err);
@@ -328,7 +330,7 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
     vc[c] = NAN;
     size_t lo = nv, hi = nv; /* last stuck speed, first rebound after it (runs that worked) */
     for (size_t k = 0; k < nv; ++k) {
-      const adem_collision_result *r = &res[k * FIG5_COLS + c];
+      const adem_collide_result *r = &res[k * FIG5_COLS + c];
       if (r->status) continue;
       if (r->stuck) lo = k, hi = nv;
       else if (lo < nv && hi == nv) hi = k;
@@ -338,12 +340,12 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
       vc[c] = -sp[lo * FIG5_COLS].speed;
       continue;
     }
-    adem_collision_spec base = sp[lo * FIG5_COLS + c];
+    adem_collide_spec base = sp[lo * FIG5_COLS + c];
     st = adem_collide_threshold(&base, set_speed, NULL, sp[lo * FIG5_COLS].speed,
                                 sp[hi * FIG5_COLS].speed, ctx->quick ? 1e-4 : 1e-6, ctx->nthreads,
                                 &vc[c], err);
     if (c < NF) {
-      adem_collision_spec b = fig5_spec(ctx, c, 1.0, 1.0);
+      adem_collide_spec b = fig5_spec(ctx, c, 1.0, 1.0);
       vc_ode[c] = adem_normal_ode_threshold(&b, set_speed_ode, NULL, 0.5, 20.0, 1e-8);
     }
   }
@@ -354,7 +356,7 @@ static adem_status fig5(const adem_validation_context *ctx, const char *name,
   double dmax = 0.0, e_top = 0.0, dode = 0.0, v_worst = NAN;
   if (!st) {
     for (size_t k = 0; k < nv && !st; ++k) {
-      const adem_collision_result *r = &res[k * FIG5_COLS];
+      const adem_collide_result *r = &res[k * FIG5_COLS];
       double row[2 + FIG5_COLS] = {sp[k * FIG5_COLS].speed};
       for (int c = 0; c < FIG5_COLS; ++c) row[1 + c] = r[c].e_eff;
       row[1 + FIG5_COLS] = e_ode[k * FIG5_COLS];
@@ -438,11 +440,11 @@ static const double LAMBDA0 = 1e6; /* base of Fig. 8 */
 
 /* Two equal spheres head-on (H Fig. 6): r = 1 um, rho = 1000 kg/m^3, v = 1 m/s, e = 0.3; E and
  * gamma follow from lambda and Ad (text definitions). */
-static adem_collision_spec pair_spec(double lambda, double ad, double steps) {
-  adem_collision_spec s = adem_default_collision_spec();
+static adem_collide_spec pair_spec(double lambda, double ad, double steps) {
+  adem_collide_spec s = adem_default_collide_spec();
   s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   s.steps_per_tc = steps;
-  s.kind = ADEM_COLLISION_PAIR;
+  s.kind = ADEM_COLLIDE_PAIR;
   s.radius = 1e-6;
   s.density = 1000.0;
   s.speed = 1.0;
@@ -455,8 +457,8 @@ static adem_collision_spec pair_spec(double lambda, double ad, double steps) {
 
 /* Fig. 8: the material of lambda0 and Ad, made stiffer or softer to lambda with H24 applied to
  * gamma (what stiffness_factor = lambda/lambda0 does for lambda <= lambda0). */
-static adem_collision_spec pair_spec_h24(double lambda, double ad0, double steps) {
-  adem_collision_spec s = pair_spec(LAMBDA0, ad0, steps);
+static adem_collide_spec pair_spec_h24(double lambda, double ad0, double steps) {
+  adem_collide_spec s = pair_spec(LAMBDA0, ad0, steps);
   double f = lambda / LAMBDA0;
   adem_collide_set_lambda(&s, lambda);
   s.surface_energy *= pow(f, 0.4); /* H24 */
@@ -464,11 +466,11 @@ static adem_collision_spec pair_spec_h24(double lambda, double ad0, double steps
 }
 
 static adem_status ehat_table(const adem_validation_context *ctx, bool h24, size_t nl,
-                              adem_collision_spec **sp_out, adem_collision_result **res_out,
+                              adem_collide_spec **sp_out, adem_collide_result **res_out,
                               adem_error *err) {
   size_t n = nl * NAD;
-  adem_collision_spec *sp = malloc(n * sizeof *sp);
-  adem_collision_result *res = malloc(n * sizeof *res);
+  adem_collide_spec *sp = malloc(n * sizeof *sp);
+  adem_collide_result *res = malloc(n * sizeof *res);
   if (!sp || !res) {
     free(sp);
     free(res);
@@ -501,8 +503,8 @@ static const char *fig78_header =
     "lambda,ehat_Ad1,ehat_Ad2,ehat_Ad5,ehat_Ad10,ehat_Ad20,ehat_Ad50";
 
 static adem_status fig78_write(const adem_validation_context *ctx, const char *name, bool h24,
-                               size_t nl, const adem_collision_spec *sp,
-                               const adem_collision_result *res, adem_error *err) {
+                               size_t nl, const adem_collide_spec *sp,
+                               const adem_collide_result *res, adem_error *err) {
   adem_table t;
   if (adem_table_init(&t, fig78_header)) return nomem(err);
   adem_status st = ADEM_OK;
@@ -531,8 +533,8 @@ static adem_status fig78_write(const adem_validation_context *ctx, const char *n
 static adem_status fig7(const adem_validation_context *ctx, const char *name,
                         adem_validation_report *rep, adem_error *err) {
   size_t nl = ctx->quick ? 11 : 41;
-  adem_collision_spec *sp = NULL;
-  adem_collision_result *res = NULL;
+  adem_collide_spec *sp = NULL;
+  adem_collide_result *res = NULL;
   adem_status st = ehat_table(ctx, false, nl, &sp, &res, err);
   if (!st) st = fig78_write(ctx, name, false, nl, sp, res, err);
   /* Critical lambda per Ad: the grid brackets it, bisection narrows it. */
@@ -543,7 +545,7 @@ static adem_status fig7(const adem_validation_context *ctx, const char *name,
     lc[a] = NAN;
     for (size_t k = 0; k + 1 < nl; ++k)
       if (res[k * NAD + a].stuck && !res[(k + 1) * NAD + a].stuck) {
-        adem_collision_spec base = pair_spec(1e6, fig7_ad[a], steps_per_tc(ctx));
+        adem_collide_spec base = pair_spec(1e6, fig7_ad[a], steps_per_tc(ctx));
         st = adem_collide_threshold(&base, set_lambda, NULL, adem_collide_lambda(&sp[k * NAD + a]),
                                     adem_collide_lambda(&sp[(k + 1) * NAD + a]),
                                     ctx->quick ? 1e-3 : 1e-5, ctx->nthreads, &lc[a], err);
@@ -603,14 +605,14 @@ static adem_status fig7(const adem_validation_context *ctx, const char *name,
 static adem_status fig8(const adem_validation_context *ctx, const char *name,
                         adem_validation_report *rep, adem_error *err) {
   size_t nl = ctx->quick ? 11 : 41;
-  adem_collision_spec *sp = NULL;
-  adem_collision_result *res = NULL;
+  adem_collide_spec *sp = NULL;
+  adem_collide_result *res = NULL;
   adem_status st = ehat_table(ctx, true, nl, &sp, &res, err);
   if (!st) st = fig78_write(ctx, name, true, nl, sp, res, err);
   /* reference: the same Ad at lambda0 (engine) and, for every point, the independent
    * integration of the same normal equation (normal_ode.c) */
-  adem_collision_spec ref_sp[NAD];
-  adem_collision_result ref[NAD];
+  adem_collide_spec ref_sp[NAD];
+  adem_collide_result ref[NAD];
   for (int a = 0; a < NAD; ++a) {
     ref_sp[a] = pair_spec(LAMBDA0, fig7_ad[a], steps_per_tc(ctx));
     ref_sp[a].normal_law = normal_law_id(ctx);
@@ -624,7 +626,7 @@ static adem_status fig8(const adem_validation_context *ctx, const char *name,
   for (int a = 0; a < NAD && !st; ++a) {
     e_ode[a] = ode_collide(&ref_sp[a]).e_eff;
     for (size_t k = 0; k < nl; ++k) {
-      const adem_collision_result *r = &res[k * NAD + a];
+      const adem_collide_result *r = &res[k * NAD + a];
       adem_normal_ode_result o = ode_collide(&sp[k * NAD + a]);
       dev[a] = fmax(dev[a], fabs(r->e_eff - ref[a].e_eff) / 0.3);
       double d = fabs(r->e_eff - o.e_eff);
@@ -712,8 +714,8 @@ static adem_status fig13(const adem_validation_context *ctx, const char *name,
   const double v0 = 5.0;
   trace tr[NF];
   memset(tr, 0, sizeof tr);
-  adem_collision_spec sp[NF];
-  adem_collision_result res[NF];
+  adem_collide_spec sp[NF];
+  adem_collide_result res[NF];
   for (int k = 0; k < NF; ++k) {
     sp[k] = psl_on_quartz(stiffness[k], false, v0);
     sp[k].steps_per_tc = steps_per_tc(ctx);
@@ -811,11 +813,11 @@ static adem_status fig13(const adem_validation_context *ctx, const char *name,
 /* A sphere hitting the wall at psi = 45 degrees with DTK rolling resistance and F_ext = F_hat
  * F_yield parallel to the wall (H Fig. 9): r = 1 um, rho = 1000 kg/m^3, v = 1 m/s, nu = 0.3,
  * mu = 0.3; E and gamma from lambda and Ad (with sin^2 psi, notes section 7). */
-static adem_collision_spec deposition_spec(double lambda, double ad, double e, double fhat,
+static adem_collide_spec deposition_spec(double lambda, double ad, double e, double fhat,
                                            double steps) {
-  adem_collision_spec s = adem_default_collision_spec();
+  adem_collide_spec s = adem_default_collide_spec();
   s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
-  s.kind = ADEM_COLLISION_WALL;
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = 1e-6;
   s.density = 1000.0;
   s.speed = 1.0;
@@ -836,7 +838,7 @@ static adem_collision_spec deposition_spec(double lambda, double ad, double e, d
  * replaced law runs without DTK and without F_ext: the capture does not depend on them (on a
  * flat wall the normal motion does not feel rolling or a force along the wall; haervig-fig11
  * checks that a normal impact without DTK has the same lambda_crit). */
-static void law_override(const adem_validation_context *ctx, adem_collision_spec *s) {
+static void law_override(const adem_validation_context *ctx, adem_collide_spec *s) {
   s->normal_law = normal_law_id(ctx);
   if (s->normal_law >= 0) {
     s->dtk = false;
@@ -857,7 +859,7 @@ static double lambda_tol(const adem_validation_context *ctx) { return ctx->quick
  * by stepping down from 1e5 Ad^(5/2) by factors of 10 until the sphere is captured; then
  * multisection to lambda_tol. */
 static adem_status critical_lambda(const adem_validation_context *ctx,
-                                   const adem_collision_spec *base, double guess, double *lc,
+                                   const adem_collide_spec *base, double guess, double *lc,
                                    adem_error *err) {
   double ad = adem_collide_ad(base);
   if (guess > 0.0) {
@@ -867,10 +869,10 @@ static adem_status critical_lambda(const adem_validation_context *ctx,
   }
   double hi = 1e5 * pow(ad, 2.5);
   for (int k = 0; k < 14; ++k) {
-    adem_collision_spec s = *base;
+    adem_collide_spec s = *base;
     s.capture_only = true;
     adem_collide_set_lambda(&s, hi / 10.0);
-    adem_collision_result r = adem_collide(&s);
+    adem_collide_result r = adem_collide(&s);
     if (r.status)
       return adem_error_set(err, r.status, "lambda %g, Ad %g: %s", hi / 10.0, ad, r.message);
     if (r.stuck)
@@ -888,7 +890,7 @@ enum { FIG4_LAWS = 4 };
 static adem_status fig4(const adem_validation_context *ctx, const char *name,
                         adem_validation_report *rep, adem_error *err) {
   const double f = 0.1;
-  adem_collision_spec law[FIG4_LAWS];
+  adem_collide_spec law[FIG4_LAWS];
   for (int k = 0; k < FIG4_LAWS; ++k) {
     law[k] = psl_on_quartz(k ? f : 1.0, k == 1, 1.0);
     law[k].dtk = true;
@@ -981,8 +983,8 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
   enum { NA_MAX = 9 };
   size_t nl = ctx->quick ? 8 : 15, na = ctx->quick ? 5 : NA_MAX;
   size_t n = nl * na * MAP_E * MAP_F;
-  adem_collision_spec *sp = malloc(n * sizeof *sp);
-  adem_collision_result *res = malloc(n * sizeof *res);
+  adem_collide_spec *sp = malloc(n * sizeof *sp);
+  adem_collide_result *res = malloc(n * sizeof *res);
   if (!sp || !res) {
     free(sp);
     free(res);
@@ -1007,7 +1009,7 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
   for (int e = 0; e < MAP_E && !st; ++e) {
     double guess = 0.0;
     for (size_t a = 0; a < na && !st; ++a) {
-      adem_collision_spec b = deposition_spec(1e6, ads[a], map_e[e], map_f[0], steps_per_tc(ctx));
+      adem_collide_spec b = deposition_spec(1e6, ads[a], map_e[e], map_f[0], steps_per_tc(ctx));
       st = critical_lambda(ctx, &b, guess, &lcrit[e][a], err);
       if (!st && a + 1 < na) guess = lcrit[e][a] * pow(ads[a + 1] / ads[a], 2.5);
     }
@@ -1019,7 +1021,7 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
                                  "t_rest_over_T_roll,lambda_crit_at_Ad"))
     st = nomem(err);
   for (k = 0; k < n && !st; ++k) {
-    const adem_collision_result *r = &res[k];
+    const adem_collide_result *r = &res[k];
     double lam = adem_collide_lambda(&sp[k]), ad = adem_collide_ad(&sp[k]);
     int e = sp[k].restitution == map_e[0] ? 0 : 1;
     size_t a = (k / nl) % na;
@@ -1033,7 +1035,7 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
       bool captured = r->outcome != ADEM_OUTCOME_REBOUND;
       if ((lam < lc * (1.0 - 1e-3) && !captured) || (lam > lc * (1.0 + 1e-3) && captured))
         ++off_border;
-      adem_collision_outcome held =
+      adem_collide_outcome held =
           sp[k].force_hat < 1.0 ? ADEM_OUTCOME_STUCK : ADEM_OUTCOME_ROLLING;
       if (captured && r->outcome != held) ++wrong_roll;
       undecided += r->undecided;
@@ -1078,10 +1080,10 @@ static adem_status fig10(const adem_validation_context *ctx, const char *name,
                       pow(tile, 0.25), sqrt(tile), sqrt(tl), sqrt(tl), sel);
     }
     snprintf(body + len, sizeof body - (size_t)len, "unset multiplot\n");
-    char *csv = adem_validate_path(ctx, name, "csv");
+    char *csv = adem_validation_path(ctx, name, "csv");
     st = csv ? adem_table_write_csv(&t, csv, err) : nomem(err);
     free(csv);
-    if (!st) st = adem_validate_plot(ctx, name, 1500, 700, body, err);
+    if (!st) st = adem_validation_plot(ctx, name, 1500, 700, body, err);
     adem_table_free(&t);
   }
   free(sp);
@@ -1137,7 +1139,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   for (int e = 0; e < NE && !st; ++e) {
     double guess = 0.0;
     for (size_t a = 0; a < na && !st; ++a) {
-      adem_collision_spec b =
+      adem_collide_spec b =
           deposition_spec(1e6, ads[a], 0.1 * (e + 1), 0.5, threshold_steps(ctx));
       st = critical_lambda(ctx, &b, guess, &lc[e][a], err);
       if (!st && a + 1 < na) guess = lc[e][a] * pow(ads[a + 1] / ads[a], 2.5);
@@ -1148,7 +1150,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
    * on a flat wall does not feel them) and the head-on pair of Fig. 7 (c_wall/c_pair = sqrt 2). */
   double lc_normal = NAN, lc_pair = NAN;
   if (!st) {
-    adem_collision_spec b = deposition_spec(1e6, 100.0, 0.3, 0.0, threshold_steps(ctx));
+    adem_collide_spec b = deposition_spec(1e6, 100.0, 0.3, 0.0, threshold_steps(ctx));
     b.angle = 0.5 * ADEM_PI;
     b.dtk = false;
     adem_collide_set_lambda(&b, 1e6);
@@ -1156,7 +1158,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
     st = critical_lambda(ctx, &b, lc[2][0], &lc_normal, err);
   }
   if (!st) {
-    adem_collision_spec b = pair_spec(1e6, 100.0, threshold_steps(ctx));
+    adem_collide_spec b = pair_spec(1e6, 100.0, threshold_steps(ctx));
     st = critical_lambda(ctx, &b, lc[2][0] / sqrt(2.0), &lc_pair, err);
   }
   adem_table t;
@@ -1232,14 +1234,14 @@ static adem_status fig12(const adem_validation_context *ctx, const char *name,
   adem_status st = ADEM_OK;
   for (size_t e = 0; e < ne && !st; ++e) {
     double rest = 0.1 + step * (double)e, lc = NAN;
-    adem_collision_spec b = deposition_spec(1e6, 100.0, rest, 0.5, threshold_steps(ctx));
+    adem_collide_spec b = deposition_spec(1e6, 100.0, rest, 0.5, threshold_steps(ctx));
     law_override(ctx, &b);
     st = critical_lambda(ctx, &b, e ? c[e - 1] * 1e5 * 0.6 : 0.0, &lc, err);
     c[e] = lc / 1e5; /* Ad^(5/2) = 1e5 */
     check[e] = NAN;
     /* the same c at Ad = 1000 every 0.2 in e */
     if (!st && fmod(rest + 1e-9, 0.2) < 0.05) {
-      adem_collision_spec b2 = deposition_spec(1e6, 1000.0, rest, 0.5, threshold_steps(ctx));
+      adem_collide_spec b2 = deposition_spec(1e6, 1000.0, rest, 0.5, threshold_steps(ctx));
       law_override(ctx, &b2);
       double ad25 = pow(1000.0, 2.5);
       st = critical_lambda(ctx, &b2, c[e] * ad25, &lc, err);
@@ -1253,7 +1255,7 @@ static adem_status fig12(const adem_validation_context *ctx, const char *name,
   for (int k = 0; k < 2 && !st; ++k) {
     size_t e = (size_t)llround((e_ref[k] - 0.1) / step);
     c_eng[k] = c[e];
-    adem_collision_spec b = deposition_spec(1e6, 100.0, e_ref[k], 0.5, threshold_steps(ctx));
+    adem_collide_spec b = deposition_spec(1e6, 100.0, e_ref[k], 0.5, threshold_steps(ctx));
     double lc = adem_normal_ode_threshold(&b, set_lambda, NULL, 0.5e5 * c[e], 2e5 * c[e], 1e-7);
     c_ode[k] = lc / 1e5;
     double d = fabs(c_eng[k] / c_ode[k] - 1.0);
@@ -1318,8 +1320,8 @@ static const double inv_fhat[INV_F] = {0.5, 0.9, 1.1, 2.0};
 
 /* The PSL sphere of Fig. 5 hitting quartz at 2 m/s and 45 degrees (v_n = 1.41 m/s, below the
  * capture speed 2.40 m/s), mu = 0.3, DTK with delta_gamma/gamma = 0.5. */
-static adem_collision_spec invariance_spec(double f, double fhat, double steps) {
-  adem_collision_spec s = psl_on_quartz(f, false, 2.0);
+static adem_collide_spec invariance_spec(double f, double fhat, double steps) {
+  adem_collide_spec s = psl_on_quartz(f, false, 2.0);
   s.angle = 0.25 * ADEM_PI;
   s.friction = 0.3;
   s.dtk = true;
@@ -1329,7 +1331,7 @@ static adem_collision_spec invariance_spec(double f, double fhat, double steps) 
   return s;
 }
 
-static void set_force_hat(adem_collision_spec *s, double x, void *user) {
+static void set_force_hat(adem_collide_spec *s, double x, void *user) {
   (void)user;
   s->force_hat = x;
 }
@@ -1337,8 +1339,8 @@ static void set_force_hat(adem_collision_spec *s, double x, void *user) {
 static adem_status rolling_invariance(const adem_validation_context *ctx, const char *name,
                                       adem_validation_report *rep, adem_error *err) {
   enum { N = INV_F * NF };
-  adem_collision_spec sp[N];
-  adem_collision_result res[N];
+  adem_collide_spec sp[N];
+  adem_collide_result res[N];
   for (int h = 0; h < INV_F; ++h)
     for (int k = 0; k < NF; ++k)
       sp[h * NF + k] = invariance_spec(stiffness[k], inv_fhat[h], steps_per_tc(ctx));
@@ -1348,7 +1350,7 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
    * modification; E reduced alone moves it to f^(-1/3) (xi_crit grows with a0). */
   double fc_mod[NF], fc_e[NF] = {NAN, NAN, NAN};
   for (int k = 0; k < NF && !st; ++k) {
-    adem_collision_spec b = invariance_spec(stiffness[k], 1.0, ctx->quick ? 50.0 : 200.0);
+    adem_collide_spec b = invariance_spec(stiffness[k], 1.0, ctx->quick ? 50.0 : 200.0);
     b.at_rest = true;
     st = adem_collide_threshold_split(&b, set_force_hat, NULL, ADEM_SPLIT_REST, 0.5, 2.0,
                                       ctx->quick ? 4e-3 : 1e-3, ctx->nthreads, &fc_mod[k], err);
@@ -1367,7 +1369,7 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
   bool same = true, longer = true, expected = true;
   for (int k = 0; k < NF && !st; ++k) /* by f, so that each curve's rows are together */
     for (int h = 0; h < INV_F && !st; ++h) {
-      const adem_collision_result *r = &res[h * NF + k];
+      const adem_collide_result *r = &res[h * NF + k];
       double row[7] = {inv_fhat[h], stiffness[k], (double)r->outcome, r->roll_distance,
                        r->roll_distance / sp[0].radius, r->t_rest, r->v_end};
       if (r->outcome != res[h * NF].outcome || r->undecided) same = false;
@@ -1399,8 +1401,8 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
     worst_fc = fmax(worst_fc, fabs(fc_mod[k] - 1.0));
     if (k) worst_e = fmax(worst_e, fabs(fc_e[k] / pow(stiffness[k], -1.0 / 3.0) - 1.0));
   }
-  const adem_collision_result *a = &res[1 * NF]; /* F_hat = 0.9 */
-  const adem_collision_result *b5 = &res[0];     /* F_hat = 0.5 */
+  const adem_collide_result *a = &res[1 * NF]; /* F_hat = 0.9 */
+  const adem_collide_result *b5 = &res[0];     /* F_hat = 0.5 */
   double r0 = sp[0].radius;
   snprintf(rep->claim, sizeof rep->claim,
            "H sections 3.2, 5.3 and 6.1: with H24 and the rolling modification a deposited "
@@ -1413,10 +1415,10 @@ static adem_status rolling_invariance(const adem_validation_context *ctx, const 
            "%.4f, %.4f; time to rest at F_hat = 0.9: %.3g, %.3g, %.3g us. At rest, the F_hat that "
            "starts rolling: %.4f, %.4f, %.4f (largest |F_c - 1| %.1e); E reduced alone: %.4f, "
            "%.4f (f^(-1/3) = 2.1544, 4.6416; off by %.1e).",
-           adem_collision_outcome_name(res[0].outcome),
-           adem_collision_outcome_name(res[NF].outcome),
-           adem_collision_outcome_name(res[2 * NF].outcome),
-           adem_collision_outcome_name(res[3 * NF].outcome), same ? "the same" : "NOT the same",
+           adem_collide_outcome_name(res[0].outcome),
+           adem_collide_outcome_name(res[NF].outcome),
+           adem_collide_outcome_name(res[2 * NF].outcome),
+           adem_collide_outcome_name(res[3 * NF].outcome), same ? "the same" : "NOT the same",
            b5[0].roll_distance / r0, b5[1].roll_distance / r0, b5[2].roll_distance / r0,
            a[0].roll_distance / r0, a[1].roll_distance / r0, a[2].roll_distance / r0,
            a[0].t_rest * 1e6, a[1].t_rest * 1e6, a[2].t_rest * 1e6, fc_mod[0], fc_mod[1],

@@ -12,9 +12,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/laws.h"
+#include "adem/studies.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "embedded.h"
+#include "table.h"
 
 #define I_UNIT _Complex_I
 #undef I /* complex.h's; the moment of inertia is spelled out below */
@@ -291,7 +295,7 @@ static adem_status write_columns(const adem_validation_context *ctx, const char 
     for (size_t c = 0; c < ncols && c < 16; ++c) row[c] = cols[c][k];
     if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  char *path = adem_validate_path(ctx, name, "csv");
+  char *path = adem_validation_path(ctx, name, "csv");
   if (!st && !path) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st) st = adem_table_write_csv(&tab, path, err);
   free(path);
@@ -302,7 +306,7 @@ static adem_status write_columns(const adem_validation_context *ctx, const char 
 /* DIR/NAME.png from `body`, which refers to the CSV as the gnuplot variable f. */
 static adem_status plot(const adem_validation_context *ctx, const char *name, const char *body,
                         adem_error *err) {
-  return adem_validate_plot(ctx, name, 1100, 700, body, err);
+  return adem_validation_plot(ctx, name, 1100, 700, body, err);
 }
 
 static bool within(double measured, double expected, double rel) {

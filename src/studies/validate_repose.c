@@ -10,8 +10,13 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "adem/adem.h"
+#include "adem/case.h"
+#include "adem/files.h"
+#include "adem/pile.h"
+#include "adem/run.h"
+#include "adem/studies.h"
 #include "embedded.h"
+#include "table.h"
 
 /* One point of Fig. 11 and its companions. */
 typedef struct repose_config {
@@ -80,7 +85,7 @@ static adem_status write_row(const char *dir, const repose_point *p, adem_error 
                    p->surface, p->slices, p->r2_surface, p->r2_slices, p->height, p->base_radius,
                    p->footprint, p->wall_s, p->n_pile, p->lab, p->ringtop, p->foot_angle,
                    p->lab_base);
-  adem_status st = path ? adem_fileio_write_all(path, text, (size_t)n, err)
+  adem_status st = path ? adem_file_write_all(path, text, (size_t)n, err)
                         : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   free(path);
   return st;
@@ -97,7 +102,7 @@ static adem_status repose_point_run(const adem_validation_context *ctx, const ch
              cf->label, seed, p->surface, p->slices);
     return ADEM_OK;
   }
-  adem_status st = adem_fileio_mkdir_p(dir, err);
+  adem_status st = adem_file_mkdir_p(dir, err);
   if (st) return st;
   char *ckpt = adem_file_join(dir, "checkpoint");
   if (!ckpt) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -194,14 +199,14 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   int nconf = ctx->quick ? NQUICK : NCONFIG, nseed = ctx->quick ? 1 : NSEEDS;
   char *base = adem_file_join(ctx->out_dir, name);
   if (!base) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  adem_status st = adem_fileio_mkdir_p(base, err);
+  adem_status st = adem_file_mkdir_p(base, err);
   /* the hopper's mesh beside the runs (the case names it meshes/repose_hopper.stl) */
   char *mdir = adem_file_join(base, "meshes");
   char *stl = mdir ? adem_file_join(mdir, "repose_hopper.stl") : NULL;
   if (!st && !stl) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-  if (!st) st = adem_fileio_mkdir_p(mdir, err);
+  if (!st) st = adem_file_mkdir_p(mdir, err);
   if (!st)
-    st = adem_fileio_write_all(stl, adem_case_irazabal_meshes_repose_hopper_stl,
+    st = adem_file_write_all(stl, adem_case_irazabal_meshes_repose_hopper_stl,
                                strlen(adem_case_irazabal_meshes_repose_hopper_stl), err);
   free(mdir);
   free(stl);
@@ -246,7 +251,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
       sd[c][k] = sd_of(v[k], nseed);
     }
   }
-  char *csv = adem_validate_path(ctx, name, "csv");
+  char *csv = adem_validation_path(ctx, name, "csv");
   if (!st) st = csv ? adem_table_write_csv(&tab, csv, err) : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   free(csv);
   adem_table_free(&tab);
@@ -316,7 +321,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
            "     f skip 1 using ($5 == 0 && $3 != 1.77e10 ? $2 + 0.006 : 1/0):7 with points pt 9 ps 1.5 lc rgb '#2ca02c' title 'laboratory, E = 5.9, 11.8, 23.6 GPa', \\\n"
            "     '-' using 1:2 with points pt 5 ps 2 lc rgb 'black' title 'paper: about 40 deg (grey: +- 3)'\n"
            "0.25 40\ne\n");
-  (void)adem_validate_plot(ctx, name, 1000, 650, body, err);
+  (void)adem_validation_plot(ctx, name, 1000, 650, body, err);
   return ADEM_OK;
 }
 

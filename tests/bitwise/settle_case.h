@@ -8,7 +8,7 @@
 
 #include "adem/adem.h"
 #include "case_file.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define SETTLE_STEPS 2000
 

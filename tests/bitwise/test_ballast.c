@@ -52,7 +52,7 @@ static void test_quick_figs_and_a_wrong_law(void **state) {
   const char *names[] = {"irazabal-fig16", "irazabal-fig17"};
   int failed = -1;
   adem_error err;
-  if (adem_validate_run(names, 2, &ctx, &failed, &err)) fail_msg("%s", err.message);
+  if (adem_validation_run(names, 2, &ctx, &failed, &err)) fail_msg("%s", err.message);
   print_measured(good, "Initial slope");
   print_measured(good, "E1.77: base");
   assert_int_equal(failed, 0);
@@ -61,7 +61,7 @@ static void test_quick_figs_and_a_wrong_law(void **state) {
    * shared with the run above; the validation finds them finished. */
   char base[600], from[700], to[700];
   snprintf(base, sizeof base, "%s/irazabal-ballast", bad);
-  assert_int_equal(adem_fileio_mkdir_p(base, &err), ADEM_OK);
+  assert_int_equal(adem_file_mkdir_p(base, &err), ADEM_OK);
   const char *shared[] = {"pack", "push-E0.59"};
   for (int k = 0; k < 2; ++k) {
     snprintf(from, sizeof from, "%s/irazabal-ballast/%s", good, shared[k]);
@@ -91,7 +91,7 @@ static void test_quick_figs_and_a_wrong_law(void **state) {
   adem_validation_context bctx = {bad, 2, true, NULL, NULL};
   const char *fig17[] = {"irazabal-fig17"};
   failed = -1;
-  if (adem_validate_run(fig17, 1, &bctx, &failed, &err)) fail_msg("%s", err.message);
+  if (adem_validation_run(fig17, 1, &bctx, &failed, &err)) fail_msg("%s", err.message);
   print_measured(bad, "E1.77: base");
   assert_int_equal(failed, 1);
 }

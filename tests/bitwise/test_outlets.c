@@ -16,7 +16,7 @@
 #include "case_file.h"
 #include "outlets.h"
 #include "restart_run.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int setup(void **state) {
   (void)state;

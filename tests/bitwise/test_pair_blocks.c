@@ -15,7 +15,7 @@
 
 #include "bitwise/settle_case.h"
 #include "pair_block_laws.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* The settle case with glass-glass contacts under the given laws (and glass on the walls under
  * Hertz with the same rolling law); damped: a rolling damping given (only model C reads it). */

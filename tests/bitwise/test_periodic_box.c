@@ -15,7 +15,7 @@
 
 #include "bitwise/periodic_case.h"
 #include "restart_run.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int setup(void **state) {
   (void)state;

@@ -14,7 +14,7 @@
 
 #include "adem/adem.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define CASE ADEM_SOURCE_DIR "/cases/irazabal/repose.yaml"
 
@@ -29,7 +29,7 @@ static void test_quick_fig11_rises(void **state) {
   const char *names[] = {"irazabal-fig11"};
   int failed = -1;
   adem_error err;
-  if (adem_validate_run(names, 1, &ctx, &failed, &err)) fail_msg("%s", err.message);
+  if (adem_validation_run(names, 1, &ctx, &failed, &err)) fail_msg("%s", err.message);
   char path[512];
   snprintf(path, sizeof path, "%s/summary.md", tmpdir);
   char *text = NULL;

@@ -22,7 +22,7 @@
 #include "case_file.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* The cases: tests/cases/settle.yaml, periodic.yaml and bitwise-mesh-order.yaml. */
 

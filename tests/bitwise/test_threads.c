@@ -9,7 +9,7 @@
 #include <cmocka.h>
 
 #include "bitwise/settle_case.h"
-#include "world.h"
+#include "world_internal.h"
 
 static adem_case *run_as(int nthreads, bool balance) {
   adem_case *c = settle_load(NULL, 0);

@@ -15,7 +15,7 @@
 #include "cli_run.h"
 #include "adem/adem.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* A valid case: one sphere in the unit cube of tests/data scaled to 0.1 m, a lid that moves. */
 #define base_case case_file_text("mesh-cli") /* tests/cases/mesh-cli.yaml */

@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "tmpdir.h"
 
 /* Runs C with OPT and the stop flag always set, reading C->output.dir/checkpoint back after every

@@ -6,7 +6,7 @@
 #include "adem/adem.h"
 #include "schedule.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Prepares the world and runs the events of step 0 (pour batches due then). */
 static inline adem_status staged_start(adem_case *c, adem_error *err) {

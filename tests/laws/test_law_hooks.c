@@ -20,7 +20,7 @@
 
 #include "adem/adem.h"
 #include "case_text.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* PSL spheres on a quartz floor, stiffness reduced 100 times (tests/cli/test_jkr_cli.c's case);
  * NORMAL is replaced by the law under test. */

@@ -15,7 +15,7 @@
 
 #include "adem/adem.h"
 #include "case_text.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const char *case_text =
     "materials:\n"

@@ -31,7 +31,7 @@ static int run(const char *name, bool quick, const char *normal, const char *rol
   int failed = -1;
   adem_error err;
   memset(&err, 0, sizeof err);
-  if (adem_validate_run(names, 1, &ctx, &failed, &err)) fail_msg("%s: %s", name, err.message);
+  if (adem_validation_run(names, 1, &ctx, &failed, &err)) fail_msg("%s: %s", name, err.message);
   char path[512];
   snprintf(path, sizeof path, "%s/summary.md", tmpdir);
   char *text = NULL;

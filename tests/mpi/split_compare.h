@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "world.h"
+#include "world_internal.h"
 
 static char split_compare_why[256];
 

@@ -23,7 +23,7 @@
 #include "settle_case.h"
 #include "split.h"
 #include "split_compare.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int rank, nproc;
 

@@ -20,7 +20,7 @@
 #include "periodic_case.h"
 #include "settle_case.h"
 #include "split_compare.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Runs `mpirun -np np adem ARGS` (np 0: plain `adem ARGS`), output captured in *out. */
 static int adem_np(int np, char **out, const char *fmt, ...) {

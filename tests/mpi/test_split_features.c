@@ -46,7 +46,7 @@
 #include "plate_stl.h"
 #include "split_compare.h"
 #include "stages.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* What the last adem_np printed. */
 static char np_out[1 << 16];

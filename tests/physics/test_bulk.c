@@ -7,7 +7,7 @@
 
 #include "helpers.h"
 #include "rng.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Claim: a sphere launched sliding without spin on a frictional plane rolls at 5/7 of its speed
  * (angular momentum about the contact point is conserved). */

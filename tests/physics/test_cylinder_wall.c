@@ -12,7 +12,7 @@
 
 #include "cylinder.h"
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double PI = 3.14159265358979323846;
 

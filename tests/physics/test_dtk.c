@@ -14,7 +14,7 @@
 
 #include "adem/studies.h"
 #include "jkr.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define RADIUS 1e-6
 #define RHO 1000.0
@@ -185,8 +185,8 @@ static void test_pure_sliding_pair(void **state) {
 static void test_torque_law_at_equilibrium(void **state) {
   (void)state;
   const double f = 0.1;
-  adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
+  adem_collide_spec s = adem_default_collide_spec();
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = RADIUS;
   s.density = RHO;
   s.young = YOUNG;

@@ -13,9 +13,9 @@
 
 /* r = 1 um, rho = 1000 kg/m^3, v = 1 m/s at 45 degrees, mu = 0.3, delta_gamma/gamma = 0.5,
  * 200 steps per collision time. */
-static adem_collision_spec deposit(double lambda, double ad, double e, double fhat) {
-  adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
+static adem_collide_spec deposit(double lambda, double ad, double e, double fhat) {
+  adem_collide_spec s = adem_default_collide_spec();
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = 1e-6;
   s.density = 1000.0;
   s.speed = 1.0;
@@ -30,7 +30,7 @@ static adem_collision_spec deposit(double lambda, double ad, double e, double fh
   return s;
 }
 
-static void set_lambda(adem_collision_spec *s, double x, void *user) {
+static void set_lambda(adem_collide_spec *s, double x, void *user) {
   (void)user;
   adem_collide_set_lambda(s, x);
 }
@@ -42,8 +42,8 @@ static void set_lambda(adem_collision_spec *s, double x, void *user) {
 static void test_three_outcomes(void **state) {
   (void)state;
   const double fhat[4] = {0.5, 0.9, 1.1, 2.0};
-  adem_collision_spec sp[8];
-  adem_collision_result r[8];
+  adem_collide_spec sp[8];
+  adem_collide_result r[8];
   for (int k = 0; k < 4; ++k) {
     sp[k] = deposit(1e5, 30.0, 0.3, fhat[k]);
     sp[4 + k] = deposit(1e7, 30.0, 0.3, fhat[k]);
@@ -52,7 +52,7 @@ static void test_three_outcomes(void **state) {
   for (int k = 0; k < 8; ++k) {
     assert_int_equal(r[k].status, ADEM_OK);
     printf("# lambda %.0e, F_hat %.1f: %s, %.3g r along the wall%s\n", adem_collide_lambda(&sp[k]),
-           sp[k].force_hat, adem_collision_outcome_name(r[k].outcome),
+           sp[k].force_hat, adem_collide_outcome_name(r[k].outcome),
            r[k].roll_distance / sp[k].radius, r[k].undecided ? " (undecided)" : "");
     assert_false(r[k].undecided);
   }
@@ -74,7 +74,7 @@ static void test_critical_lambda_exponent(void **state) {
   for (int e = 1; e <= 9; ++e) {
     double lc[3];
     for (int a = 0; a < 3; ++a) {
-      adem_collision_spec s = deposit(1e6, ads[a], 0.1 * e, 0.5);
+      adem_collide_spec s = deposit(1e6, ads[a], 0.1 * e, 0.5);
       adem_error err;
       /* c(e) lies between 0.1 and 1e4 for these e */
       adem_status st = adem_collide_threshold(&s, set_lambda, NULL, 0.1 * pow(ads[a], 2.5),

@@ -18,9 +18,9 @@ static const double stiffness[3] = {1.0, 0.1, 0.01};
 /* r = 1 um, rho = 1000 kg/m^3, E = 1e7 Pa, gamma from Ad = 1 at 1 m/s, e = 0.5, mu = 0.3,
  * delta_gamma/gamma = 0.5. 50 steps per half oscillation period: the rolling period is 3 to 60
  * times longer. */
-static adem_collision_spec resting(double f, double fhat) {
-  adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
+static adem_collide_spec resting(double f, double fhat) {
+  adem_collide_spec s = adem_default_collide_spec();
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = 1e-6;
   s.density = 1000.0;
   s.restitution = 0.5;
@@ -37,12 +37,12 @@ static adem_collision_spec resting(double f, double fhat) {
   return s;
 }
 
-static void set_force_hat(adem_collision_spec *s, double x, void *user) {
+static void set_force_hat(adem_collide_spec *s, double x, void *user) {
   (void)user;
   s->force_hat = x;
 }
 
-static double threshold(const adem_collision_spec *base, double lo, double hi) {
+static double threshold(const adem_collide_spec *base, double lo, double hi) {
   double x = NAN;
   adem_error err;
   adem_status st = adem_collide_threshold_split(base, set_force_hat, NULL, ADEM_SPLIT_REST, lo, hi,
@@ -59,18 +59,18 @@ static double threshold(const adem_collision_spec *base, double lo, double hi) {
 static void test_threshold_at_rest(void **state) {
   (void)state;
   for (int k = 0; k < 3; ++k) {
-    adem_collision_spec s = resting(stiffness[k], 0.9);
+    adem_collide_spec s = resting(stiffness[k], 0.9);
     s.rest_periods = 10.0;
-    adem_collision_result held = adem_collide(&s);
+    adem_collide_result held = adem_collide(&s);
     assert_int_equal(held.status, ADEM_OK);
     s = resting(stiffness[k], 1.1);
-    adem_collision_result rolls = adem_collide(&s);
+    adem_collide_result rolls = adem_collide(&s);
     assert_int_equal(rolls.status, ADEM_OK);
     double fc = threshold(&s, 0.8, 1.25);
     printf("# f = %g: F_hat 0.9 %s after %.3g T_r, %.2f xi_crit; F_hat 1.1 %s, %.1f xi_crit, "
            "v %.3g m/s; threshold F_hat = %.4f\n",
-           stiffness[k], adem_collision_outcome_name(held.outcome), held.t_rest / held.t_roll,
-           held.roll_distance / held.xi_crit, adem_collision_outcome_name(rolls.outcome),
+           stiffness[k], adem_collide_outcome_name(held.outcome), held.t_rest / held.t_roll,
+           held.roll_distance / held.xi_crit, adem_collide_outcome_name(rolls.outcome),
            rolls.roll_distance / rolls.xi_crit, rolls.v_end, fc);
     assert_int_equal(held.outcome, ADEM_OUTCOME_STUCK);
     assert_false(held.undecided);
@@ -91,7 +91,7 @@ static void test_threshold_without_modification(void **state) {
   (void)state;
   for (int k = 1; k < 3; ++k) {
     double f = stiffness[k];
-    adem_collision_spec s = resting(f, 1.0);
+    adem_collide_spec s = resting(f, 1.0);
     s.keep_gamma = true;
     s.dtk_modification = false;
     double th_e = pow(f, -1.0 / 3.0), fc_e = threshold(&s, 0.7 * th_e, 1.4 * th_e);

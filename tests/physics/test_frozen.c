@@ -14,7 +14,7 @@
 #include "case_file.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int setup(void **state) {
   (void)state;

@@ -6,7 +6,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 #include "hertz.h"
 
 enum { E_MOD = 100000000 };

@@ -8,7 +8,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* A sphere (radius 1 mm, E 1e7 Pa, mu 1) pressed 1 um into a plane, launched along x at v
  * without spin or gravity. */

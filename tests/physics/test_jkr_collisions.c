@@ -14,8 +14,8 @@
 #include "jkr.h"
 
 /* PSL sphere on quartz (H Fig. 5): effective E = 271 MPa, gamma = 0.11 J/m^2. */
-static adem_collision_spec psl(adem_collision_kind kind, double f, bool keep_gamma, double v) {
-  adem_collision_spec s = adem_default_collision_spec();
+static adem_collide_spec psl(adem_collide_kind kind, double f, bool keep_gamma, double v) {
+  adem_collide_spec s = adem_default_collide_spec();
   s.kind = kind;
   s.radius = 0.635e-6;
   s.density = 1026.0;
@@ -29,18 +29,18 @@ static adem_collision_spec psl(adem_collision_kind kind, double f, bool keep_gam
   return s;
 }
 
-static void set_speed(adem_collision_spec *s, double x, void *user) {
+static void set_speed(adem_collide_spec *s, double x, void *user) {
   (void)user;
   s->speed = x;
 }
 
-static void set_lambda(adem_collision_spec *s, double x, void *user) {
+static void set_lambda(adem_collide_spec *s, double x, void *user) {
   (void)user;
   adem_collide_set_lambda(s, x);
 }
 
 static double capture_speed(double f, bool keep_gamma) {
-  adem_collision_spec s = psl(ADEM_COLLISION_WALL, f, keep_gamma, 1.0);
+  adem_collide_spec s = psl(ADEM_COLLIDE_WALL, f, keep_gamma, 1.0);
   double vc = 0.0;
   adem_error err;
   assert_int_equal(adem_collide_threshold(&s, set_speed, NULL, 0.1, 20.0, 1e-5, 2, &vc, &err),
@@ -55,15 +55,15 @@ static void test_h24_keeps_restitution(void **state) {
   (void)state;
   enum { NV = 24, NC = 5 };
   static const double f[NC] = {1.0, 0.1, 0.01, 0.1, 0.01};
-  adem_collision_spec sp[NV * NC];
-  adem_collision_result res[NV * NC];
+  adem_collide_spec sp[NV * NC];
+  adem_collide_result res[NV * NC];
   for (int k = 0; k < NV; ++k)
     for (int c = 0; c < NC; ++c)
-      sp[k * NC + c] = psl(ADEM_COLLISION_WALL, f[c], c >= 3, 0.5 * pow(40.0, k / (NV - 1.0)));
+      sp[k * NC + c] = psl(ADEM_COLLIDE_WALL, f[c], c >= 3, 0.5 * pow(40.0, k / (NV - 1.0)));
   adem_collide_many(sp, res, NV * NC, 2);
   double worst = 0.0, worst_kept = 0.0;
   for (int k = 0; k < NV; ++k) {
-    const adem_collision_result *r = &res[k * NC];
+    const adem_collide_result *r = &res[k * NC];
     for (int c = 0; c < 3; ++c) assert_int_equal(r[c].status, ADEM_OK);
     for (int c = 1; c < 3; ++c) {
       assert_true(fabs(r[c].e_eff - r[0].e_eff) < 0.005);
@@ -92,10 +92,10 @@ static void test_duration_scaling(void **state) {
   (void)state;
   const char *label[3] = {"adhesive, H24", "Hertz (gamma = 0)", "adhesive, gamma kept"};
   for (int c = 0; c < 3; ++c) {
-    adem_collision_spec sp[3];
-    adem_collision_result r[3];
+    adem_collide_spec sp[3];
+    adem_collide_result r[3];
     for (int k = 0; k < 3; ++k) {
-      sp[k] = psl(ADEM_COLLISION_WALL, pow(10.0, -k), c == 2, 5.0);
+      sp[k] = psl(ADEM_COLLIDE_WALL, pow(10.0, -k), c == 2, 5.0);
       if (c == 1) sp[k].surface_energy = 0.0;
     }
     adem_collide_many(sp, r, 3, 2);
@@ -116,10 +116,10 @@ static void test_duration_scaling(void **state) {
 static void test_hertz_elastic(void **state) {
   (void)state;
   for (int kind = 0; kind < 2; ++kind) {
-    adem_collision_spec s = psl((adem_collision_kind)kind, 1.0, false, 2.0);
+    adem_collide_spec s = psl((adem_collide_kind)kind, 1.0, false, 2.0);
     s.restitution = 1.0;
     s.surface_energy = 0.0;
-    adem_collision_result r = adem_collide(&s);
+    adem_collide_result r = adem_collide(&s);
     assert_int_equal(r.status, ADEM_OK);
     printf("# Hertz %s, e = 1: KE out/in - 1 = %.2e, e_eff - 1 = %.2e\n", kind ? "wall" : "pair",
            r.ke_out / r.ke_in - 1.0, r.e_eff - 1.0);
@@ -137,13 +137,13 @@ static void test_jkr_undamped_elastic(void **state) {
   (void)state;
   const double speeds[3] = {0.05, 1.0, 5.0};
   for (int k = 0; k < 3; ++k) {
-    adem_collision_spec s = psl(ADEM_COLLISION_PAIR, 1.0, false, speeds[k]);
+    adem_collide_spec s = psl(ADEM_COLLIDE_PAIR, 1.0, false, speeds[k]);
     s.restitution = 1.0;
-    adem_collision_params p = adem_collide_params(&s);
+    adem_collide_params p = adem_collide_derive(&s);
     double jump = 8.0 / 9.0 * adem_jkr_critical_force(p.gamma_mod, p.R);
     for (int fine = 0; fine < 2; ++fine) {
       s.steps_per_tc = fine ? 20000.0 : 200.0;
-      adem_collision_result r = adem_collide(&s);
+      adem_collide_result r = adem_collide(&s);
       assert_int_equal(r.status, ADEM_OK);
       double scale = fmax(r.ke_in, fabs(p.u_min));
       double identity = fabs(r.ke_out - r.ke_in - r.work) / scale;
@@ -167,8 +167,8 @@ static void test_lambda_crit_exponent(void **state) {
   const double ads[4] = {1.0, 3.0, 10.0, 30.0};
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (int k = 0; k < 4; ++k) {
-    adem_collision_spec s = adem_default_collision_spec();
-    s.kind = ADEM_COLLISION_PAIR;
+    adem_collide_spec s = adem_default_collide_spec();
+    s.kind = ADEM_COLLIDE_PAIR;
     s.radius = 1e-6;
     s.density = 1000.0;
     s.speed = 1.0;
@@ -194,7 +194,7 @@ static void test_lambda_crit_exponent(void **state) {
 
 /* Reference: the normal equation of motion m x'' = -F_JKR(x) - c(x) x' (H8-H13) integrated by
  * RK4 with 20000 steps per collision time, independent of the engine's stepping. */
-static double ode_e_eff(const adem_collision_params *p, double beta) {
+static double ode_e_eff(const adem_collide_params *p, double beta) {
   const double h = p->t_c / 20000.0;
   double d = 0.0, u = p->v_n;
 #define ACC(dd, uu)                                                                               \
@@ -226,11 +226,11 @@ static void test_matches_ode(void **state) {
   (void)state;
   const double speeds[4] = {3.0, 5.0, 10.0, 20.0};
   for (int k = 0; k < 4; ++k) {
-    adem_collision_spec s = psl(ADEM_COLLISION_WALL, 1.0, false, speeds[k]);
-    adem_collision_params p = adem_collide_params(&s);
+    adem_collide_spec s = psl(ADEM_COLLIDE_WALL, 1.0, false, speeds[k]);
+    adem_collide_params p = adem_collide_derive(&s);
     double ref = ode_e_eff(&p, adem_damping_beta(s.restitution));
     s.steps_per_tc = 1000.0;
-    adem_collision_result r = adem_collide(&s);
+    adem_collide_result r = adem_collide(&s);
     assert_int_equal(r.status, ADEM_OK);
     printf("# v = %4.1f m/s: e_eff engine %.5f, RK4 %.5f, difference %.1e\n", speeds[k], r.e_eff,
            ref, r.e_eff - ref);
@@ -242,9 +242,9 @@ static void test_matches_ode(void **state) {
 static void test_many_deterministic(void **state) {
   (void)state;
   enum { N = 40 };
-  adem_collision_spec sp[N];
-  adem_collision_result a[N], b[N];
-  for (int k = 0; k < N; ++k) sp[k] = psl(k % 2 ? ADEM_COLLISION_PAIR : ADEM_COLLISION_WALL,
+  adem_collide_spec sp[N];
+  adem_collide_result a[N], b[N];
+  for (int k = 0; k < N; ++k) sp[k] = psl(k % 2 ? ADEM_COLLIDE_PAIR : ADEM_COLLIDE_WALL,
                                           1.0, false, 0.5 + 0.5 * k);
   adem_collide_many(sp, a, N, 1);
   adem_collide_many(sp, b, N, 2);

@@ -27,8 +27,8 @@
 enum { NN = 4 };
 static const double steps[NN] = {25.0, 50.0, 100.0, 200.0};
 
-static adem_collision_spec psl(double v) {
-  adem_collision_spec s = adem_default_collision_spec();
+static adem_collide_spec psl(double v) {
+  adem_collide_spec s = adem_default_collide_spec();
   assert_int_equal(adem_collide_psl_quartz(&s, NULL), ADEM_OK);
   s.speed = v;
   s.approach_steps = 1.3;
@@ -45,10 +45,10 @@ static const double speeds[NV] = {2.5, 3.0, 4.0, 5.0, 7.0, 10.0};
 static double rms_error(adem_contact_scheme scheme, double n, const double *ref) {
   double sum = 0.0;
   for (int v = 0; v < NV; ++v) {
-    adem_collision_spec s = psl(speeds[v]);
+    adem_collide_spec s = psl(speeds[v]);
     s.scheme = scheme;
     s.steps_per_tc = n;
-    adem_collision_result r = adem_collide(&s);
+    adem_collide_result r = adem_collide(&s);
     assert_int_equal(r.status, ADEM_OK);
     sum += (r.e_eff - ref[v]) * (r.e_eff - ref[v]);
   }
@@ -59,7 +59,7 @@ static void test_e_eff_order(void **state) {
   (void)state;
   double ref[NV];
   for (int v = 0; v < NV; ++v) {
-    adem_collision_spec s = psl(speeds[v]);
+    adem_collide_spec s = psl(speeds[v]);
     s.steps_per_tc = 3200.0;
     ref[v] = adem_collide(&s).e_eff;
   }
@@ -87,21 +87,21 @@ typedef struct lambda_ctx {
   double steps;         /* > 0: steps per collide's t_ref; 0: the old proposal below */
 } lambda_ctx;
 
-static void set_lambda(adem_collision_spec *s, double x, void *user) {
+static void set_lambda(adem_collide_spec *s, double x, void *user) {
   const lambda_ctx *c = user;
   adem_collide_set_lambda(s, x);
   if (c->steps > 0.0) {
     s->steps_per_tc = c->steps;
     s->dt = 0.0;
   } else { /* what the engine proposed before: t_c/50 at the impact speed, no adhesion */
-    adem_collision_params p = adem_collide_params(s);
+    adem_collide_params p = adem_collide_derive(s);
     s->dt = adem_hertz_collision_time(p.mstar, p.R, p.E_mod, p.v_n) / 50.0;
   }
 }
 
 static double lambda_crit(adem_contact_scheme scheme, double n) {
-  adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
+  adem_collide_spec s = adem_default_collide_spec();
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = 1e-6;
   s.density = 1000.0;
   s.speed = 1.0;

@@ -9,7 +9,7 @@
 #include "case_file.h"
 #include "case_text.h"
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double PI = 3.14159265358979323846;
 

@@ -16,7 +16,7 @@
 #include "helpers.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 static int group_setup(void **state) {
   (void)state;

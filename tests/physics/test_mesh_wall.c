@@ -14,7 +14,7 @@
 #include "helpers.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 #include "stl.h"
 
 static int group_setup(void **state) {

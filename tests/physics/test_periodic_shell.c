@@ -11,7 +11,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double PI = 3.14159265358979323846;
 static const double R = 0.05, BOX = 0.03, SR = 0.005;

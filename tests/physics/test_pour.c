@@ -14,7 +14,7 @@
 #include "insert.h"
 #include "log_capture.h"
 #include "staged_run.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Spheres poured from a cylinder into a bin: 4000/s from 5 ms to 35 ms, a batch every 3 ms
  * (tests/cases/pour-bin.yaml). */

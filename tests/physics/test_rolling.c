@@ -8,7 +8,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define RHO 1056.0
 #define YOUNG 4.0e7

@@ -9,7 +9,7 @@
 
 #include "case_file.h"
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define RADIUS 0.01
 

@@ -16,7 +16,7 @@
 #include "adem/adem.h"
 #include "case_file.h"
 #include "case_text.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double E = 1.0e8, NU = 0.3, R = 0.01, F = 50.0;
 

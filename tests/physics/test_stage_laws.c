@@ -10,7 +10,7 @@
 #include "case_file.h"
 #include "helpers.h"
 #include "staged_run.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double PI = 3.14159265358979323846;
 

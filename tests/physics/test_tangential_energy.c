@@ -18,9 +18,9 @@
 #include "adem/adem.h"
 #include "adem/vec3.h"
 
-static adem_collision_result impact(adem_tangential_model law, double steps) {
-  adem_collision_spec s = adem_default_collision_spec();
-  s.kind = ADEM_COLLISION_WALL;
+static adem_collide_result impact(adem_tangential_model law, double steps) {
+  adem_collide_spec s = adem_default_collide_spec();
+  s.kind = ADEM_COLLIDE_WALL;
   s.radius = 1e-3;
   s.density = 2500.0;
   s.young = 1e8;
@@ -31,7 +31,7 @@ static adem_collision_result impact(adem_tangential_model law, double steps) {
   s.angle = 30.0 * ADEM_PI / 180.0;
   s.steps_per_tc = steps;
   s.tangential = law;
-  adem_collision_result r = adem_collide(&s);
+  adem_collide_result r = adem_collide(&s);
   assert_int_equal(r.status, ADEM_OK);
   assert_false(r.stuck);
   return r;
@@ -44,7 +44,7 @@ static void test_sticking_oblique_impact(void **state) {
   const adem_tangential_model laws[2] = {ADEM_TANGENTIAL_INCREMENTAL, ADEM_TANGENTIAL_TOTAL};
   for (int l = 0; l < 2; ++l)
     for (int k = 0; k < 2; ++k) {
-      adem_collision_result r = impact(laws[l], steps[k]);
+      adem_collide_result r = impact(laws[l], steps[k]);
       ratio[l][k] = r.ke_out / r.ke_in;
       printf("# %-11s %5.0f steps per t_c: KE out/in = %.6f, e_eff (normal) %.6f, spin after %.4g "
              "rad/s, work/KE_in %.3g\n",

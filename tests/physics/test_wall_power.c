@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "adem/adem.h"
-#include "world.h"
+#include "world_internal.h"
 #include "case_file.h"
 #include "cli_run.h"
 #include "plate_stl.h"

@@ -16,7 +16,7 @@
 #include "case_file.h"
 #include "case_text.h"
 #include "log_capture.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Two glass spheres above a steel floor (tests/cases/loader-two-spheres.yaml); the messages
  * below name its lines and columns. */

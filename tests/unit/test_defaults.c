@@ -14,7 +14,7 @@
 
 #include "adem/adem.h"
 #include "schema.h"
-#include "world.h"
+#include "world_internal.h"
 
 static double schema_number(const char *prefix, const char *key) {
   const adem_schema_entry *e = adem_schema_find(prefix, key, NULL);

@@ -16,7 +16,7 @@
 
 #include "fpenv.h"
 #include "log_capture.h"
-#include "world.h"
+#include "world_internal.h"
 
 static double halve(volatile double x) { return x * 0.5; }
 

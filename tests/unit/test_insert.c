@@ -18,7 +18,7 @@
 #include "insert.h"
 #include "log_capture.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* An L-shaped prism, 2 x 2 x 1 units: the polygon (0,0) (2,0) (2,1) (1,1) (1,2) (0,2) (0,1)
  * extruded over z in [0, 1], closed, outward normals. */

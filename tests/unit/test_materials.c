@@ -6,7 +6,7 @@
 #include <cmocka.h>
 
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* Claim (H24): a stiffness factor f on the spheres only, against a rigid wall, gives the pair
  * E_mod/E = f and so gamma_mod = gamma f^(2/5), not the f^(1/5) a mean of per-material values

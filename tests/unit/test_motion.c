@@ -8,7 +8,7 @@
 #include "helpers.h"
 #include "motion.h"
 #include "adem/vec3.h"
-#include "world.h"
+#include "world_internal.h"
 
 static const double T[3] = {0.0, 1.0, 3.0};
 static const adem_vec3 V[3] = {{1.0, 0.0, 0.0}, {3.0, 0.0, -2.0}, {3.0, 1.0, 0.0}};

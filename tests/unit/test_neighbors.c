@@ -8,7 +8,7 @@
 
 #include "helpers.h"
 #include "rng.h"
-#include "world.h"
+#include "world_internal.h"
 
 typedef struct id_pair {
   uint64_t a, b;

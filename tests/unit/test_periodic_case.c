@@ -13,7 +13,7 @@
 #include "bitwise/periodic_case.h"
 #include "helpers.h"
 #include "log_capture.h"
-#include "world.h"
+#include "world_internal.h"
 
 #define WORDS(...) ((const char *const[]){__VA_ARGS__, NULL})
 

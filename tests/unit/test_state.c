@@ -15,9 +15,9 @@
 #include "adem/adem.h"
 #include "case_file.h"
 #include "case_text.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "tmpdir.h"
-#include "world.h"
+#include "world_internal.h"
 
 
 /* Materials in another order and another E: the import goes by name. */
@@ -128,7 +128,7 @@ static void test_import_errors(void **state) {
   char path[600];
   snprintf(path, sizeof path, "%s/import.yaml", tmpdir);
   adem_error err;
-  assert_int_equal(adem_fileio_write_all(path, import_case, strlen(import_case), &err), ADEM_OK);
+  assert_int_equal(adem_file_write_all(path, import_case, strlen(import_case), &err), ADEM_OK);
   expect_refused(t, WORDS("import.yaml is not a usable adem checkpoint", "ADEMCKPT"));
   free(t);
   /* a checkpoint of another format version: the version field set to 6 */
@@ -140,7 +140,7 @@ static void test_import_errors(void **state) {
   assert_int_equal(adem_file_read_all(src, &data, &len, &err), ADEM_OK);
   uint32_t v = 6;
   memcpy(data + 8, &v, 4);
-  assert_int_equal(adem_fileio_write_all(old, data, len, &err), ADEM_OK);
+  assert_int_equal(adem_file_write_all(old, data, len, &err), ADEM_OK);
   free(data);
   t = replaced(import_case, "src/checkpoint", "old.ckpt");
   expect_refused(t, WORDS("old.ckpt is not a usable adem checkpoint", "format version 6", "reads version 11"));

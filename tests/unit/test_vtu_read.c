@@ -1,4 +1,4 @@
-/* Reader of particle frames (src/studies/vtu_read.c): a frame the engine wrote reads back with the
+/* Reader of particle frames (src/output/vtu_read.c): a frame the engine wrote reads back with the
  * case's centres, radii and ids and the frame's time; every malformed variant of it (truncated at
  * any byte, a header attribute changed, a block size or offset wrong, a non-finite value) is
  * refused with ADEM_ERR_INPUT and a message, never read past its end. */

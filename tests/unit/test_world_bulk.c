@@ -14,7 +14,7 @@
 #include "adem/adem.h"
 #include "adem/vec3.h"
 #include "helpers.h"
-#include "world.h"
+#include "world_internal.h"
 
 /* A loose cloud of n spheres of radius 1 mm on a 3 mm lattice, falling onto a floor. */
 static adem_world *cloud(int n) {

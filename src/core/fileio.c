@@ -1,4 +1,6 @@
-#include "fileio.h"
+/* Atomic writes (adem/files.h): a temporary file next to the target, renamed over it when
+ * complete and synced. */
+#include "adem/files.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -8,7 +10,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "files.h"
 #include "log.h"
 
 static char *str_dup(const char *s) {
@@ -68,7 +69,7 @@ static int sync_dir_of(const char *path) {
   return e;
 }
 
-adem_status adem_fileio_open(adem_afile *af, const char *path, adem_error *err) {
+adem_status adem_file_open(adem_afile *af, const char *path, adem_error *err) {
   memset(af, 0, sizeof *af);
   char *tmp = NULL;
   int fd = open_temp(path, &tmp);
@@ -89,7 +90,7 @@ adem_status adem_fileio_open(adem_afile *af, const char *path, adem_error *err) 
   return ADEM_OK;
 }
 
-void adem_fileio_abort(adem_afile *af) {
+void adem_file_abort(adem_afile *af) {
   if (af->f) fclose(af->f);
   if (af->tmp_path) unlink(af->tmp_path);
   free(af->tmp_path);
@@ -97,7 +98,7 @@ void adem_fileio_abort(adem_afile *af) {
   memset(af, 0, sizeof *af);
 }
 
-adem_status adem_fileio_commit(adem_afile *af, adem_error *err) {
+adem_status adem_file_commit(adem_afile *af, adem_error *err) {
   int e = 0;
   if (ferror(af->f)) e = errno ? errno : EIO;
   if (!e && fflush(af->f) != 0) e = errno;
@@ -107,7 +108,7 @@ adem_status adem_fileio_commit(adem_afile *af, adem_error *err) {
   if (!e && rename(af->tmp_path, af->path) != 0) e = errno;
   if (e) {
     adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", af->path, strerror(e));
-    adem_fileio_abort(af);
+    adem_file_abort(af);
     return ADEM_ERR_IO;
   }
   free(af->tmp_path);
@@ -115,30 +116,30 @@ adem_status adem_fileio_commit(adem_afile *af, adem_error *err) {
   e = sync_dir_of(af->path);
   adem_status st = ADEM_OK;
   if (e) st = adem_error_set(err, ADEM_ERR_IO, "cannot sync the folder of %s: %s", af->path, strerror(e));
-  adem_fileio_abort(af);
+  adem_file_abort(af);
   return st;
 }
 
-adem_status adem_fileio_write_all(const char *path, const void *data, size_t n, adem_error *err) {
+adem_status adem_file_write_all(const char *path, const void *data, size_t n, adem_error *err) {
   adem_afile af;
-  adem_status st = adem_fileio_open(&af, path, err);
+  adem_status st = adem_file_open(&af, path, err);
   if (st) return st;
   if (n > 0 && fwrite(data, 1, n, af.f) != n) {
     int e = errno;
-    adem_fileio_abort(&af);
+    adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(e ? e : EIO));
   }
-  return adem_fileio_commit(&af, err);
+  return adem_file_commit(&af, err);
 }
 
-adem_status adem_fileio_temp_next_to(const char *path, char **tmp_path, adem_error *err) {
+adem_status adem_file_temp_next_to(const char *path, char **tmp_path, adem_error *err) {
   int fd = open_temp(path, tmp_path);
   if (fd < 0) return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
   close(fd);
   return ADEM_OK;
 }
 
-adem_status adem_fileio_rename_into_place(const char *tmp, const char *path, adem_error *err) {
+adem_status adem_file_rename_into_place(const char *tmp, const char *path, adem_error *err) {
   if (rename(tmp, path) != 0)
     return adem_error_set(err, ADEM_ERR_IO, "cannot write %s: %s", path, strerror(errno));
   int e = sync_dir_of(path);
@@ -150,7 +151,7 @@ static adem_status folder_error(adem_error *err, const char *dir, int e) {
   return adem_error_set(err, ADEM_ERR_INPUT, "output folder %s cannot be written: %s", dir, strerror(e));
 }
 
-adem_status adem_fileio_mkdir_p(const char *path, adem_error *err) {
+adem_status adem_file_mkdir_p(const char *path, adem_error *err) {
   if (!path || !*path) return adem_error_set(err, ADEM_ERR_INPUT, "output folder is empty");
   char *p = str_dup(path);
   if (!p) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
@@ -181,7 +182,7 @@ adem_status adem_fileio_mkdir_p(const char *path, adem_error *err) {
   return ADEM_OK;
 }
 
-adem_status adem_fileio_check_writable(const char *dir, adem_error *err) {
+adem_status adem_file_check_writable(const char *dir, adem_error *err) {
   char *probe = adem_file_join(dir, "write_probe");
   if (!probe) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   char *tmp = NULL;

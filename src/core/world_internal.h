@@ -6,7 +6,7 @@
 
 #include <stdbool.h>
 
-#include "adem/adem.h"
+#include "adem/world.h"
 #include "adem/vec3.h"
 #include "force_pass.h"
 #include "materials.h"
