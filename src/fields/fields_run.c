@@ -9,6 +9,7 @@
 
 #include "adem/fields.h"
 #include "adem/frames.h"
+#include "adem/world.h"
 #include "adem/files.h"
 
 adem_fields_run_options adem_fields_default_run_options(void) {
