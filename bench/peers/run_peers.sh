@@ -22,6 +22,9 @@
 #   PEERS_BEDS ["hertz jkr"]  which beds
 #   PEERS_CODES ["adem lammps liggghts"]
 #   PEERS_ADEM_BENCH [build/bench/bench_bed]  adem's bench_bed (cmake --build build first)
+#   PEERS_ADEM_BASE []        a second bench_bed (say, main's before a change) timed as code
+#                             "adem_base" in the same interleaved rounds: add adem_base to
+#                             PEERS_CODES; the table gives both adem rows and both ratios
 #   PEERS_ADEM_BALANCE [0]    1: adem with its energy balance on (the peers keep none)
 #   PEERS_CHECK [0]           1: verification runs (walls record forces; never use for timing)
 #   PEERS_COUNT_REP [1]       the repetition whose runs count contacts (the count allocates a
@@ -112,6 +115,8 @@ run_code() {
         > "$prefix.out" 2>&1 ;;
     adem)
       run_adem "$bed" "$np" "$prefix" "$file" ;;
+    adem_base)
+      ADEM_BENCH=${PEERS_ADEM_BASE:?PEERS_ADEM_BASE: the base bench_bed} run_adem "$bed" "$np" "$prefix" "$file" ;;
   esac
 }
 

@@ -37,8 +37,8 @@ $5 == "bed" {
 }
 $5 == "empty" { rsse[$1, $2, $3, $4] = $13; atomse[$1, $2, $3, $4] = $6 }
 END {
-  nc = split("adem lammps liggghts", codes, " ")
-  name["adem"] = "adem"; name["lammps"] = "LAMMPS"; name["liggghts"] = "LIGGGHTS"
+  nc = split("adem adem_base lammps liggghts", codes, " ")
+  name["adem"] = "adem"; name["adem_base"] = "adem (base)"; name["lammps"] = "LAMMPS"; name["liggghts"] = "LIGGGHTS"
   nb = split("hertz jkr", beds, " "); bname["hertz"] = "Hertz"; bname["jkr"] = "JKR"
   np_n = split("1 2 4 8", nps, " ")
   print "| bed | ranks/threads | code | runs | M particle-steps/s (median) | min–max | contacts/particle | neighbour builds | net B/particle | code MB/rank |"
@@ -52,19 +52,22 @@ END {
       (cc == "-" ? "-" : sprintf("%.3f", cc)), bb, (nn == "-" ? "-" : sprintf("%.0f", nn)), (mm == "-" ? "-" : sprintf("%.1f", mm))
   }
   print ""
-  print "| case | adem | LAMMPS | LIGGGHTS | adem / faster peer |"
-  print "|---|---|---|---|---|"
+  print "| case | adem | adem (base) | LAMMPS | LIGGGHTS | adem / faster peer | base / faster peer | adem / base |"
+  print "|---|---|---|---|---|---|---|---|"
   for (b = 1; b <= nb; b++) for (p = 1; p <= np_n; p++) {
     row = ""; any = 0; best = 0
     for (c = 1; c <= nc; c++) {
       k = codes[c] SUBSEP beds[b] SUBSEP nps[p]
-      if (k in med) { row = row sprintf(" %.2f |", med[k]); any = 1; if (codes[c] != "adem" && med[k] > best) best = med[k] }
+      if (k in med) { row = row sprintf(" %.2f |", med[k]); any = 1; if (codes[c] !~ /^adem/ && med[k] > best) best = med[k] }
       else row = row " – |"
     }
     if (!any) continue
     ka = "adem" SUBSEP beds[b] SUBSEP nps[p]
+    kb = "adem_base" SUBSEP beds[b] SUBSEP nps[p]
     ratio = ((ka in med) && best > 0) ? sprintf("%.2f", med[ka] / best) : "–"
-    printf "| %s bed, %s |%s %s |\n", bname[beds[b]], nps[p], row, ratio
+    rbase = ((kb in med) && best > 0) ? sprintf("%.2f", med[kb] / best) : "–"
+    rab = ((ka in med) && (kb in med)) ? sprintf("%.2f", med[ka] / med[kb]) : "–"
+    printf "| %s bed, %s |%s %s | %s | %s |\n", bname[beds[b]], nps[p], row, ratio, rbase, rab
   }
   print ""
   for (b = 1; b <= nb; b++) {
