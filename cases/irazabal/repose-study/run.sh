@@ -88,6 +88,8 @@ points=(
   "4|full-eta0.20|repose.yaml|rate=100 n=1600 full materials.ballast.rolling_friction=0.2"
   "4|full-eta0.30|repose.yaml|rate=100 n=1600 full materials.ballast.rolling_friction=0.3"
   "4|full-E5.9|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=5.9e9 time.step=8e-6"
+  "4|full-E11.8|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=11.8e9 time.step=6e-6"
+  "4|full-E23.6|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=23.6e9 time.step=4e-6"
 )
 
 mkdir -p "$out"
