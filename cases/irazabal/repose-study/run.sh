@@ -8,14 +8,16 @@
 #   cases/irazabal/repose-study/run.sh                      # start (refuses an existing OUT)
 #   cases/irazabal/repose-study/run.sh --resume             # go on where it stopped
 #   cases/irazabal/repose-study/run.sh --resume --only 'floor-eta'   # only points matching
-#   (two instances with disjoint --only patterns may run side by side)
+#   (two instances with disjoint --only patterns or --seeds may run side by side)
+#   cases/irazabal/repose-study/run.sh --resume --only '^full-eta0.25$' --seeds 2018  # one seed
 #   cases/irazabal/repose-study/run.sh --list               # every run and whether it is done
 #   cases/irazabal/repose-study/run.sh --analyze            # measure every finished run again
 #                                                           # (with --bin, default build/adem)
 #   /usr/bin/python3 cases/irazabal/repose-study/summarize.py OUT   # table: mean, sd per point
 #
 # Options: --out DIR (default out/repose-study), --bin ADEM (default build/adem, copied into
-# OUT/adem once so that a rebuild cannot change a study half way), --threads N (default 1).
+# OUT/adem once so that a rebuild cannot change a study half way), --threads N (default 1),
+# --seeds 'S ...' (only these of the seeds 2017 2018 2019).
 # Run it under `nice -n 19` on a shared machine. Each run's wall time (every segment, resumed
 # ones added) is in RUN/wall_s; the sum over a run is in the summary.
 set -euo pipefail
@@ -29,6 +31,7 @@ only=''
 list=0
 analyze=0
 threads=1
+seedsel=''
 while [ $# -gt 0 ]; do
   case $1 in
     --resume) resume=1 ;;
@@ -38,6 +41,7 @@ while [ $# -gt 0 ]; do
     --list) list=1 ;;
     --analyze) analyze=1 ;;
     --threads) threads=$2; shift ;;
+    --seeds) seedsel=$2; shift ;;
     -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) echo "run.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -51,6 +55,7 @@ done
 quick=(materials.ballast.stiffness_factor=0.01 time.step=auto output.frame_interval=0.5
        output.checkpoint_interval=1 output.csv_interval=0.05 output.plot=false output.plot_loads=false)
 seeds=(2017 2018 2019)
+if [ -n "$seedsel" ]; then read -r -a seeds <<< "$seedsel"; fi
 
 # name | case | --set changes (besides the quick ones, seed and the pour's end). Rate r and count
 # n: pours.feed.end = n / r.
@@ -72,6 +77,19 @@ points=(
   "2|n800|repose.yaml|rate=100 n=800"
   "2|E17.7|repose.yaml|rate=100 n=400 full"
   "3|n1600|repose.yaml|rate=100 n=1600"
+  # A rough floor of fixed spheres (frozen particles): rough-floor.yaml, written by
+  # make_rough_floor.py (the case with a layer of ballast spheres half sunk in the plane floor).
+  # Its 476 frozen spheres would count in time.until's energy per particle if the engine counted
+  # them: the threshold is scaled by 400 / 876 so that the free spheres meet at least the case's.
+  "1|rough-floor|repose-study/rough-floor.yaml|rate=100 n=400 time.until.kinetic_energy_per_particle=4.5e-8"
+  # Fig. 11 at paper scale (issue 30, item 3): repose.yaml as it is, 1,600 spheres, full
+  # stiffness with Table 2's step for each E (docs/validation.md, "Fig. 11 at paper scale").
+  "4|full-eta0.25|repose.yaml|rate=100 n=1600 full"
+  "4|full-eta0.20|repose.yaml|rate=100 n=1600 full materials.ballast.rolling_friction=0.2"
+  "4|full-eta0.30|repose.yaml|rate=100 n=1600 full materials.ballast.rolling_friction=0.3"
+  "4|full-E5.9|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=5.9e9 time.step=8e-6"
+  "4|full-E11.8|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=11.8e9 time.step=6e-6"
+  "4|full-E23.6|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=23.6e9 time.step=4e-6"
 )
 
 mkdir -p "$out"
@@ -91,7 +109,7 @@ measure() { # dir
   "$adem" analyze repose "$1" --zmax 0.65 > "$1/measure.txt" 2>&1 || echo "analyze failed: $1" >&2
 }
 
-for tier in 1 2 3; do
+for tier in 1 2 3 4; do
 for seed in "${seeds[@]}"; do
   for p in "${points[@]}"; do
     IFS='|' read -r ptier name case spec <<< "$p"
