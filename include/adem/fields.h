@@ -113,6 +113,10 @@ adem_status adem_fields_integral(const adem_fields *f, adem_cg_field field, doub
  * contacts of its last force pass (adem_world_contact_frame), as adem_fields_add takes them. */
 typedef struct adem_world adem_world;
 adem_status adem_fields_add_world(adem_fields *f, const adem_world *w, adem_error *err);
+/* sizeof the named struct of this header (adem_fields_options, adem_fields_run_options,
+ * adem_fields_run_info), 0 for another name: bindings compare it with their mirrors, as
+ * adem_abi_sizeof (adem/binding.h) does for the layers below. */
+size_t adem_fields_abi_sizeof(const char *type);
 
 /* Every field as VTK ImageData (.vti, appended raw, point data on the nodes); atomic. */
 adem_status adem_fields_write_vti(const adem_fields *f, const char *path, adem_error *err);

@@ -197,10 +197,15 @@ _MIRRORS = {"adem_error": Error, "adem_vec3": Vec3, "adem_material_def": Materia
             "adem_diagnostics": Diagnostics, "adem_contact_info": ContactInfo,
             "adem_step_estimate": StepEstimate, "adem_progress": Progress,
             "adem_run_options": RunOptions, "adem_vtu_frame": VtuFrame,
-            "adem_particle_field": c_int, "adem_fields_options": FieldsOptions,
-            "adem_fields_run_options": FieldsRunOptions, "adem_fields_run_info": FieldsRunInfo}
-for _name, _t in _MIRRORS.items():
-    _c = lib.adem_abi_sizeof(_name.encode())
+            "adem_particle_field": c_int}
+_FIELDS_MIRRORS = {"adem_fields_options": FieldsOptions,
+                   "adem_fields_run_options": FieldsRunOptions,
+                   "adem_fields_run_info": FieldsRunInfo}
+lib.adem_fields_abi_sizeof.restype = c_size_t
+lib.adem_fields_abi_sizeof.argtypes = [c_char_p]
+for _name, _t in list(_MIRRORS.items()) + list(_FIELDS_MIRRORS.items()):
+    _c = (lib.adem_fields_abi_sizeof if _name in _FIELDS_MIRRORS else lib.adem_abi_sizeof)(
+        _name.encode())
     if _c != ctypes.sizeof(_t):
         raise ImportError("adem: %s (%s) is %d bytes in the library but %d in this module: the "
                           "module and the library come from different versions"

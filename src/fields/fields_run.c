@@ -250,3 +250,10 @@ adem_status adem_fields_add_world(adem_fields *f, const adem_world *w, adem_erro
   free(pos), free(vel), free(mass), free(radius), free(uid), free(id);
   return st;
 }
+
+size_t adem_fields_abi_sizeof(const char *type) {
+  if (!strcmp(type, "adem_fields_options")) return sizeof(adem_fields_options);
+  if (!strcmp(type, "adem_fields_run_options")) return sizeof(adem_fields_run_options);
+  if (!strcmp(type, "adem_fields_run_info")) return sizeof(adem_fields_run_info);
+  return 0;
+}

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "adem/files.h"
+#include "adem/frames.h"
 #include "output.h"
 #include "periodic.h"
 #include "vtu.h"

@@ -41,9 +41,6 @@ size_t adem_abi_sizeof(const char *type) {
   ADEM_SIZE(adem_run_options)
   ADEM_SIZE(adem_vtu_frame)
   ADEM_SIZE(adem_particle_field)
-  ADEM_SIZE(adem_fields_options)
-  ADEM_SIZE(adem_fields_run_options)
-  ADEM_SIZE(adem_fields_run_info)
 #undef ADEM_SIZE
   return 0;
 }

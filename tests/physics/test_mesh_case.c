@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 #include "case_file.h"
-#include "fileio.h"
+#include "adem/files.h"
 #include "helpers.h"
 #include "plate_stl.h"
 #include "tmpdir.h"
