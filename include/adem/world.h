@@ -263,35 +263,7 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref);
  * 2.3. A case asking for more than it or than the stability limit (adem_step_estimate's
  * dt_limit) is refused unless limits.allow_large_step is true. */
 #define ADEM_STEP_LIMIT_DIVISOR 5.0
-/* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5), s. */
-double adem_hertz_collision_time(double mstar, double R, double E, double v);
-
-/* What a JKR material pair implies (notes sections 1, 5, 6): `adem check` prints it and the case
- * loader warns from it. */
-
-/* External forces that pull spheres apart should stay below this fraction of the modified
- * pull-off force (H section 6.2: "significantly higher"; a 10% margin). */
-#define ADEM_PULLOFF_SAFETY 0.1
-/* Minimum atomic separation of the Tabor parameter, m (H1). */
-#define ADEM_TABOR_DMIN 1.65e-10
-
-typedef struct adem_jkr_pair_summary {
-  double R, mstar;            /* effective radius and mass used */
-  double E, E_mod;            /* effective modulus, real and modified (H2, H24) */
-  double gamma, gamma_mod;    /* surface energy, real and modified (H24) */
-  double a0, a0_mod;          /* equilibrium contact radius (H7) */
-  double delta_eq, delta_eq_mod; /* equilibrium overlap a0^2/(3R) */
-  double f_c, f_c_mod;        /* critical force 3 pi gamma R */
-  double pull_off, pull_off_mod; /* force that breaks the contact, (8/9) F_C */
-  double tabor;               /* Tabor parameter of the real material (H1); JKR valid above 3 */
-  double t_c, t_c_mod;        /* Hertz collision time at v_ref (notes section 6) */
-  double dt, dt_mod;          /* t_c / 50 */
-  double speedup;             /* t_c_mod / t_c = (E/E_mod)^(2/5) */
-  double f_ext_max;           /* ADEM_PULLOFF_SAFETY * pull_off_mod */
-} adem_jkr_pair_summary;
-adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
-                                              double gamma_mod, double R, double mstar,
-                                              double v_ref);
+/* The Hertz collision time and the JKR pair summary are the laws' (adem/laws.h). */
 
 void adem_world_set_dt(adem_world *w, double dt);
 /* How contact forces meet the velocity-Verlet step. SECOND_ORDER (the default): the dashpots

@@ -7,7 +7,6 @@
 
 #include "adem/laws.h"
 #include "adem/vec3.h"
-#include "adem/world.h"
 #include "law_hooks.h"
 
 adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,

@@ -3,8 +3,10 @@
 # first column of the rows in include/adem/laws.h) appears in the library or the command outside
 # the laws' folder (src/contact/) and the studies (src/studies/, which set up a paper's laws).
 # What the rest needs of a law comes from its row: descriptive columns and cold-path hooks
-# (src/contact/law_hooks.h). The one exception: the force pass's block kernels
-# (src/core/contacts.c, PAIR_BLOCK_LAWS) are compiled for named law combinations (hot path).
+# (src/contact/law_hooks.h). The one exception is the force pass's hot path: its block kernels
+# are compiled for named law combinations (src/core/pair_block_laws.h, the list; pair_blocks.c,
+# which picks a kernel for a pair's laws) and its per-particle sums single out BROF's objective
+# form (src/core/force_sums.c).
 #   check_law_ids.sh SOURCE_DIR
 # First checks itself: an id planted in a scratch copy of a file must be reported.
 set -eu
@@ -18,7 +20,8 @@ pattern=$(printf '%s\n' "$ids" | paste -sd'|' -)
 # Files that name a law id, outside the allowed places; $1 the tree to look in.
 offenders() {
   find "$1/src" "$1/app" -name '*.[ch]' 2>/dev/null |
-    grep -v -e "^$1/src/contact/" -e "^$1/src/studies/" -e "^$1/src/core/contacts.c$" |
+    grep -v -e "^$1/src/contact/" -e "^$1/src/studies/" -e "^$1/src/core/pair_block_laws.h$" \
+      -e "^$1/src/core/pair_blocks.c$" -e "^$1/src/core/force_sums.c$" |
     xargs grep -lwE "$pattern" 2>/dev/null || true
 }
 
@@ -35,4 +38,4 @@ if [ -n "$bad" ]; then
   for f in $bad; do grep -nwE "$pattern" "$f" | sed "s|^|${f#$root/}:|" >&2; done
   exit 1
 fi
-echo "$count law ids; none outside src/contact/, src/studies/ (and contacts.c's block kernels)"
+echo "$count law ids; none outside src/contact/, src/studies/ (and the force pass's block kernels and sums)"

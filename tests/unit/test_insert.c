@@ -1,4 +1,4 @@
-/* Insertion (src/input/insert.c) through case files: random fills of a box, a cylinder and a closed STL
+/* Insertion (src/input/insert_*.c) through case files: random fills of a box, a cylinder and a closed STL
  * volume (an L-shaped prism, not convex) give exactly the count asked, never overlap, keep every
  * sphere inside its region and clear of the walls, reach a solid fraction within half a sphere,
  * repeat bit for bit for a seed and differ for another; the five size distributions have the
