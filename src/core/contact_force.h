@@ -389,8 +389,11 @@ static inline contact_geometry wall_geometry(const adem_force_scope *w, size_t i
   adem_vec3 om = v3_sub(p->omega[i], spin_wall);
   g.omega_rel = v3_axpy(om, -v3_dot(om, g.n), g.n);
   double hp = w->second_order ? w->dt : 0.0;
-  adem_vec3 opi = predicted_spin(p, i, hp);
-  g.w_pred = v3_add(v3_sub(predicted_velocity(p, i, hp), v_wall), v3_cross(v3_scale(opi, ri), g.n));
+  /* the pass's predictions when it made them (adem_force_pass_run: the same functions, the
+   * same hp, so the same bits) */
+  adem_vec3 vpi = w->predicted ? w->predicted[2 * i] : predicted_velocity(p, i, hp);
+  adem_vec3 opi = w->predicted ? w->predicted[2 * i + 1] : predicted_spin(p, i, hp);
+  g.w_pred = v3_add(v3_sub(vpi, v_wall), v3_cross(v3_scale(opi, ri), g.n));
   adem_vec3 omp = v3_sub(opi, spin_wall);
   g.omega_pred = v3_axpy(omp, -v3_dot(omp, g.n), g.n);
   g.ri = ri;

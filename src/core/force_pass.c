@@ -59,9 +59,16 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   b.it = NULL;
   const adem_interaction *last_it = NULL; /* the last interaction looked up, and its kernel */
   int last_kind = -1;
+  /* the scope's numbers the loop reads, in locals: the flush is a call, after which the compiler
+   * would load them again for every pair */
+  const adem_periodic *periodic = w->periodic;
+  const adem_materials *mat = w->mat;
+  const adem_vec3 *predicted = w->predicted;
+  const bool blocks = w->pair_blocks && !w->energy, onset = onset_pass(w);
+  const double hp = w->second_order ? w->dt : 0.0;
   for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
-    adem_vec3 d = adem_periodic_min_image(w->periodic, v3_sub(p->pos[j], p->pos[i]));
+    adem_vec3 d = adem_periodic_min_image(periodic, v3_sub(p->pos[j], p->pos[i]));
     double rsum = p->radius[i] + p->radius[j];
     double dist2 = v3_norm2(d);
     bool was = l->touching[k];
@@ -70,12 +77,12 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
       continue;
     }
     double dist = sqrt(dist2);
-    const adem_interaction *it = adem_materials_pair(w->mat, p->material[i], p->material[j]);
+    const adem_interaction *it = adem_materials_pair(mat, p->material[i], p->material[j]);
     if (it != last_it) { /* neighbours mostly share an interaction: look its kernel up once */
       last_it = it;
       last_kind = adem_pair_block_kind(it);
     }
-    int kind = !w->pair_blocks || w->energy || !(rsum - dist > 0.0) ? -1 : last_kind;
+    int kind = !blocks || !(rsum - dist > 0.0) ? -1 : last_kind;
     if (kind < 0) {
       particle_pair(w, k, d, dist, was, it);
       continue;
@@ -85,10 +92,9 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     b.kind = kind;
     b.it = it;
     b.k[q] = k;
-    pair_kinematics kin =
-        particle_kinematics(p, w->predicted, i, j, d, dist, w->second_order ? w->dt : 0.0);
+    pair_kinematics kin = particle_kinematics(p, predicted, i, j, d, dist, hp);
     pair_block_put(&b, q, &kin, &l->hist[k]);
-    b.fresh[q] = onset_pass(w) && !was ? 1.0 : 0.0;
+    b.fresh[q] = onset && !was ? 1.0 : 0.0;
     if (b.m == PAIR_BLOCK) adem_pair_block_flush(w, &b);
   }
   adem_pair_block_flush(w, &b);

@@ -110,27 +110,31 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
   ADEM_FOR(nthreads, p->n, kick_one, &a);
 }
 
-/* Moves particle i; returns how much farther than its radius it went. */
-static inline double drift_one(adem_particles *p, double dt, size_t i) {
+/* Kicks (opening half kick h) and moves particle i; returns how much farther than its radius
+ * it went. */
+static inline double kick_drift_one(adem_particles *p, double h, double dt, size_t i) {
   if (p->frozen[i]) return -p->radius[i]; /* placed with its wall (adem_world_place_frozen) */
-  p->pos[i] = v3_axpy(p->pos[i], dt, p->vel[i]);
-  double moved = dt * v3_norm(p->vel[i]); /* the drift is a straight segment */
+  adem_vec3 v = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]); /* H3 */
+  p->vel[i] = v;
+  p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */
+  p->pos[i] = v3_axpy(p->pos[i], dt, v);
+  double moved = dt * v3_norm(v); /* the drift is a straight segment */
   p->path_length[i] += moved;
   return moved - p->radius[i];
 }
 
-double adem_particles_drift(adem_particles *p, double dt, int nthreads) {
+double adem_particles_kick_drift(adem_particles *p, double h, double dt, int nthreads) {
   double worst = -INFINITY;
   size_t n = p->n;
   if (nthreads > 1) {
     ADEM_PARALLEL_FOR_MAX(worst)
     for (size_t i = 0; i < n; ++i) {
-      double e = drift_one(p, dt, i);
+      double e = kick_drift_one(p, h, dt, i);
       worst = e > worst ? e : worst;
     }
   } else {
     for (size_t i = 0; i < n; ++i) {
-      double e = drift_one(p, dt, i);
+      double e = kick_drift_one(p, h, dt, i);
       worst = e > worst ? e : worst;
     }
   }

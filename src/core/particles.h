@@ -81,9 +81,11 @@ size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem
 /* Velocity Verlet (H3-H4): a half kick of velocities and spins with the current forces; the
  * closing kick sets the spin of a particle that BROF holds to exactly zero. */
 void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads);
-/* Positions move by dt v; each centre's path length grows by dt |v|. Returns the largest
+/* The opening half kick (h) and the drift in one sweep: each particle's velocity and spin take
+ * the kick, then its position moves by dt v and its path length grows by dt |v| (the same
+ * arithmetic per particle as a kick and a drift in two sweeps). Returns the largest
  * dt |v| - radius: > 0 when some particle moved more than its radius (tunnelling check). */
-double adem_particles_drift(adem_particles *p, double dt, int nthreads);
+double adem_particles_kick_drift(adem_particles *p, double h, double dt, int nthreads);
 /* Wraps every centre into the periodic box along its periodic axes, counting the crossings in
  * image (called by the neighbour build, before the sort). */
 void adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads);

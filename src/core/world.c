@@ -533,9 +533,9 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
   double dt = w->dt;
   for (uint64_t s = 0; s < nsteps; ++s) {
     int nthreads = adem_world_threads(w);
-    adem_particles_kick(&w->p, 0.5 * dt, false, nthreads);
-    /* the drift's largest excess over a radius is all the step pays for the tunnelling check */
-    if (adem_particles_drift(&w->p, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
+    /* the opening kick and the drift in one sweep; the drift's largest excess over a radius is
+     * all the step pays for the tunnelling check */
+    if (adem_particles_kick_drift(&w->p, 0.5 * dt, dt, nthreads) > 0.0 && w->walls.mesh.ntris > 0)
       note_tunnelling(w, dt);
     const adem_world_split *sp = w->split;
     if (sp) {

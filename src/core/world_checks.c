@@ -154,18 +154,33 @@ void adem_world_default_domain(adem_world *w) {
   w->has_domain = true;
 }
 
-static inline bool particle_ok(const adem_world *w, size_t i) {
-  const adem_particles *p = &w->p;
-  bool ok = v3_isfinite(p->pos[i]) && v3_isfinite(p->vel[i]) && v3_isfinite(p->omega[i]);
-  if (ok && w->has_domain) {
-    adem_vec3 x = p->pos[i];
-    unsigned per = w->periodic.axes; /* crossing a periodic face is no escape */
-    unsigned o = w->open_faces; /* an outlet face: leaving through it is no escape either */
-    ok = ((per & 1u) || (((o & 1u) || x.x >= w->domain_lo.x) && ((o & 2u) || x.x <= w->domain_hi.x))) &&
-         ((per & 2u) || (((o & 4u) || x.y >= w->domain_lo.y) && ((o & 8u) || x.y <= w->domain_hi.y))) &&
-         ((per & 4u) || (((o & 16u) || x.z >= w->domain_lo.z) && ((o & 32u) || x.z <= w->domain_hi.z)));
-  }
-  return ok;
+/* The box a particle must stay in, per axis: the domain's faces, or none (infinite) along a
+ * periodic axis (crossing a periodic face is no escape), at an outlet face (leaving through it
+ * is no escape either) or without a domain. */
+typedef struct state_bounds {
+  adem_vec3 lo, hi;
+} state_bounds;
+static state_bounds state_bounds_of(const adem_world *w) {
+  unsigned per = w->has_domain ? w->periodic.axes : 7u, o = w->has_domain ? w->open_faces : 63u;
+  state_bounds b;
+  b.lo.x = (per & 1u) || (o & 1u) ? -INFINITY : w->domain_lo.x;
+  b.hi.x = (per & 1u) || (o & 2u) ? INFINITY : w->domain_hi.x;
+  b.lo.y = (per & 2u) || (o & 4u) ? -INFINITY : w->domain_lo.y;
+  b.hi.y = (per & 2u) || (o & 8u) ? INFINITY : w->domain_hi.y;
+  b.lo.z = (per & 4u) || (o & 16u) ? -INFINITY : w->domain_lo.z;
+  b.hi.z = (per & 4u) || (o & 32u) ? INFINITY : w->domain_hi.z;
+  return b;
+}
+
+/* A finite state inside the bounds. Without branches, so that the sweep over every particle
+ * after each step is a few instructions a particle: x - x is +0 for a finite x and NaN for an
+ * infinite or NaN one, and a NaN sum fails the compare (as does a NaN position any bound). */
+static inline bool particle_ok(const adem_particles *p, const state_bounds *b, size_t i) {
+  adem_vec3 x = p->pos[i], v = p->vel[i], o = p->omega[i];
+  double z = (x.x - x.x) + (x.y - x.y) + (x.z - x.z) + (v.x - v.x) + (v.y - v.y) + (v.z - v.z) +
+             (o.x - o.x) + (o.y - o.y) + (o.z - o.z);
+  return (z == 0.0) & (x.x >= b->lo.x) & (x.x <= b->hi.x) & (x.y >= b->lo.y) & (x.y <= b->hi.y) &
+         (x.z >= b->lo.z) & (x.z <= b->hi.z);
 }
 
 /* After a step: the first particle (lowest index) with a non-finite state, an overlap above the
@@ -175,16 +190,27 @@ adem_status adem_world_check_state(const adem_world *w, adem_error *err) {
   size_t n = p->n;
   size_t bad = n;
   int nthreads = adem_world_threads(w);
+  state_bounds sb = state_bounds_of(w);
   /* The lowest index found is the same for every thread count. */
   if (nthreads > 1) {
 #ifdef ADEM_HAVE_OPENMP
 #pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min : bad)
 #endif
     for (size_t i = 0; i < n; ++i)
-      if (!particle_ok(w, i) && i < bad) bad = i;
+      if (!particle_ok(p, &sb, i) && i < bad) bad = i;
   } else {
-    for (size_t i = 0; i < n && bad == n; ++i)
-      if (!particle_ok(w, i)) bad = i;
+    /* blocks without an early exit (a loop the compiler can pack); the first bad one's found
+     * again in its block */
+    for (size_t i0 = 0; i0 < n && bad == n; i0 += 256) {
+      size_t i1 = n - i0 < 256 ? n : i0 + 256;
+      bool all = true;
+      for (size_t i = i0; i < i1; ++i) all &= particle_ok(p, &sb, i);
+      for (size_t i = i0; !all && i < i1; ++i)
+        if (!particle_ok(p, &sb, i)) {
+          bad = i;
+          break;
+        }
+    }
   }
   if (bad < n) {
     adem_vec3 x = p->pos[bad];
