@@ -5,9 +5,9 @@
  * parameters each law reads, what it requires of the normal law), the names `adem check` prints,
  * the reference docs and the dispatch in the force pass (src/core/contact_force.h).
  *
- * Adding a law: write its kernel in src/contact/ (the signature of its slot, see
- * src/contact/laws_kernels.h), its cold-path hooks if the defaults do not fit it (its own file in
- * src/contact/, src/contact/law_hooks.h), add one row to its slot's list here, and unit-test the
+ * Adding a law: write its kernel in src/laws/ (the signature of its slot, see
+ * src/laws/laws_kernels.h), its cold-path hooks if the defaults do not fit it (its own file in
+ * src/laws/, src/laws/law_hooks.h), add one row to its slot's list here, and unit-test the
  * kernel (docs/architecture.md, "Contact laws as rows"). A build may add rows without editing
  * this file: define ADEM_EXTRA_LAWS_HEADER to a header that defines ADEM_EXTRA_ROLLING_LAWS(X)
  * (or ADEM_EXTRA_NORMAL_LAWS, and ADEM_EXTRA_LAW_PARAMS(P) for new parameters), and
@@ -75,7 +75,7 @@ typedef enum adem_law_param_id {
  * columns a designated initializer of adem_law (below): .name (in the case file), .requires (a
  * normal law's name, or ""), .per_particle, .params (keys read, space separated), .equations,
  * .doc, .absolute_spin, .history_kind, and .hooks, the law's cold-path hooks
- * (src/contact/law_hooks.h: its pair's constants, collision time, checks, report lines...),
+ * (src/laws/law_hooks.h: its pair's constants, collision time, checks, report lines...),
  * NULL for none. A column left out is "" or 0, so a new column touches only the rows that set
  * it. */
 // clang-format off
@@ -198,7 +198,7 @@ typedef enum adem_law_slot {
   ADEM_SLOT_COUNT
 } adem_law_slot;
 
-/* A law's cold-path hooks (src/contact/law_hooks.h); opaque here. */
+/* A law's cold-path hooks (src/laws/law_hooks.h); opaque here. */
 struct adem_law_hooks;
 
 /* One row, as the registry gives it. */
@@ -256,7 +256,7 @@ double adem_law_jkr_force(double gamma, double R, double E, double a);  /* H8-H9
 double adem_law_jkr_energy(double gamma, double R, double E, double a); /* relative to delta = 0 */
 double adem_law_hertz_force(double E, double R, double delta);       /* (4/3) E sqrt(R) delta^1.5 */
 
-/* ---- what a law pair implies (src/contact/hertz.c, jkr.c) ---- */
+/* ---- what a law pair implies (src/laws/hertz.c, jkr.c) ---- */
 
 /* Hertz collision time (notes section 6): t_c = 2.86827 (m*^2 / (R E^2 v))^(1/5), s. */
 double adem_hertz_collision_time(double mstar, double R, double E, double v);

@@ -1,4 +1,4 @@
-/* A new normal law gets its cold path from its row's hooks alone (src/contact/law_hooks.h):
+/* A new normal law gets its cold path from its row's hooks alone (src/laws/law_hooks.h):
  * `test_jkr_like` (tests/laws/test_law_rows.h) is simplified JKR under another name, added as
  * one row whose .hooks are JKR's, with no code outside its row and kernel that names it.
  * Claims: (1) the step proposal takes its adhesive collision time (notes section 6: JKR's

@@ -1,9 +1,9 @@
 #!/bin/sh
 # A contact law lives in one place: no law id (ADEM_NORMAL_HERTZ, ADEM_ROLLING_BROF ... the
 # first column of the rows in include/adem/laws.h) appears in the library or the command outside
-# the laws' folder (src/contact/) and the studies (src/studies/, which set up a paper's laws).
+# the laws' folder (src/laws/) and the studies (src/studies/, which set up a paper's laws).
 # What the rest needs of a law comes from its row: descriptive columns and cold-path hooks
-# (src/contact/law_hooks.h). The one exception is the force pass's hot path: its block kernels
+# (src/laws/law_hooks.h). The one exception is the force pass's hot path: its block kernels
 # are compiled for named law combinations (src/core/pair_block_laws.h, the list; pair_blocks.c,
 # which picks a kernel for a pair's laws) and its per-particle sums single out BROF's objective
 # form (src/core/force_sums.c).
@@ -20,7 +20,7 @@ pattern=$(printf '%s\n' "$ids" | paste -sd'|' -)
 # Files that name a law id, outside the allowed places; $1 the tree to look in.
 offenders() {
   find "$1/src" "$1/app" -name '*.[ch]' 2>/dev/null |
-    grep -v -e "^$1/src/contact/" -e "^$1/src/studies/" -e "^$1/src/core/pair_block_laws.h$" \
+    grep -v -e "^$1/src/laws/" -e "^$1/src/studies/" -e "^$1/src/core/pair_block_laws.h$" \
       -e "^$1/src/core/pair_blocks.c$" -e "^$1/src/core/force_sums.c$" |
     xargs grep -lwE "$pattern" 2>/dev/null || true
 }
@@ -34,8 +34,8 @@ printf 'static int x(int r) { return r == %s; }\n' "$(printf '%s\n' "$ids" | hea
 
 bad=$(offenders "$root")
 if [ -n "$bad" ]; then
-  echo "law ids outside src/contact/ and src/studies/ (use the row's columns or hooks):" >&2
+  echo "law ids outside src/laws/ and src/studies/ (use the row's columns or hooks):" >&2
   for f in $bad; do grep -nwE "$pattern" "$f" | sed "s|^|${f#$root/}:|" >&2; done
   exit 1
 fi
-echo "$count law ids; none outside src/contact/, src/studies/ (and the force pass's block kernels and sums)"
+echo "$count law ids; none outside src/laws/, src/studies/ (and the force pass's block kernels and sums)"

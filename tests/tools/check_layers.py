@@ -34,7 +34,7 @@ BELOW = {
     "run": ["input", "output", "mpi"],
 }
 OPEN = {"studies", "fields"}
-DIRS = {"contact": "kernels", "core": "core", "mpi": "mpi", "input": "input", "output": "output",
+DIRS = {"laws": "kernels", "core": "core", "mpi": "mpi", "input": "input", "output": "output",
         "run": "run", "studies": "studies", "fields": "fields"}
 
 

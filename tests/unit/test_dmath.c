@@ -1,4 +1,4 @@
-/* Claims: adem's elementary functions (src/contact/dmath.c) are within 1 ulp of glibc's over wide
+/* Claims: adem's elementary functions (src/laws/dmath.c) are within 1 ulp of glibc's over wide
  * ranges (glibc's own are within 1 ulp of the correctly rounded value; dmath's were correctly
  * rounded on all 3.4 million arguments checked against MPFR when it was written), cbrt within 3
  * ulp (glibc's cbrt is only that close), exact where the value is a double, and follow C99 on

@@ -1,4 +1,4 @@
-/* Every contact law called directly, slot by slot (src/contact/laws_kernels.h): one contact seen
+/* Every contact law called directly, slot by slot (src/laws/laws_kernels.h): one contact seen
  * from i (n from i to j) and from j (n from j to i) must give equal and opposite forces and
  * couples, and the same energies and scalar results. The loops run over the rows of
  * include/adem/laws.h, so a law added as a row is checked here without editing this file.

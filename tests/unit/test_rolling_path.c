@@ -1,4 +1,4 @@
-/* The rolling springs over a closed load path, called directly (src/contact/rolling.h), as
+/* The rolling springs over a closed load path, called directly (src/laws/rolling.h), as
  * test_tangential.c does for the tangential laws: load to a first level, turn by theta0, change
  * the load to a second level, turn back to zero, unload. The work the driver does on the contact
  * over the closed path is the energy the contact took out of the motion: a passive contact never

@@ -1,4 +1,4 @@
-/* The tangential laws over a closed load path, called directly (src/contact/tangential.h): normal
+/* The tangential laws over a closed load path, called directly (src/laws/tangential.h): normal
  * load up, tangential displacement, normal load up further, tangential displacement back to zero,
  * unload. The work the driver does on the contact over the closed path is the energy the contact
  * took out of the motion: a passive contact never gives energy out (W >= 0). Claims checked:

@@ -1,7 +1,7 @@
 /* The cold-path hooks of a contact law: what the code around the force pass needs to know of a
  * law (its pair's constants, the collision time of the step proposal, the stability limit's
  * modes, the checks of a pair's values, the lines of `adem check`), so that a law lives in its
- * own file and its row (include/adem/laws.h, column .hooks) and no code outside src/contact/
+ * own file and its row (include/adem/laws.h, column .hooks) and no code outside src/laws/
  * names a law (tests/tools/check_law_ids.sh). As LAMMPS's granular sub-models carry
  * coeffs_to_local and pulloff_distance, and MercuryDPM's species getCollisionTime. Every hook is
  * optional: a row without it gets the default written beside it. The hot path does not come
