@@ -179,4 +179,3 @@ int parse_options(int argc, char **argv, cli_options *o, int allow_run, const ch
   }
   return EXIT_OK;
 }
-

@@ -61,6 +61,6 @@ int cmd_analyze(int argc, char **argv);
 int cmd_analyze_fields(int argc, char **argv); /* adem analyze fields */
 int cmd_calibrate(int argc, char **argv);
 extern const char *const run_help, *const check_help, *const collide_help, *const validate_help,
-    *const analyze_help, *const calibrate_help;
+                                                                               *const analyze_help, *const calibrate_help;
 
 #endif

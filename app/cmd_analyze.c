@@ -73,7 +73,8 @@ static int analyze_drum(int argc, char **argv) {
     else if (ok && !strcmp(a, "--wall")) ok = snprintf(opt.wall, sizeof opt.wall, "%s", v) < (int)sizeof opt.wall;
     else
       return fail(EXIT_INPUT, "unknown option or missing value '%s' for adem analyze drum (see: "
-                              "adem analyze --help)", a);
+                              "adem analyze --help)",
+                  a);
     if (!ok) return fail(EXIT_INPUT, "%s: bad value '%s'", a, v);
   }
   adem_error err;
@@ -89,14 +90,16 @@ static int analyze_drum(int argc, char **argv) {
   printf("dynamic angle    surface fit %.2f +- %.2f deg, centre of mass %.2f +- %.2f deg\n",
          r.angle_fit_deg, r.angle_fit_sd, r.angle_cm_deg, r.angle_cm_sd);
   printf("regime           %s (angle excursion %.2f deg, skewness of its changes %.2f, %zu drops "
-         "> 1 deg, %zu of %zu frames with the wall layer below half the drum's rate)\n", r.regime,
+         "> 1 deg, %zu of %zu frames with the wall layer below half the drum's rate)\n",
+         r.regime,
          r.excursion_deg, r.skewness, r.drops, r.slipping_frames, r.nframes);
   printf("flowing layer    %.3g mm thick (mean over the frames that flow)\n", r.layer_m * 1000.0);
   printf("wall layer       co-rotation %.3f (1: turns with the drum), slip %.4g m/s\n",
          r.corotation, r.slip_m_s);
   if (r.torque_rows)
     printf("torque balance   drive torque %.6g N m (%zu CSV rows), gravity moment m g x_cm %.6g N m: "
-           "ratio %.4f\n", r.torque_Nm, r.torque_rows, r.moment_Nm, r.torque_Nm / r.moment_Nm);
+           "ratio %.4f\n",
+           r.torque_Nm, r.torque_rows, r.moment_Nm, r.torque_Nm / r.moment_Nm);
   else
     printf("torque balance   gravity moment m g x_cm %.6g N m (no drive torque column in the CSV)\n",
            r.moment_Nm);
@@ -114,7 +117,8 @@ int cmd_analyze(int argc, char **argv) {
   if (!strcmp(argv[0], "drum")) return analyze_drum(argc, argv);
   if (strcmp(argv[0], "repose") != 0)
     return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields, drum (see: adem "
-                            "analyze --help)", argv[0]);
+                            "analyze --help)",
+                argv[0]);
   if (argc < 2) return fail(EXIT_INPUT, "adem analyze repose needs a run's output folder");
   const char *dir = argv[1];
   adem_pile_options opt = adem_pile_default_options();
@@ -128,7 +132,8 @@ int cmd_analyze(int argc, char **argv) {
     else if (ok && !strcmp(a, "--band")) ok = pair(v, &opt.band_lo, &opt.band_hi);
     else
       return fail(EXIT_INPUT, "unknown option or missing value '%s' for adem analyze repose (see: "
-                              "adem analyze --help)", a);
+                              "adem analyze --help)",
+                  a);
     if (!ok) return fail(EXIT_INPUT, "%s: bad value '%s'", a, v);
   }
   adem_error err;

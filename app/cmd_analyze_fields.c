@@ -74,7 +74,8 @@ static int column_of(const bool average[3], const char *name) {
     for (int u = 0; u < nc; ++u, ++col) {
       char full[64];
       snprintf(full, sizeof full, "%s%s%s", fn, nc > 1 ? "_" : "",
-               nc == 9 ? comp9[u] : nc == 3 ? comp3[u] : "");
+               nc == 9 ? comp9[u] : nc == 3 ? comp3[u]
+                                            : "");
       if (!strcmp(full, name)) return col;
     }
   }
@@ -126,14 +127,16 @@ int cmd_analyze_fields(int argc, char **argv) {
     else if (ok && !strcmp(a, "--out")) out = v;
     else
       return fail(EXIT_INPUT, "unknown option or missing value '%s' for adem analyze fields (see: "
-                              "adem analyze fields --help)", a);
+                              "adem analyze fields --help)",
+                  a);
     if (!ok) return fail(EXIT_INPUT, "%s: bad value '%s' (see: adem analyze fields --help)", a, v);
   }
   int navg = o.grid.average[0] + o.grid.average[1] + o.grid.average[2];
   if (!plot) plot = navg == 2 ? "stress_zz" : "pressure";
   if (!column_of(o.grid.average, plot))
     return fail(EXIT_INPUT, "--plot: no field '%s' (e.g. density, velocity_z, stress_zz, "
-                            "pressure)", plot);
+                            "pressure)",
+                plot);
   /* widths and cells in diameters are resolved by the library from the first frame */
   o.width_diameters = width_d ? width : 0.0;
   o.grid.width = width_d ? 1.0 : width;

@@ -153,7 +153,8 @@ static void spawn_runner(void *user, const char *case_path, int n, const adem_ca
         --running;
         wall_s[k] = now_s() - t0[k];
         int code = WIFEXITED(ws) ? WEXITSTATUS(ws) : 128 + (WIFSIGNALED(ws) ? WTERMSIG(ws) : 0);
-        status[k] = code == 0 ? ADEM_OK : code == EXIT_INPUT ? ADEM_ERR_INPUT : ADEM_ERR_RUNTIME;
+        status[k] = code == 0 ? ADEM_OK : code == EXIT_INPUT ? ADEM_ERR_INPUT
+                                                             : ADEM_ERR_RUNTIME;
         if (code && !failed++)
           adem_error_set(err, status[k], "adem run exited with %d (its messages: %s/run.log)", code,
                          jobs[k].dir);
@@ -204,7 +205,8 @@ int cmd_calibrate(int argc, char **argv) {
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
     if (!v || strncmp(a, "--", 2)) {
       rc = fail(EXIT_INPUT, "unknown option or missing value '%s' for adem calibrate (see: adem "
-                            "calibrate --help)", a);
+                            "calibrate --help)",
+                a);
       break;
     }
     ++i;

@@ -88,4 +88,3 @@ int cmd_check(int argc, char **argv) {
   adem_case_free(c);
   return rc;
 }
-

@@ -124,7 +124,8 @@ static int parse_list(const char *opt, const char *text, value_list *out) {
         (logscale && !(lo > 0.0 && hi > 0.0)))
       return fail(EXIT_INPUT,
                   "%s %s: expected lo:hi:n or log:lo:hi:n (n from 1 to 1000000, log needs lo, hi "
-                  "> 0)", opt, text);
+                  "> 0)",
+                  opt, text);
     out->v = malloc((size_t)n * sizeof *out->v);
     if (!out->v) return fail(EXIT_INTERNAL, "out of memory");
     for (long k = 0; k < n; ++k) {
@@ -143,7 +144,8 @@ static int parse_list(const char *opt, const char *text, value_list *out) {
     double x = strtod(c, &end);
     if (end == c || (*end && *end != ',') || !isfinite(x))
       return fail(EXIT_INPUT, "%s %s: expected numbers separated by commas, lo:hi:n or "
-                              "log:lo:hi:n", opt, text);
+                              "log:lo:hi:n",
+                  opt, text);
     out->v[out->n++] = x;
     if (!*end) break;
     c = end + 1;
@@ -177,7 +179,8 @@ static int parse_critical(const char *text, double *lo, double *hi, double *tol)
   if (*end == ':') *tol = strtod(end + 1, &end);
   if (*end || !(*lo > 0.0) || !(*hi > *lo) || !isfinite(*hi) || !(*tol > 0.0 && *tol < 1.0))
     return fail(EXIT_INPUT, "--critical-lambda %s: expected LO:HI or LO:HI:TOL with 0 < LO < HI "
-                            "and 0 < TOL < 1", text);
+                            "and 0 < TOL < 1",
+                text);
   return EXIT_OK;
 }
 
@@ -284,7 +287,8 @@ int cmd_collide(int argc, char **argv) {
       else threads = (int)t;
     } else {
       rc = fail(EXIT_INPUT, "unknown option or argument '%s' for adem collide (see: adem collide "
-                            "--help)", a);
+                            "--help)",
+                a);
     }
   }
   /* Checks of what every collision shares, then of each list. */
@@ -347,7 +351,7 @@ int cmd_collide(int argc, char **argv) {
   adem_collide_spec *sp = NULL;
   adem_collide_result *res = NULL;
   double *lcrit = NULL;
-  char (*lmsg)[ADEM_MSG_MAX] = NULL;
+  char(*lmsg)[ADEM_MSG_MAX] = NULL;
   if (!rc && n > 10000000) rc = fail(EXIT_INPUT, "%zu collisions are too many (at most 1e7)", n);
   if (!rc) {
     sp = malloc(n * sizeof *sp);
@@ -409,7 +413,8 @@ int cmd_collide(int argc, char **argv) {
     if (!rc && critical) {
       fputs("kind,radius_m,size_ratio,density_kg_m3,poisson,restitution,friction,speed_m_s,"
             "angle_deg,Ad,stiffness_factor,gamma_by_H24,dtk,hysteresis,F_hat,lambda_crit,c,"
-            "rel_tol,status\n", f);
+            "rel_tol,status\n",
+            f);
       for (size_t q = 0; q < n; ++q) {
         const adem_collide_spec *c = &sp[q];
         char status[ADEM_MSG_MAX + 16];
@@ -428,7 +433,8 @@ int cmd_collide(int argc, char **argv) {
             "undecided,v_n_in_m_s,v_n_out_m_s,v_t_out_m_s,omega_out_rad_s,contact_duration_s,"
             "max_overlap_m,t_c_s,dt_s,steps,dtk,hysteresis,dtk_modification,at_rest,F_ext_N,"
             "F_hat,outcome,outcome_code,roll_distance_m,t_rest_s,v_end_m_s,xi_crit_m,t_roll_s,"
-            "status\n", f);
+            "status\n",
+            f);
       for (size_t q = 0; q < n; ++q) {
         const adem_collide_spec *c = &sp[q];
         const adem_collide_result *r = &res[q];
@@ -506,4 +512,3 @@ int cmd_collide(int argc, char **argv) {
   for (size_t k = 0; k < NLISTS; ++k) free(lists[k]->v);
   return rc < 0 ? EXIT_OK : rc;
 }
-

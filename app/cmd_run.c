@@ -204,4 +204,3 @@ int cmd_run(int argc, char **argv) {
   adem_case_free(c);
   return rc;
 }
-

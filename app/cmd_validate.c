@@ -100,4 +100,3 @@ int cmd_validate(int argc, char **argv) {
   free(names);
   return rc;
 }
-

@@ -135,5 +135,6 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "analyze") == 0) return cmd_analyze(argc - 2, argv + 2);
   if (strcmp(cmd, "calibrate") == 0) return cmd_calibrate(argc - 2, argv + 2);
   return fail(EXIT_INPUT, "unknown command '%s'; the commands are run, check, collide, validate, "
-                          "analyze, calibrate and reference (see: adem --help)", cmd);
+                          "analyze, calibrate and reference (see: adem --help)",
+              cmd);
 }

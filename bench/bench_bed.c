@@ -237,7 +237,8 @@ static void read_data_file(const char *path, peer_bed *b) {
     }
     if (got != 7 || !(d > 0) || !(rho > 0) || (b->n && rho != b->density)) {
       fprintf(stderr, "bench_bed: %s: atom line '%s' is not 'id type diameter density x y z' "
-              "with one density for all\n", path, line);
+                      "with one density for all\n",
+              path, line);
       exit(1);
     }
     if (b->n == b->cap) {
@@ -304,8 +305,7 @@ static adem_world *build_peer_world(const peer_options *o) {
   }
   free(b.pos);
   free(b.diameter);
-  const adem_vec3 points[5] = {{b.lo[0], 0, 0}, {b.hi[0], 0, 0}, {0, b.lo[1], 0},
-                               {0, b.hi[1], 0}, {0, 0, b.lo[2]}};
+  const adem_vec3 points[5] = {{b.lo[0], 0, 0}, {b.hi[0], 0, 0}, {0, b.lo[1], 0}, {0, b.hi[1], 0}, {0, 0, b.lo[2]}};
   const adem_vec3 normals[5] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
   const char *names[5] = {"xmin", "xmax", "ymin", "ymax", "floor"};
   for (int k = 0; k < 5; ++k) {

@@ -43,7 +43,9 @@ int main(int argc, char **argv) {
   int repeat = argc > 1 ? atoi(argv[1]) : 5;
   if (repeat < 1) repeat = 1;
   const char *widths = argc > 2 ? argv[2] : "0.5,1,2";
-  enum { NX = 12, NY = 90, NZ = 20 }; /* 21,600 spheres */
+  enum { NX = 12,
+         NY = 90,
+         NZ = 20 }; /* 21,600 spheres */
   const double a = 0.05;
   size_t n = (size_t)NX * NY * NZ;
   double *pos = malloc(3 * n * sizeof *pos), *vel = calloc(3 * n, sizeof *vel);
@@ -126,7 +128,8 @@ int main(int argc, char **argv) {
     qsort(t, (size_t)repeat, sizeof *t, cmp);
     qsort(tc, (size_t)repeat, sizeof *tc, cmp);
     printf("width %.2g d (%.3g m, Gaussian cut off at 3 w): %zu nodes, median of %d: wall %.3f s "
-           "(min %.3f, max %.3f), CPU %.3f s (min %.3f, max %.3f)\n", wd, o.width, nodes, repeat,
+           "(min %.3f, max %.3f), CPU %.3f s (min %.3f, max %.3f)\n",
+           wd, o.width, nodes, repeat,
            t[repeat / 2], t[0], t[repeat - 1], tc[repeat / 2], tc[0], tc[repeat - 1]);
     fflush(stdout);
     w = strchr(w, ',');

@@ -18,13 +18,13 @@
 #include <adem/adem.h>
 #include <adem/vec3.h>
 
-#define CHECK(call)                                                    \
-  do {                                                                 \
-    adem_status st_ = (call);                                          \
-    if (st_) {                                                         \
+#define CHECK(call)                                                              \
+  do {                                                                           \
+    adem_status st_ = (call);                                                    \
+    if (st_) {                                                                   \
       fprintf(stderr, "pour: %s (line %d): %s\n", #call, __LINE__, err.message); \
-      return 1;                                                        \
-    }                                                                  \
+      return 1;                                                                  \
+    }                                                                            \
   } while (0)
 
 static adem_error err;
@@ -95,10 +95,7 @@ int main(int argc, char **argv) {
   floor += 4; /* NAME.zmin: the fifth plane */
 
   /* the chute: a plate tilted 20 degrees across half the box at mid-height */
-  adem_vec3 c[6] = {{0.0, 0.0, 0.10}, {0.04, 0.0, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)},
-                    {0.04, L, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)},
-                    {0.0, 0.0, 0.10}, {0.04, L, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)},
-                    {0.0, L, 0.10}};
+  adem_vec3 c[6] = {{0.0, 0.0, 0.10}, {0.04, 0.0, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)}, {0.04, L, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)}, {0.0, 0.0, 0.10}, {0.04, L, 0.10 - 0.04 * tan(20 * ADEM_PI / 180)}, {0.0, L, 0.10}};
   adem_mesh_transform tf = adem_default_mesh_transform();
   tf.material = ms;
   tf.own_vertices = 1;

@@ -10,7 +10,9 @@
 #include "adem/adem.h"
 #include "fuzz_common.h"
 
-enum { MAX_INPUT = 32 * 1024, MAX_SETS = 4, STEP_PARTICLES = 300 };
+enum { MAX_INPUT = 32 * 1024,
+       MAX_SETS = 4,
+       STEP_PARTICLES = 300 };
 
 int LLVMFuzzerInitialize(int *argc, char ***argv) {
   (void)argc;

@@ -13,7 +13,9 @@
 #include "stages.h"
 #include "world_internal.h"
 
-enum { MAX_INPUT = 1 << 20, HEADER = 40, STEP_PARTICLES = 300 };
+enum { MAX_INPUT = 1 << 20,
+       HEADER = 40,
+       STEP_PARTICLES = 300 };
 
 /* Seeds: checkpoints of the seed cases (fuzz/seeds/case) before the first step and a few steps
  * in (inside the pour and the first stage), each as a raw file (mode 0) and with its header

@@ -57,7 +57,7 @@ const char *fuzz_scratch_dir(void) {
 
 void fuzz_check_status(adem_status st, const adem_error *err, const char *what) {
   if (getenv("ADEM_FUZZ_VERBOSE")) fprintf(stderr, "%s: status %d%s%s\n", what, (int)st,
-                                          st ? ": " : "", st ? err->message : "");
+                                           st ? ": " : "", st ? err->message : "");
   if (st == ADEM_OK) return;
   if (st != ADEM_ERR_INPUT && st != ADEM_ERR_NOMEM && st != ADEM_ERR_RUNTIME) {
     fprintf(stderr, "%s: unexpected status %d: %s\n", what, (int)st, err->message);

@@ -82,8 +82,7 @@ static void write_seeds(const char *folder) {
     unsigned char frames, t_ms;
     size_t csv_cut; /* bytes cut from the CSV's end */
     int foreign;    /* another header */
-  } seeds[] = {{"all", 10, 19, 0, 0},  {"middle", 5, 9, 0, 0}, {"cut_row", 10, 19, 7, 0},
-               {"no_pvd", 128 | 4, 8, 0, 0}, {"foreign", 3, 5, 0, 1}, {"start", 1, 0, 0, 0}};
+  } seeds[] = {{"all", 10, 19, 0, 0}, {"middle", 5, 9, 0, 0}, {"cut_row", 10, 19, 7, 0}, {"no_pvd", 128 | 4, 8, 0, 0}, {"foreign", 3, 5, 0, 1}, {"start", 1, 0, 0, 0}};
   for (size_t k = 0; k < sizeof seeds / sizeof seeds[0]; ++k) {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", folder, seeds[k].name);

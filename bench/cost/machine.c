@@ -19,7 +19,8 @@ static volatile double sink;
 static double clock_ghz(void) {
   long n = 1000000000L, x = 0;
   double t0 = now();
-  for (long i = 0; i < n; ++i) __asm__ volatile("add $1, %0" : "+r"(x));
+  for (long i = 0; i < n; ++i) __asm__ volatile("add $1, %0"
+                                                : "+r"(x));
   double t = now() - t0;
   sink = (double)x;
   return (double)n / t * 1e-9;

@@ -21,7 +21,7 @@ typedef enum adem_status {
   ADEM_ERR_RUNTIME = 3, /* the run went wrong: NaN, runaway overlap, escaped particle */
   ADEM_ERR_IO = 4,      /* a file could not be written */
   ADEM_ERR_NOMEM = 5,
-  ADEM_INTERRUPTED = 6  /* SIGINT/SIGTERM asked the run to stop; a checkpoint was written */
+  ADEM_INTERRUPTED = 6 /* SIGINT/SIGTERM asked the run to stop; a checkpoint was written */
 } adem_status;
 
 /* Where a failure happened and why: filled by every function that can fail. */
@@ -31,7 +31,8 @@ typedef struct adem_error {
 } adem_error;
 
 /* Log hook: the library never prints; it calls this (default: stderr for warnings). */
-typedef enum adem_log_level { ADEM_LOG_INFO = 0, ADEM_LOG_WARN = 1 } adem_log_level;
+typedef enum adem_log_level { ADEM_LOG_INFO = 0,
+                              ADEM_LOG_WARN = 1 } adem_log_level;
 typedef void adem_log_fn(adem_log_level level, const char *message, void *user);
 void adem_log_set_hook(adem_log_fn *fn, void *user);
 

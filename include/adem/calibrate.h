@@ -42,17 +42,17 @@ typedef enum adem_calib_kind {
 
 typedef struct adem_calib_target {
   adem_calib_kind kind;
-  char what[128];  /* the measure (repose), region (density, rate) or wall (load) */
-  int component;   /* load: 0 x, 1 y, 2 z, 3 the magnitude */
+  char what[128]; /* the measure (repose), region (density, rate) or wall (load) */
+  int component;  /* load: 0 x, 1 y, 2 z, 3 the magnitude */
   double value, tol;
-  char text[320];  /* as given */
+  char text[320]; /* as given */
 } adem_calib_target;
 
 /* "KIND:WHAT=VALUE+-TOL"; ADEM_ERR_INPUT with the accepted forms on anything else. */
 adem_status adem_calib_target_parse(const char *spec, adem_calib_target *t, adem_error *err);
 
 typedef struct adem_calib_vary {
-  char key[256];   /* a case key path as adem run --set takes it */
+  char key[256]; /* a case key path as adem run --set takes it */
   double lo, hi;
 } adem_calib_vary;
 
@@ -82,15 +82,15 @@ typedef struct adem_calib_options {
   adem_calib_vary vary;
   adem_calib_target target;
   const char *out_dir;
-  int jobs;                /* runs at a time (>= 1); with more than 1 each narrowing step
-                              runs the false-position value and jobs - 1 values cutting the
-                              bracket evenly */
-  bool resume;             /* false: out_dir must hold no runs; true: go on with the runs there */
-  int points;              /* values of the first scan, evenly over [lo, hi] (>= 2; default 3) */
-  int max_runs;            /* at most this many runs in all (default 12) */
-  double xtol;             /* stop when the bracket is narrower (<= 0: (hi - lo) / 1000) */
+  int jobs;                    /* runs at a time (>= 1); with more than 1 each narrowing step
+                                  runs the false-position value and jobs - 1 values cutting the
+                                  bracket evenly */
+  bool resume;                 /* false: out_dir must hold no runs; true: go on with the runs there */
+  int points;                  /* values of the first scan, evenly over [lo, hi] (>= 2; default 3) */
+  int max_runs;                /* at most this many runs in all (default 12) */
+  double xtol;                 /* stop when the bracket is narrower (<= 0: (hi - lo) / 1000) */
   double window_lo, window_hi; /* measurement window, s (window_hi <= window_lo: last quarter) */
-  double zmax;             /* repose: centres above floor + zmax are not the pile (<= 0: all) */
+  double zmax;                 /* repose: centres above floor + zmax are not the pile (<= 0: all) */
   adem_calib_runner *runner;
   void *runner_user;
 } adem_calib_options;
@@ -98,21 +98,21 @@ typedef struct adem_calib_options {
 adem_calib_options adem_calib_default_options(void);
 
 typedef struct adem_calib_run {
-  double x, y;     /* value and measured response (NaN: not measured) */
+  double x, y; /* value and measured response (NaN: not measured) */
   double wall_s;
   char dir[4200];
 } adem_calib_run;
 
 typedef struct adem_calib_result {
-  bool found;             /* a run's response is within the target's tolerance */
-  bool bracketed;         /* two runs' responses lie on either side of the target */
-  double x_best, y_best;  /* the run whose response is nearest the target */
-  double x_lo, x_hi;      /* the final bracket (NaN when not bracketed) */
-  double x_interp;        /* the value where the line through the bracket's ends meets the
-                             target (NaN when not bracketed) */
+  bool found;                  /* a run's response is within the target's tolerance */
+  bool bracketed;              /* two runs' responses lie on either side of the target */
+  double x_best, y_best;       /* the run whose response is nearest the target */
+  double x_lo, x_hi;           /* the final bracket (NaN when not bracketed) */
+  double x_interp;             /* the value where the line through the bracket's ends meets the
+                                  target (NaN when not bracketed) */
   double x_band_lo, x_band_hi; /* where that line is within the tolerance */
   size_t nruns;
-  adem_calib_run *runs;   /* in the order they were asked for */
+  adem_calib_run *runs; /* in the order they were asked for */
 } adem_calib_result;
 
 /* Calibrates. Before any run the case is loaded once with the first value, so that a bad key

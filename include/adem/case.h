@@ -30,7 +30,7 @@ typedef struct adem_output_settings {
   /* output.track: particles whose rolling torque, angular velocity and distance from their
    * initial centre get CSV columns. */
   int ntrack;
-  uint64_t track[ADEM_TRACK_MAX];         /* stable ids */
+  uint64_t track[ADEM_TRACK_MAX]; /* stable ids */
 } adem_output_settings;
 
 /* Particles poured while running (src/input/insert.h) and consecutive stages (src/input/stages.h). */
@@ -44,33 +44,33 @@ typedef struct adem_until adem_until;
 
 /* A loaded case: the world, ready to prepare, plus what the run needs. */
 typedef struct adem_case {
-  char path[ADEM_PATH_MAX];   /* file it came from, for messages */
+  char path[ADEM_PATH_MAX];     /* file it came from, for messages */
   char base_dir[ADEM_PATH_MAX]; /* absolute folder that relative paths in it start from */
   char name[ADEM_NAME_MAX];
-  char *source;               /* the YAML text as read (kept for checkpoints) */
-  char **sets;                /* --set overrides applied on top of the text */
+  char *source; /* the YAML text as read (kept for checkpoints) */
+  char **sets;  /* --set overrides applied on top of the text */
   int nsets;
   adem_world *world;
-  double end_time;            /* s */
-  bool dt_auto;               /* true when time.step was "auto" */
-  double dt_user_ratio;       /* user dt / proposed dt (> 1 means too large) */
+  double end_time;      /* s */
+  bool dt_auto;         /* true when time.step was "auto" */
+  double dt_user_ratio; /* user dt / proposed dt (> 1 means too large) */
   adem_step_estimate estimate;
   adem_memory_estimate memory; /* of every particle, the pours' totals included */
-  double memory_limit;        /* bytes the run may use: limits.max_memory, or what is available */
-  bool memory_auto;           /* true when memory_limit is what the machine has available */
+  double memory_limit;         /* bytes the run may use: limits.max_memory, or what is available */
+  bool memory_auto;            /* true when memory_limit is what the machine has available */
   adem_output_settings output;
   uint64_t seed;
-  adem_pours *pours;          /* NULL: nothing is poured */
-  adem_stages *stages;        /* NULL: one stage, the case as written */
-  adem_until *until;          /* time.until (NULL: the run lasts until time.end) */
-  adem_regions *regions;      /* output.regions (NULL: none): CSV columns of count and mass */
-  adem_regions *fills;        /* regions of the random particle sets, for `adem check` */
-  adem_outlets *outlets;      /* outlets and output.mass_flow (NULL: none; input/outlets.h) */
+  adem_pours *pours;     /* NULL: nothing is poured */
+  adem_stages *stages;   /* NULL: one stage, the case as written */
+  adem_until *until;     /* time.until (NULL: the run lasts until time.end) */
+  adem_regions *regions; /* output.regions (NULL: none): CSV columns of count and mass */
+  adem_regions *fills;   /* regions of the random particle sets, for `adem check` */
+  adem_outlets *outlets; /* outlets and output.mass_flow (NULL: none; input/outlets.h) */
   /* What adem_run has written up to the current step (kept in checkpoints, so that a resumed
    * run, even one given a later end time, continues the files as one run would have). */
-  uint64_t frames_written;    /* frames at t = 0 and at every frame interval (not one written
-                                 only because the run ended at this step) */
-  bool csv_last_extra;        /* true: this step's CSV row was written only because the run ended */
+  uint64_t frames_written; /* frames at t = 0 and at every frame interval (not one written
+                              only because the run ended at this step) */
+  bool csv_last_extra;     /* true: this step's CSV row was written only because the run ended */
 } adem_case;
 
 /* Reads, validates and builds a case. The sets are "key.path=value" overrides (adem run --set). */

@@ -18,22 +18,22 @@ extern "C" {
 #endif
 
 typedef struct adem_drum_options {
-  double from;       /* s: frames at or after this time (NaN: the last two thirds of the run) */
+  double from;              /* s: frames at or after this time (NaN: the last two thirds of the run) */
   char wall[ADEM_NAME_MAX]; /* the drum's cylinder wall ("": the first cylinder) */
 } adem_drum_options;
 adem_drum_options adem_drum_default_options(void);
 
 typedef struct adem_drum_frame {
   double time;
-  double angle_fit_deg;   /* profile fit of the surface particles (middle half of the chord) */
+  double angle_fit_deg; /* profile fit of the surface particles (middle half of the chord) */
   double fit_r2;
-  double angle_cm_deg;    /* the bed's centre of mass from the bottom, about the axis */
-  double layer_m;         /* flowing layer: depth below the surface where the streamwise
-                             velocity changes sign, on the normal through the axis (NaN: none) */
-  double corotation;      /* wall layer: mean tangential speed / the drum's at their centres */
-  double slip_m_s;        /* wall layer: mean speed of the drum at their centres less theirs */
-  double moment_Nm;       /* the bed's gravity moment about the axis, m g x_cm */
-  size_t wall_layer;      /* particles in the wall layer */
+  double angle_cm_deg; /* the bed's centre of mass from the bottom, about the axis */
+  double layer_m;      /* flowing layer: depth below the surface where the streamwise
+                          velocity changes sign, on the normal through the axis (NaN: none) */
+  double corotation;   /* wall layer: mean tangential speed / the drum's at their centres */
+  double slip_m_s;     /* wall layer: mean speed of the drum at their centres less theirs */
+  double moment_Nm;    /* the bed's gravity moment about the axis, m g x_cm */
+  size_t wall_layer;   /* particles in the wall layer */
 } adem_drum_frame;
 
 typedef struct adem_drum_report {
@@ -43,17 +43,17 @@ typedef struct adem_drum_report {
   adem_drum_frame *frames;
   /* means over the frames and their standard deviations */
   double angle_fit_deg, angle_fit_sd, angle_cm_deg, angle_cm_sd, layer_m, corotation, slip_m_s;
-  double moment_Nm;             /* mean gravity moment m g x_cm */
-  double torque_Nm;             /* mean drive torque about the axis over the same times (CSV) */
-  size_t torque_rows;           /* CSV rows averaged (0: no torque column) */
+  double moment_Nm;   /* mean gravity moment m g x_cm */
+  double torque_Nm;   /* mean drive torque about the axis over the same times (CSV) */
+  size_t torque_rows; /* CSV rows averaged (0: no torque column) */
   /* regime: the angle's excursion (max - min), the skewness of its frame-to-frame changes
    * (a sawtooth: slow rises, sudden drops, strongly negative) and the drops above 1 deg */
   double excursion_deg, skewness;
   size_t drops;
-  size_t slipping_frames;       /* frames whose wall layer turns at less than half the drum's rate */
-  char regime[16];              /* "rolling", "slumping", or "slipping" (the bed slides back along
-                                   the wall in a tenth of the frames or more: a smooth wall) */
-  char csv[1024], png[1024];    /* written files */
+  size_t slipping_frames;    /* frames whose wall layer turns at less than half the drum's rate */
+  char regime[16];           /* "rolling", "slumping", or "slipping" (the bed slides back along
+                                the wall in a tenth of the frames or more: a smooth wall) */
+  char csv[1024], png[1024]; /* written files */
 } adem_drum_report;
 
 /* One frame's measures for a drum given explicitly (mass: each particle's, kg): what

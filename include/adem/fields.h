@@ -35,22 +35,22 @@ typedef enum adem_fields_kernel {
  * over that length (the kernel's marginal), so nothing is lost at the ends of the range. */
 typedef struct adem_fields_options {
   adem_fields_kernel kernel;
-  double width;     /* w, m: the kernel's standard deviation along an axis */
-  double cutoff;    /* Gaussian: cut off at cutoff * w along each axis (default 3) */
-  double cell;      /* grid spacing, m */
+  double width;        /* w, m: the kernel's standard deviation along an axis */
+  double cutoff;       /* Gaussian: cut off at cutoff * w along each axis (default 3) */
+  double cell;         /* grid spacing, m */
   double lo[3], hi[3]; /* the grid's extent, m */
-  bool average[3];  /* true: average over that axis */
+  bool average[3];     /* true: average over that axis */
 } adem_fields_options;
 adem_fields_options adem_fields_default_options(void);
 
 /* One frame's particles (n of them; arrays of n or 3n doubles, x y z per particle). */
 typedef struct adem_fields_particles {
   size_t n;
-  const double *pos;      /* 3n, m */
-  const double *vel;      /* 3n, m/s; NULL: at rest */
-  const double *mass;     /* n, kg */
-  const double *radius;   /* n, m (the solid fraction counts 4/3 pi r^3) */
-  const int64_t *id;      /* n stable ids: the contacts name particles by them */
+  const double *pos;    /* 3n, m */
+  const double *vel;    /* 3n, m/s; NULL: at rest */
+  const double *mass;   /* n, kg */
+  const double *radius; /* n, m (the solid fraction counts 4/3 pi r^3) */
+  const int64_t *id;    /* n stable ids: the contacts name particles by them */
 } adem_fields_particles;
 
 /* One frame's contacts: each from particle id_a's centre p0 to p1 (particle id_b's centre as a
@@ -66,21 +66,21 @@ typedef struct adem_fields_contacts {
  * tensors as 9 components xx xy xz yx yy yz zx zy zz, T_ab = sum of f_a l_b. Stress is
  * compressive positive: a bed at rest has sigma_zz = the weight per area above. */
 typedef enum adem_field {
-  ADEM_CG_DENSITY = 0,         /* rho = sum m phi, kg/m^3 */
-  ADEM_CG_SOLID_FRACTION,      /* nu = sum (4/3 pi r^3) phi */
-  ADEM_CG_MOMENTUM,            /* 3: j = sum m v phi, kg/(m^2 s) */
-  ADEM_CG_VELOCITY,            /* 3: V = j / rho, m/s (0 where rho = 0) */
-  ADEM_CG_KINETIC_STRESS,      /* 9: sum m v v phi - rho V V, Pa */
-  ADEM_CG_CONTACT_STRESS,      /* 9: sum over contacts of f (x) l psi, l = p0 - p1 (a's centre
-                                   * minus b's, or minus the wall's contact point), psi the line
-                                   * integral of phi from p0 to p1, Pa */
-  ADEM_CG_STRESS,              /* 9: kinetic + contact, Pa */
-  ADEM_CG_PRESSURE,            /* trace(stress) / 3, Pa */
-  ADEM_CG_COORDINATION,        /* sum c_i phi / sum phi: the kernel-weighted mean number of
-                                   * contacts (particles and walls) per particle */
-  ADEM_CG_FABRIC,              /* 9: sum (4/3 pi r_i^3) phi sum over i's contacts n n, n the
-                                   * unit vector along the contact's line (trace = nu Z) */
-  ADEM_CG_TEMPERATURE,         /* trace(kinetic stress) / (3 rho), m^2/s^2 */
+  ADEM_CG_DENSITY = 0,    /* rho = sum m phi, kg/m^3 */
+  ADEM_CG_SOLID_FRACTION, /* nu = sum (4/3 pi r^3) phi */
+  ADEM_CG_MOMENTUM,       /* 3: j = sum m v phi, kg/(m^2 s) */
+  ADEM_CG_VELOCITY,       /* 3: V = j / rho, m/s (0 where rho = 0) */
+  ADEM_CG_KINETIC_STRESS, /* 9: sum m v v phi - rho V V, Pa */
+  ADEM_CG_CONTACT_STRESS, /* 9: sum over contacts of f (x) l psi, l = p0 - p1 (a's centre
+                           * minus b's, or minus the wall's contact point), psi the line
+                           * integral of phi from p0 to p1, Pa */
+  ADEM_CG_STRESS,         /* 9: kinetic + contact, Pa */
+  ADEM_CG_PRESSURE,       /* trace(stress) / 3, Pa */
+  ADEM_CG_COORDINATION,   /* sum c_i phi / sum phi: the kernel-weighted mean number of
+                           * contacts (particles and walls) per particle */
+  ADEM_CG_FABRIC,         /* 9: sum (4/3 pi r_i^3) phi sum over i's contacts n n, n the
+                           * unit vector along the contact's line (trace = nu Z) */
+  ADEM_CG_TEMPERATURE,    /* trace(kinetic stress) / (3 rho), m^2/s^2 */
   ADEM_CG_COUNT_
 } adem_cg_field;
 int adem_cg_field_components(adem_cg_field f);
@@ -127,27 +127,27 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
 /* ---- on a run's output folder ---- */
 
 typedef struct adem_fields_run_options {
-  adem_fields_options grid;   /* lo/hi ignored unless box_given */
-  bool box_given;             /* false: the grid spans the particles' centres (over the frames
-                               * used) and reaches cutoff widths (Lucy: its support) beyond them,
-                               * so that no kernel is cut by the grid's edge; an averaged axis
-                               * spans the particles' extent (centre +- radius) */
-  double width_diameters;     /* > 0: the width is this many mean diameters (of the first frame
-                               * used), grid.width ignored */
-  double cell_diameters;      /* > 0: the cell is this many mean diameters; else grid.cell, and
-                               * grid.cell <= 0 is half the width */
-  double t0, t1;              /* the frames with t0 <= time <= t1 (t1 < t0: every frame) */
-  bool last_only;             /* true: only the last frame in the window */
+  adem_fields_options grid; /* lo/hi ignored unless box_given */
+  bool box_given;           /* false: the grid spans the particles' centres (over the frames
+                             * used) and reaches cutoff widths (Lucy: its support) beyond them,
+                             * so that no kernel is cut by the grid's edge; an averaged axis
+                             * spans the particles' extent (centre +- radius) */
+  double width_diameters;   /* > 0: the width is this many mean diameters (of the first frame
+                             * used), grid.width ignored */
+  double cell_diameters;    /* > 0: the cell is this many mean diameters; else grid.cell, and
+                             * grid.cell <= 0 is half the width */
+  double t0, t1;            /* the frames with t0 <= time <= t1 (t1 < t0: every frame) */
+  bool last_only;           /* true: only the last frame in the window */
 } adem_fields_run_options;
 adem_fields_run_options adem_fields_default_run_options(void);
 
 /* What adem_fields_run used. */
 typedef struct adem_fields_run_info {
-  size_t frames;              /* frames averaged */
-  double t_first, t_last;     /* their times */
-  size_t particles, contacts; /* of the last one */
+  size_t frames;               /* frames averaged */
+  double t_first, t_last;      /* their times */
+  size_t particles, contacts;  /* of the last one */
   double width, mean_diameter; /* m */
-  double mass;                /* total particle mass of the last frame, kg */
+  double mass;                 /* total particle mass of the last frame, kg */
 } adem_fields_run_info;
 
 /* Reads the particle frames of DIR (particles.pvd) in the window and the contact frame of each

@@ -24,13 +24,13 @@ extern "C" {
 /* One particle frame. Arrays of n entries, owned by the frame (adem_vtu_frame_free). */
 typedef struct adem_vtu_frame {
   size_t n;
-  adem_vec3 *pos;   /* centres, m ("position", the frame's Points) */
-  double *radius;   /* m ("radius") */
-  int64_t *id;      /* stable particle ids ("id"), or NULL when the file has none */
+  adem_vec3 *pos;      /* centres, m ("position", the frame's Points) */
+  double *radius;      /* m ("radius") */
+  int64_t *id;         /* stable particle ids ("id"), or NULL when the file has none */
   adem_vec3 *velocity; /* m/s ("velocity"), or NULL when the file has none */
-  double *mass;     /* kg ("mass"), or NULL when the file has none (frames before the array) */
-  double time;      /* s, FieldData "TimeValue"; NaN when the file has none */
-  int64_t step;     /* FieldData "Step"; -1 when the file has none */
+  double *mass;        /* kg ("mass"), or NULL when the file has none (frames before the array) */
+  double time;         /* s, FieldData "TimeValue"; NaN when the file has none */
+  int64_t step;        /* FieldData "Step"; -1 when the file has none */
 } adem_vtu_frame;
 
 /* Reads a particle frame from memory. NAME is used in messages only (may be NULL). On success

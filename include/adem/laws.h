@@ -68,7 +68,7 @@ typedef enum adem_law_param_id {
 #define ADEM_X(ID, key, unit, def, lo, mix, doc) ID,
   ADEM_LAW_PARAMS(ADEM_X)
 #undef ADEM_X
-  ADEM_PARAM_COUNT
+      ADEM_PARAM_COUNT
 } adem_law_param_id;
 
 /* Rows of each slot: X(ID, kernel, history doubles, descriptive columns...), the descriptive
@@ -164,28 +164,28 @@ typedef enum adem_normal_model {
 #define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
-  ADEM_NORMAL_COUNT
+      ADEM_NORMAL_COUNT
 } adem_normal_model;
 
 typedef enum adem_damping_model {
 #define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
-  ADEM_DAMPING_COUNT
+      ADEM_DAMPING_COUNT
 } adem_damping_model;
 
 typedef enum adem_tangential_model {
 #define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
-  ADEM_TANGENTIAL_COUNT
+      ADEM_TANGENTIAL_COUNT
 } adem_tangential_model;
 
 typedef enum adem_rolling_model {
 #define ADEM_X(ID, kernel, hist, ...) ID,
   ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
-  ADEM_ROLLING_COUNT
+      ADEM_ROLLING_COUNT
 } adem_rolling_model;
 
 typedef enum adem_law_slot {
@@ -212,13 +212,13 @@ typedef struct adem_law {
   const char *params;   /* keys of the parameters it reads, space separated */
   const char *equations;
   const char *doc;
-  bool absolute_spin;   /* rolling: resists a particle's absolute spin against particle partners
-                         * (BROF, I9-I10): brakes a bed turning with a wall and adds angular
-                         * impulse no partner takes back */
-  const char *history_kind; /* what its history holds; laws of a slot with the same kind keep
-                             * it when a stage switches between them (core/history_switch.c):
-                             * tangential "spring_force" or "displacement", rolling "model_c";
-                             * "": cleared on a switch */
+  bool absolute_spin;                 /* rolling: resists a particle's absolute spin against particle partners
+                                       * (BROF, I9-I10): brakes a bed turning with a wall and adds angular
+                                       * impulse no partner takes back */
+  const char *history_kind;           /* what its history holds; laws of a slot with the same kind keep
+                                       * it when a stage switches between them (core/history_switch.c):
+                                       * tangential "spring_force" or "displacement", rolling "model_c";
+                                       * "": cleared on a switch */
   const struct adem_law_hooks *hooks; /* or NULL: every hook's default */
 } adem_law;
 
@@ -226,7 +226,7 @@ typedef struct adem_law_param {
   adem_law_param_id id;
   const char *key;
   const char *unit;
-  double def, lo;       /* default and lower bound (value >= lo) */
+  double def, lo; /* default and lower bound (value >= lo) */
   adem_law_mixing mixing;
   const char *doc;
 } adem_law_param;
@@ -249,12 +249,12 @@ const adem_law_param *adem_law_param_find(const char *key);
 
 /* Closed forms of the laws, for studies and checks (the same kernels the force pass calls):
  * simplified JKR (H7-H10) with effective E and gamma, and Hertz. SI units. */
-double adem_law_jkr_critical_force(double gamma, double R);          /* F_C = 3 pi gamma R */
-double adem_law_jkr_a0(double gamma, double R, double E);            /* (9 pi gamma R^2/E)^(1/3) */
+double adem_law_jkr_critical_force(double gamma, double R);                         /* F_C = 3 pi gamma R */
+double adem_law_jkr_a0(double gamma, double R, double E);                           /* (9 pi gamma R^2/E)^(1/3) */
 double adem_law_jkr_contact_radius(double gamma, double R, double E, double delta); /* H10 */
-double adem_law_jkr_force(double gamma, double R, double E, double a);  /* H8-H9, > 0 repulsive */
-double adem_law_jkr_energy(double gamma, double R, double E, double a); /* relative to delta = 0 */
-double adem_law_hertz_force(double E, double R, double delta);       /* (4/3) E sqrt(R) delta^1.5 */
+double adem_law_jkr_force(double gamma, double R, double E, double a);              /* H8-H9, > 0 repulsive */
+double adem_law_jkr_energy(double gamma, double R, double E, double a);             /* relative to delta = 0 */
+double adem_law_hertz_force(double E, double R, double delta);                      /* (4/3) E sqrt(R) delta^1.5 */
 
 /* ---- what a law pair implies (src/laws/hertz.c, jkr.c) ---- */
 
@@ -271,18 +271,18 @@ double adem_hertz_collision_time(double mstar, double R, double E, double v);
 #define ADEM_TABOR_DMIN 1.65e-10
 
 typedef struct adem_jkr_pair_summary {
-  double R, mstar;            /* effective radius and mass used */
-  double E, E_mod;            /* effective modulus, real and modified (H2, H24) */
-  double gamma, gamma_mod;    /* surface energy, real and modified (H24) */
-  double a0, a0_mod;          /* equilibrium contact radius (H7) */
+  double R, mstar;               /* effective radius and mass used */
+  double E, E_mod;               /* effective modulus, real and modified (H2, H24) */
+  double gamma, gamma_mod;       /* surface energy, real and modified (H24) */
+  double a0, a0_mod;             /* equilibrium contact radius (H7) */
   double delta_eq, delta_eq_mod; /* equilibrium overlap a0^2/(3R) */
-  double f_c, f_c_mod;        /* critical force 3 pi gamma R */
+  double f_c, f_c_mod;           /* critical force 3 pi gamma R */
   double pull_off, pull_off_mod; /* force that breaks the contact, (8/9) F_C */
-  double tabor;               /* Tabor parameter of the real material (H1); JKR valid above 3 */
-  double t_c, t_c_mod;        /* Hertz collision time at v_ref (notes section 6) */
-  double dt, dt_mod;          /* t_c / 50 */
-  double speedup;             /* t_c_mod / t_c = (E/E_mod)^(2/5) */
-  double f_ext_max;           /* ADEM_PULLOFF_SAFETY * pull_off_mod */
+  double tabor;                  /* Tabor parameter of the real material (H1); JKR valid above 3 */
+  double t_c, t_c_mod;           /* Hertz collision time at v_ref (notes section 6) */
+  double dt, dt_mod;             /* t_c / 50 */
+  double speedup;                /* t_c_mod / t_c = (E/E_mod)^(2/5) */
+  double f_ext_max;              /* ADEM_PULLOFF_SAFETY * pull_off_mod */
 } adem_jkr_pair_summary;
 adem_jkr_pair_summary adem_jkr_pair_summarize(double E, double E_mod, double gamma,
                                               double gamma_mod, double R, double mstar,

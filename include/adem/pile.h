@@ -49,22 +49,22 @@ typedef enum adem_pile_slice_radius {
 } adem_pile_slice_radius;
 
 typedef struct adem_pile_options {
-  double floor_z;       /* height of the floor, m */
-  bool axis_given;      /* true: the pile's axis is (axis_x, axis_y); false: derived (see below) */
+  double floor_z;  /* height of the floor, m */
+  bool axis_given; /* true: the pile's axis is (axis_x, axis_y); false: derived (see below) */
   double axis_x, axis_y;
   double band_lo, band_hi; /* the fit band, as fractions of the pile's height H */
-  double cell_arc;      /* length along the arc of a cell of method (a), in bin widths */
-  double bin_width;     /* radial bin width of method (a), m; <= 0: the mean diameter */
-  int rays;             /* rays of the slice envelope, method (b) */
-  double slice_step;    /* distance between slice planes, m; <= 0: a quarter of the mean diameter */
+  double cell_arc;         /* length along the arc of a cell of method (a), in bin widths */
+  double bin_width;        /* radial bin width of method (a), m; <= 0: the mean diameter */
+  int rays;                /* rays of the slice envelope, method (b) */
+  double slice_step;       /* distance between slice planes, m; <= 0: a quarter of the mean diameter */
   adem_pile_slice_radius slice_radius;
-  double zmax;          /* centres higher than floor_z + zmax are not the pile (<= 0: no limit),
-                           e.g. spheres still in a hopper above it */
-  double rmax;          /* centres farther than rmax from the axis are not the pile (<= 0: no
-                           limit), e.g. spheres that bounced away */
+  double zmax;             /* centres higher than floor_z + zmax are not the pile (<= 0: no limit),
+                              e.g. spheres still in a hopper above it */
+  double rmax;             /* centres farther than rmax from the axis are not the pile (<= 0: no
+                              limit), e.g. spheres that bounced away */
   double ring_lo, ring_hi; /* band of the ring-top line, fractions of H (0.2, 0.8) */
-  int lab_sectors;      /* sectors over which R_base is averaged, method (c) (8) */
-  double skirt_level;   /* h_e of method (c), m; <= 0: (d_max + 1.8 d_min) / 2 of the pile */
+  int lab_sectors;         /* sectors over which R_base is averaged, method (c) (8) */
+  double skirt_level;      /* h_e of method (c), m; <= 0: (d_max + 1.8 d_min) / 2 of the pile */
 } adem_pile_options;
 
 /* floor 0, axis derived, band 0.25..0.75 of H (clear of the rounded top and of the toe), cells
@@ -88,13 +88,13 @@ typedef struct adem_pile_point {
 } adem_pile_point;
 
 typedef struct adem_pile_result {
-  size_t n_pile;            /* particles counted as the pile */
-  double axis_x, axis_y;    /* axis used */
-  double height;            /* H: top of the highest sphere above the floor, m */
-  double base_radius;       /* the slice fit's r_eq at the floor: the fitted cone's base, m */
-  double footprint_radius;  /* r_eq of the slice half a mean diameter above the floor, m,
-                               spheres that rolled away included */
-  double mean_diameter;     /* of the pile's particles, m */
+  size_t n_pile;               /* particles counted as the pile */
+  double axis_x, axis_y;       /* axis used */
+  double height;               /* H: top of the highest sphere above the floor, m */
+  double base_radius;          /* the slice fit's r_eq at the floor: the fitted cone's base, m */
+  double footprint_radius;     /* r_eq of the slice half a mean diameter above the floor, m,
+                                  spheres that rolled away included */
+  double mean_diameter;        /* of the pile's particles, m */
   double band_zmin, band_zmax; /* the fit band above the floor, m */
   /* (a) surface fit: z = intercept + slope rho */
   double angle_surface_deg;
@@ -116,8 +116,8 @@ typedef struct adem_pile_result {
   /* (d) ring-top line: top = intercept + slope rho */
   double angle_ringtop_deg;
   adem_pile_fit ringtop;
-  adem_pile_point *ring_pts;  /* (mid-radius, top) of every ring out to the last occupied one;
-                                 used = 1: in the line's fit */
+  adem_pile_point *ring_pts; /* (mid-radius, top) of every ring out to the last occupied one;
+                                used = 1: in the line's fit */
   size_t n_ring_pts;
   /* (e) height over footprint: atan(height / footprint_radius), the crude figure of old */
   double angle_footprint_deg;
@@ -142,9 +142,9 @@ adem_status adem_frames_last(const char *outdir, char **path, adem_error *err);
  * profile written beside the run's files as OUTDIR/repose_profile.csv and .png, and every
  * measure as one row of OUTDIR/repose_measures.csv (header: quantity_unit). */
 typedef struct adem_repose_report {
-  char frame[4096];        /* the frame measured */
-  double time;             /* its time, s */
-  size_t particles;        /* in the frame */
+  char frame[4096]; /* the frame measured */
+  double time;      /* its time, s */
+  size_t particles; /* in the frame */
   adem_pile_result pile;
   char profile_csv[4096], profile_png[4096], measures_csv[4096];
 } adem_repose_report;

@@ -24,11 +24,11 @@ typedef struct adem_progress {
   double steps_per_second; /* the recent rate: over the last ADEM_ETA_WINDOW wall seconds */
   size_t contacts;
   size_t particles;
-  bool may_end_early;      /* true: a run-until condition may end the run before end_time (the ETA
-                              is then to end_time: at most) */
-  bool final;              /* true: the run's last step (its end time, or a condition met) */
-  char until[160];         /* the run-until condition against its threshold at its last check
-                              ("until: E_k 4.1e-10 > 1e-10 J/particle"); "" without one */
+  bool may_end_early; /* true: a run-until condition may end the run before end_time (the ETA
+                         is then to end_time: at most) */
+  bool final;         /* true: the run's last step (its end time, or a condition met) */
+  char until[160];    /* the run-until condition against its threshold at its last check
+                         ("until: E_k 4.1e-10 > 1e-10 J/particle"); "" without one */
 } adem_progress;
 typedef void adem_progress_fn(const adem_progress *p, void *user);
 
@@ -37,19 +37,19 @@ typedef void adem_progress_fn(const adem_progress *p, void *user);
  * than the dense bed that follows). While the number of contacts or particles still grows, each
  * step will cost more than the recent ones did and the estimate is flagged rough. Feed it
  * samples (wall time, step, contacts, particles) in time order. */
-#define ADEM_ETA_WINDOW 30.0   /* s of wall time the rate is taken over */
-#define ADEM_ETA_SAMPLES 128   /* samples kept (about one a second) */
-#define ADEM_ETA_SETTLING 3.0  /* s: less history than this is rough too */
-#define ADEM_ETA_GROWTH 0.05   /* contacts (or particles) up by more than this fraction over the
-                                  window: rough */
+#define ADEM_ETA_WINDOW 30.0  /* s of wall time the rate is taken over */
+#define ADEM_ETA_SAMPLES 128  /* samples kept (about one a second) */
+#define ADEM_ETA_SETTLING 3.0 /* s: less history than this is rough too */
+#define ADEM_ETA_GROWTH 0.05  /* contacts (or particles) up by more than this fraction over the \
+                                 window: rough */
 typedef enum adem_eta_rough_why {
   ADEM_ETA_STEADY = 0,
-  ADEM_ETA_STARTING = 1,   /* less than ADEM_ETA_SETTLING s of history */
-  ADEM_ETA_CONTACTS = 2,   /* the contact count is still rising */
-  ADEM_ETA_PARTICLES = 3   /* particles are being added (a pour) */
+  ADEM_ETA_STARTING = 1, /* less than ADEM_ETA_SETTLING s of history */
+  ADEM_ETA_CONTACTS = 2, /* the contact count is still rising */
+  ADEM_ETA_PARTICLES = 3 /* particles are being added (a pour) */
 } adem_eta_rough_why;
 typedef struct adem_eta {
-  int n, head;             /* samples held; index of the oldest */
+  int n, head; /* samples held; index of the oldest */
   double wall[ADEM_ETA_SAMPLES];
   uint64_t step[ADEM_ETA_SAMPLES];
   double contacts[ADEM_ETA_SAMPLES], particles[ADEM_ETA_SAMPLES];
@@ -64,10 +64,10 @@ double adem_eta_rate(const adem_eta *e);
 double adem_eta_seconds(const adem_eta *e, uint64_t total_steps, int *rough);
 
 typedef struct adem_run_options {
-  int nthreads;                        /* 0: leave as is */
-  adem_progress_fn *progress;          /* called about once a second; may be NULL */
+  int nthreads;               /* 0: leave as is */
+  adem_progress_fn *progress; /* called about once a second; may be NULL */
   void *progress_user;
-  volatile sig_atomic_t *stop_flag;    /* set non-zero (from a signal handler) to stop cleanly */
+  volatile sig_atomic_t *stop_flag; /* set non-zero (from a signal handler) to stop cleanly */
 } adem_run_options;
 adem_run_options adem_default_run_options(void);
 

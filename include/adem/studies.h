@@ -37,44 +37,44 @@ const char *adem_collide_outcome_name(adem_collide_outcome o); /* "rebound", ...
 /* Called after every time step: time since the start, overlap (m, < 0 while apart), normal
  * approach speed (m/s, > 0 approaching) and the normal contact force (N, > 0 repulsive). */
 typedef void adem_collide_sample_fn(double t, double overlap, double v_n, double force_n,
-                                      void *user);
+                                    void *user);
 /* Wall impacts: called after every time step with the time since the start, the centre's travel
  * along the wall since the first touch (m), its speed along the wall (m/s) and |xi| of the DTK
  * contact (m, 0 without contact). */
 typedef void adem_collide_track_fn(double t, double travel, double v_along, double xi,
-                                     void *user);
+                                   void *user);
 
 typedef struct adem_collide_spec {
   adem_collide_kind kind;
-  double radius;           /* r_i, m */
-  double size_ratio;       /* beta = r_j / r_i (pair only) */
-  double density;          /* rho of both spheres, kg/m^3 */
-  double young;            /* effective modulus E of the real materials (H2), Pa */
-  double poisson;          /* nu of the spheres (enters G, H15) */
-  double restitution;      /* e of the pair, (0, 1] */
-  double friction;         /* mu_s */
-  double surface_energy;   /* gamma of the pair, J/m^2; > 0 selects simplified JKR, 0 Hertz */
-  double stiffness_factor; /* f = E_mod/E in (0, 1] */
-  bool keep_gamma;         /* true: E reduced but gamma left as is (not H24), for comparison */
-  double speed;            /* relative impact speed, m/s */
-  double angle;            /* psi, between the velocity and the wall, rad (pi/2: normal impact) */
-  double steps_per_tc;     /* time steps per collision time t_c (default 200) */
-  double max_periods;      /* in contact this many t_c without a decision: stuck, undecided */
+  double radius;                  /* r_i, m */
+  double size_ratio;              /* beta = r_j / r_i (pair only) */
+  double density;                 /* rho of both spheres, kg/m^3 */
+  double young;                   /* effective modulus E of the real materials (H2), Pa */
+  double poisson;                 /* nu of the spheres (enters G, H15) */
+  double restitution;             /* e of the pair, (0, 1] */
+  double friction;                /* mu_s */
+  double surface_energy;          /* gamma of the pair, J/m^2; > 0 selects simplified JKR, 0 Hertz */
+  double stiffness_factor;        /* f = E_mod/E in (0, 1] */
+  bool keep_gamma;                /* true: E reduced but gamma left as is (not H24), for comparison */
+  double speed;                   /* relative impact speed, m/s */
+  double angle;                   /* psi, between the velocity and the wall, rad (pi/2: normal impact) */
+  double steps_per_tc;            /* time steps per collision time t_c (default 200) */
+  double max_periods;             /* in contact this many t_c without a decision: stuck, undecided */
   adem_collide_sample_fn *sample; /* may be NULL */
   void *sample_user;
   /* Deposition on the wall (H section 5.3, Fig. 9): DTK rolling resistance and a constant force
    * through the centre, parallel to the wall, along the tangential impact velocity (+x; +x also
    * for a normal impact). F_ext = force_ext + force_hat F_yield: give one of the two. */
-  bool dtk;                /* DTK rolling resistance on the sphere-wall pair (H18-H22) */
-  double hysteresis;       /* adhesion hysteresis delta_gamma/gamma (H18) */
-  bool dtk_modification;   /* true (default): real F_C, a0, xi_crit, only a/a0 modified (H section
-                            * 3.2); false: all from the modified material */
-  double force_ext;        /* N */
-  double force_hat;        /* F_ext / F_yield, F_yield = adem_collide_yield_force() */
-  bool at_rest;            /* no impact: start at rest at the JKR equilibrium (a = a0) */
-  double rest_periods;     /* decision window, in rolling periods T_r (default 3) */
-  double max_roll_periods; /* longest rolling phase, in T_r (default 400); then undecided */
-  bool capture_only;       /* stop at the capture (outcome captured): no rolling phase */
+  bool dtk;                     /* DTK rolling resistance on the sphere-wall pair (H18-H22) */
+  double hysteresis;            /* adhesion hysteresis delta_gamma/gamma (H18) */
+  bool dtk_modification;        /* true (default): real F_C, a0, xi_crit, only a/a0 modified (H section
+                                 * 3.2); false: all from the modified material */
+  double force_ext;             /* N */
+  double force_hat;             /* F_ext / F_yield, F_yield = adem_collide_yield_force() */
+  bool at_rest;                 /* no impact: start at rest at the JKR equilibrium (a = a0) */
+  double rest_periods;          /* decision window, in rolling periods T_r (default 3) */
+  double max_roll_periods;      /* longest rolling phase, in T_r (default 400); then undecided */
+  bool capture_only;            /* stop at the capture (outcome captured): no rolling phase */
   adem_collide_track_fn *track; /* may be NULL */
   void *track_user;
   adem_tangential_model tangential; /* tangential law (default: incremental; H14 is `total`) */
@@ -89,20 +89,20 @@ typedef struct adem_collide_spec {
 adem_collide_spec adem_default_collide_spec(void);
 
 typedef struct adem_collide_result {
-  adem_status status;   /* ADEM_OK, or why this collision could not be run (message) */
-  bool stuck;           /* captured: the spheres never separate (the contact's energy says so);
-                         * whether the sphere then rolls or rests is in `outcome` */
-  bool undecided;       /* stopped after max_periods without separating or a sure capture */
-  double e_eff;         /* separation / approach normal speed; 0 when stuck */
-  double v_n_in;        /* normal approach speed, m/s */
-  double v_n_out;       /* normal separation speed, m/s (0 when stuck) */
-  double v_t_out;       /* tangential speed of the centre after the impact (wall), m/s */
-  double omega_out;     /* angular speed after the impact (wall), rad/s */
-  double t_touch;       /* time of the first touch since the start, s */
-  double duration;      /* first touch to separation (to the stop when stuck), s */
-  double max_overlap;   /* m */
-  double t_c;           /* collision time the step was taken from (modified stiffness), s */
-  double dt;            /* time step, s */
+  adem_status status; /* ADEM_OK, or why this collision could not be run (message) */
+  bool stuck;         /* captured: the spheres never separate (the contact's energy says so);
+                       * whether the sphere then rolls or rests is in `outcome` */
+  bool undecided;     /* stopped after max_periods without separating or a sure capture */
+  double e_eff;       /* separation / approach normal speed; 0 when stuck */
+  double v_n_in;      /* normal approach speed, m/s */
+  double v_n_out;     /* normal separation speed, m/s (0 when stuck) */
+  double v_t_out;     /* tangential speed of the centre after the impact (wall), m/s */
+  double omega_out;   /* angular speed after the impact (wall), rad/s */
+  double t_touch;     /* time of the first touch since the start, s */
+  double duration;    /* first touch to separation (to the stop when stuck), s */
+  double max_overlap; /* m */
+  double t_c;         /* collision time the step was taken from (modified stiffness), s */
+  double dt;          /* time step, s */
   uint64_t steps;
   double ke_in, ke_out; /* kinetic energy (translation + rotation) before and at the end, J */
   double work;          /* work of all forces and torques over the run (Verlet trapezoid), J */
@@ -131,10 +131,10 @@ void adem_collide_set_ad(adem_collide_spec *s, double ad);
 /* Effective radius R, mass m* and the contact law's modulus and surface energy (modified). */
 typedef struct adem_collide_params {
   double R, mstar, E_mod, gamma_mod;
-  double v_n;       /* normal impact speed */
-  double u_min;     /* JKR energy at equilibrium relative to contact formation (<= 0), J */
-  double t_c;       /* Hertz collision time at the speed reached in contact, s */
-  double t_osc;     /* period of small oscillations about the JKR equilibrium (0 for Hertz), s */
+  double v_n;   /* normal impact speed */
+  double u_min; /* JKR energy at equilibrium relative to contact formation (<= 0), J */
+  double t_c;   /* Hertz collision time at the speed reached in contact, s */
+  double t_osc; /* period of small oscillations about the JKR equilibrium (0 for Hertz), s */
 } adem_collide_params;
 adem_collide_params adem_collide_derive(const adem_collide_spec *s);
 
@@ -207,7 +207,6 @@ adem_status adem_collide_threshold_split(const adem_collide_spec *base,
 size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double *c, double *k);
 
 
-
 /* The PSL sphere of 1.27 um on quartz of H Fig. 5 (a wall impact), from the case file
  * cases/haervig/psl-quartz.yaml (embedded at build time): kind, radius, density, E*, nu,
  * restitution and surface energy; the rest of *s is left as it is. */
@@ -220,8 +219,8 @@ adem_status adem_collide_psl_quartz(adem_collide_spec *s, adem_error *err);
  * DIR/summary.json and DIR/summary.md. */
 typedef struct adem_validation_context {
   const char *out_dir;
-  int nthreads;   /* threads the validation may use (collisions in bulk run in parallel) */
-  bool quick;     /* a smaller version, for the test suite */
+  int nthreads; /* threads the validation may use (collisions in bulk run in parallel) */
+  bool quick;   /* a smaller version, for the test suite */
   /* Law overrides, for the tests that show a validation can fail with a wrong law: the name of a
    * row of laws.h used instead of the paper's law (NULL: the paper's). normal_law replaces the
    * simplified JKR law of the Haervig validations (their collisions and the curves of Fig. 3);
@@ -255,7 +254,7 @@ const adem_validation *adem_validation_find(const char *name);
 /* Runs the named validations (all when n == 0) and writes the summaries. *failed counts the
  * validations whose claim did not hold. */
 adem_status adem_validation_run(const char *const *names, int n, const adem_validation_context *ctx,
-                              int *failed, adem_error *err);
+                                int *failed, adem_error *err);
 
 /* Validations of each paper (validate_haervig.c, validate_irazabal.c). */
 extern const adem_validation adem_validations_haervig[];

@@ -229,7 +229,9 @@ void adem_world_set_domain(adem_world *w, adem_vec3 lo, adem_vec3 hi); /* escape
  * a periodic length below 2 (largest diameter + skin), or a plane wall whose normal has a
  * component along a periodic axis. Mesh walls are not imaged across the faces (a warning says
  * so when one comes within reach of a face). */
-enum { ADEM_PERIODIC_X = 1, ADEM_PERIODIC_Y = 2, ADEM_PERIODIC_Z = 4 };
+enum { ADEM_PERIODIC_X = 1,
+       ADEM_PERIODIC_Y = 2,
+       ADEM_PERIODIC_Z = 4 };
 adem_status adem_world_set_periodic(adem_world *w, adem_vec3 lo, adem_vec3 hi, unsigned axes,
                                     adem_error *err);
 /* Periodic faces particle `id` has crossed along x, y, z (out[3]; its unwrapped centre is the
@@ -238,23 +240,24 @@ adem_status adem_world_particle_image(const adem_world *w, uint64_t id, int32_t 
                                       adem_error *err);
 /* Neighbour search: a cell grid (default), or every pair (O(N^2): a two-body study is faster
  * without a grid). Results are the same. */
-typedef enum adem_neighbor_search { ADEM_SEARCH_GRID = 0, ADEM_SEARCH_ALL_PAIRS = 1 } adem_neighbor_search;
+typedef enum adem_neighbor_search { ADEM_SEARCH_GRID = 0,
+                                    ADEM_SEARCH_ALL_PAIRS = 1 } adem_neighbor_search;
 void adem_world_set_neighbor_search(adem_world *w, adem_neighbor_search how);
 
 /* Time step from the Hertz collision time and the Rayleigh time (notes section 6). */
 typedef struct adem_step_estimate {
-  double v_ref;        /* impact speed the collision time is evaluated at, m/s */
-  double t_collision;  /* shortest Hertz collision time over material pairs, s; a simplified JKR
-                        * pair takes it at sqrt(v_ref^2 + 2|U_min|/m*), the speed its adhesion
-                        * brings the spheres to, or half its period of oscillation about the
-                        * equilibrium if that is shorter */
-  double t_rayleigh;   /* shortest Rayleigh time, s */
-  double dt;           /* proposed step: min(t_collision/50, 0.2 t_rayleigh, dt_stable/5) */
-  double dt_stable;    /* shortest step at which a contact's fastest mode (normal; tangential with
-                        * the contact point's mass m-star/3.5 and a rolling spring; model C's
-                        * explicit dashpot) reaches the integrator's stability limit, linearised at
-                        * the collision's peak stiffness (docs/models.md, "Time step"), s */
-  double dt_limit;     /* the largest step a case may ask for: min(t_collision/5, dt_stable) */
+  double v_ref;       /* impact speed the collision time is evaluated at, m/s */
+  double t_collision; /* shortest Hertz collision time over material pairs, s; a simplified JKR
+                       * pair takes it at sqrt(v_ref^2 + 2|U_min|/m*), the speed its adhesion
+                       * brings the spheres to, or half its period of oscillation about the
+                       * equilibrium if that is shorter */
+  double t_rayleigh;  /* shortest Rayleigh time, s */
+  double dt;          /* proposed step: min(t_collision/50, 0.2 t_rayleigh, dt_stable/5) */
+  double dt_stable;   /* shortest step at which a contact's fastest mode (normal; tangential with
+                       * the contact point's mass m-star/3.5 and a rolling spring; model C's
+                       * explicit dashpot) reaches the integrator's stability limit, linearised at
+                       * the collision's peak stiffness (docs/models.md, "Time step"), s */
+  double dt_limit;    /* the largest step a case may ask for: min(t_collision/5, dt_stable) */
 } adem_step_estimate;
 adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref);
 /* Accuracy limit of a given step: t_collision / ADEM_STEP_LIMIT_DIVISOR. Measured on a
@@ -394,7 +397,7 @@ typedef struct adem_pair_info {
   double E, G;           /* effective moduli, modified stiffness (H2, H15, H24), Pa */
   double E_real, G_real; /* of the real material */
   double restitution, beta, friction;
-  double gamma, gamma_real; /* surface energy, modified (H24) and real, J/m^2 */
+  double gamma, gamma_real;         /* surface energy, modified (H24) and real, J/m^2 */
   double param[ADEM_PARAM_COUNT];   /* the pair's value of each law parameter */
   double param_a[ADEM_PARAM_COUNT]; /* material a's (or the interaction's) value */
   double param_b[ADEM_PARAM_COUNT];
@@ -430,10 +433,10 @@ size_t adem_world_bytes_per_pair(const adem_world *w);
 #define ADEM_PAIRS_PER_PARTICLE 4.0
 #define ADEM_MESH_SLOTS_PER_PARTICLE 4.0
 typedef struct adem_memory_estimate {
-  double particles;  /* particle count the estimate is for */
-  double pairs;      /* candidate pairs of every kind */
+  double particles; /* particle count the estimate is for */
+  double pairs;     /* candidate pairs of every kind */
   double particle_bytes, pair_bytes, grid_bytes, build_bytes;
-  double total;      /* bytes */
+  double total; /* bytes */
 } adem_memory_estimate;
 adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double nparticles);
 /* Memory the machine can give a new run, bytes: MemAvailable of /proc/meminfo, else the free
@@ -447,10 +450,10 @@ double adem_memory_available(void);
 #define ADEM_TUNNEL_LOGGED 5
 typedef struct adem_tunnel_event {
   uint64_t id;
-  adem_vec3 pos;     /* centre after the step, m */
-  double time;       /* s */
-  double moved;      /* |v| dt of the step, m */
-  double radius;     /* m */
+  adem_vec3 pos; /* centre after the step, m */
+  double time;   /* s */
+  double moved;  /* |v| dt of the step, m */
+  double radius; /* m */
 } adem_tunnel_event;
 uint64_t adem_world_tunnel_count(const adem_world *w);
 /* The first event (NULL when there was none). */

@@ -48,10 +48,10 @@ static inline bool onset_pass(const adem_force_scope *w) {
 }
 
 typedef struct contact_result {
-  adem_vec3 force;    /* on i */
-  adem_vec3 rolling;  /* rolling couple on i (j takes the opposite) */
-  double capacity;    /* per-particle rolling resistance this contact offers (BROF) */
-  double elastic;     /* stored energy, J */
+  adem_vec3 force;   /* on i */
+  adem_vec3 rolling; /* rolling couple on i (j takes the opposite) */
+  double capacity;   /* per-particle rolling resistance this contact offers (BROF) */
+  double elastic;    /* stored energy, J */
   /* energy bookkeeping: the dissipative forces, whose work the per-particle sums take with the
    * velocities of the kicks, and what the laws' own limits took in the step */
   adem_vec3 damping;        /* dashpot force on i (normal and tangential) */
@@ -74,9 +74,9 @@ static inline adem_normal_result normal_law(const adem_interaction *it, int norm
   const adem_pair_params *pp = &it->pp;
   adem_normal_result nr;
   switch (normal) {
-#define ADEM_X(ID, kernel, hist, ...)                                \
-  case ID:                                                       \
-    nr = kernel(pp, g, a);                                       \
+#define ADEM_X(ID, kernel, hist, ...) \
+  case ID:                            \
+    nr = kernel(pp, g, a);            \
     break;
     ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
@@ -147,9 +147,9 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   adem_damping_input din = {Sn, St, g->mstar, vn_d, nr.f_elastic, nr.f_critical};
   adem_damping_output dout = {nr.f_elastic, 0.0};
   switch (laws.damping) {
-#define ADEM_X(ID, kernel, hist, ...)                                \
-  case ID:                                                       \
-    kernel(pp, &din, &dout);                                     \
+#define ADEM_X(ID, kernel, hist, ...) \
+  case ID:                            \
+    kernel(pp, &din, &dout);          \
     break;
     ADEM_DAMPING_LAWS(ADEM_X)
 #undef ADEM_X
@@ -162,13 +162,13 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   if (fresh && nr.f_critical != 0.0) fn += onset_correction(nr.f_elastic, g->delta, vn, dt);
 
   double f_load = fabs(nr.f_elastic + 2.0 * nr.f_critical); /* the load the contact carries */
-  double f_limit = pp->friction * f_load;                     /* H17 */
+  double f_limit = pp->friction * f_load;                   /* H17 */
   adem_tangential_input tin = {g->n, vt, vt_d, dt, St, ct, f_limit, g->mob_t};
   adem_tangential_output tout = {v3_zero(), v3_zero(), 0.0, 0.0, false};
   switch (laws.tangential) {
-#define ADEM_X(ID, kernel, hist, ...)                                       \
-  case ID:                                                              \
-    kernel(&tin, &h->tangential, &h->tangential_aux, &tout);            \
+#define ADEM_X(ID, kernel, hist, ...)                        \
+  case ID:                                                   \
+    kernel(&tin, &h->tangential, &h->tangential_aux, &tout); \
     break;
     ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
@@ -183,9 +183,9 @@ contact_force(const adem_interaction *it, law_set laws, const contact_geometry *
   adem_rolling_input in = {g, pp, dt, f_load, nr.a, Sn};
   adem_rolling_output ro = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
   switch (laws.rolling) {
-#define ADEM_X(ID, kernel, hist, ...)                                \
-  case ID:                                                       \
-    kernel(&in, &h->rolling, &h->rolling_aux, &ro);                               \
+#define ADEM_X(ID, kernel, hist, ...)               \
+  case ID:                                          \
+    kernel(&in, &h->rolling, &h->rolling_aux, &ro); \
     break;
     ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X
@@ -252,7 +252,6 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
   l->bal[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
   l->bal[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
-
 
 
 /* A contact that opened since the last pass: its history's spring energy is gone (dissipated),

@@ -34,7 +34,8 @@ adem_status adem_wall_check_shape(const adem_plane_def *d, adem_error *err) {
 
 /* Half the extent along axis k of a circle of radius r whose plane has the unit normal a. */
 static double circle_half(adem_vec3 a, int k, double r) {
-  double c = k == 0 ? a.x : k == 1 ? a.y : a.z;
+  double c = k == 0 ? a.x : k == 1 ? a.y
+                                   : a.z;
   return r * sqrt(fmax(0.0, 1.0 - c * c));
 }
 
@@ -66,7 +67,10 @@ adem_status adem_wall_check_periodic(const adem_plane_def *d, int axis, double b
                        : d->radius <= 0.0 && fabs(a[axis]) > 1e-12;
   adem_vec3 lo, hi;
   adem_wall_bounds(d, &lo, &hi);
-  double l = axis == 0 ? lo.x : axis == 1 ? lo.y : lo.z, h = axis == 0 ? hi.x : axis == 1 ? hi.y : hi.z;
+  double l = axis == 0 ? lo.x : axis == 1 ? lo.y
+                                          : lo.z,
+         h = axis == 0 ? hi.x : axis == 1 ? hi.y
+                                          : hi.z;
   if (!cyl && d->radius <= 0.0 && !unbounded) {
     /* an unbounded plate parallel to the axis: only its hole is not imaged */
     if (d->hole_radius <= 0.0) return ADEM_OK;

@@ -232,7 +232,8 @@ void adem_force_pass_run(const adem_force_scope *scope) {
   /* chunks of the pair list: a few per thread even on a small system (the static split gives
    * each thread whole chunks), at most 2048 pairs; their size changes no result */
   size_t chunk = w->pp->n / (8 * (size_t)(nthreads > 1 ? nthreads : 1));
-  s.pair_chunk = chunk < 4 * PAIR_BLOCK ? 4 * PAIR_BLOCK : chunk > 2048 ? 2048 : chunk;
+  s.pair_chunk = chunk < 4 * PAIR_BLOCK ? 4 * PAIR_BLOCK : chunk > 2048 ? 2048
+                                                                        : chunk;
   ADEM_FOR(nthreads, (w->pp->n + s.pair_chunk - 1) / s.pair_chunk, particle_pair_chunk, w);
   ADEM_FOR(nthreads, w->pw->n, wall_pair, w);
   mesh_pairs(w);

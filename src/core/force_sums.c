@@ -18,9 +18,9 @@ enum { PREFETCH_AHEAD = 8 };
  * energy: the closing half now, the opening half at the next pass (held back in *_next, so that
  * the totals after a step match the kinetic energy after it). */
 typedef struct particle_energy {
-  adem_vec3 G, H;       /* dissipative force and torque on the particle */
-  double P_w, P_d;      /* wall power and its dissipative share, W */
-  double dissipated;    /* the laws' own, of the step just done (its share of pairs'), J */
+  adem_vec3 G, H;    /* dissipative force and torque on the particle */
+  double P_w, P_d;   /* wall power and its dissipative share, W */
+  double dissipated; /* the laws' own, of the step just done (its share of pairs'), J */
 } particle_energy;
 
 static inline void account_energy(adem_particles *p, size_t i, const particle_energy *e,
@@ -69,7 +69,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
     double ri = p->radius[i]; /* the arm of its contacts' tangential forces */
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
     double capacity = 0.0, capacity_pp = 0.0;
-    adem_vec3 wall_spin = v3_zero(); /* sum of capacity x spin of the walls it touches (BROF) */
+    adem_vec3 wall_spin = v3_zero();    /* sum of capacity x spin of the walls it touches (BROF) */
     adem_vec3 partner_spin = v3_zero(); /* the same of its particle partners (brof_objective) */
     bool objective = false;
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e) {
@@ -83,7 +83,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
         __builtin_prefetch(&pp->touching[ka]);
       }
       if (balance) en.dissipated += 0.5 * pp->bal[k].dissipated; /* also of one just opened */
-      if (!pp->touching[k]) { /* apart; one that just opened may carry a break correction */
+      if (!pp->touching[k]) {                                    /* apart; one that just opened may carry a break correction */
         if (!breaks) continue;
         adem_vec3 fb = pp->res[k].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);

@@ -18,13 +18,16 @@ static void clear_flush(void) { _mm_setcsr(_mm_getcsr() & ~(MXCSR_FTZ | MXCSR_DA
 #define FPCR_FZ (1ull << 24)
 static unsigned long long read_fpcr(void) {
   unsigned long long r;
-  __asm__ volatile("mrs %0, fpcr" : "=r"(r));
+  __asm__ volatile("mrs %0, fpcr"
+                   : "=r"(r));
   return r;
 }
 static unsigned flush_bits(void) { return read_fpcr() & FPCR_FZ ? 1u : 0u; }
 static void clear_flush(void) {
   unsigned long long r = read_fpcr() & ~FPCR_FZ;
-  __asm__ volatile("msr fpcr, %0" : : "r"(r));
+  __asm__ volatile("msr fpcr, %0"
+                   :
+                   : "r"(r));
 }
 #else
 static unsigned flush_bits(void) { return 0u; }
@@ -46,7 +49,9 @@ int adem_fpenv_ensure(int nthreads) {
   int fixed = found ? 1 : 0;
 #ifdef ADEM_HAVE_OPENMP
   if (nthreads > 1) {
-#pragma omp parallel num_threads(nthreads) reduction(| : found) reduction(+ : fixed)
+#pragma omp parallel num_threads(nthreads) reduction(|                    \
+                                                     : found) reduction(+ \
+                                                                        : fixed)
     {
       if (omp_get_thread_num() != 0) {
         unsigned f = fix_thread();

@@ -36,7 +36,8 @@ adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attac
   if (m && m->servo.on)
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "particle id %llu cannot be attached to a servo wall (its travel is not "
-                          "a function of time)", (unsigned long long)id);
+                          "a function of time)",
+                          (unsigned long long)id);
   /* the anchor is where the motion, counted from its t0, starts the centre */
   p->anchor[i] = p->pos[i];
   p->vel[i] = p->omega[i] = v3_zero();

@@ -108,7 +108,9 @@ static const char *laws_conflict(const adem_interaction_def *d, char *buf, size_
   for (int s = 0; s < 4; ++s)
     if (!law[s]) {
       snprintf(buf, n, "there is no %s law number %d (%s)", adem_law_slot_name(slot[s]),
-               s == 0 ? (int)d->normal : s == 1 ? (int)d->damping : s == 2 ? (int)d->tangential : (int)d->rolling,
+               s == 0 ? (int)d->normal : s == 1 ? (int)d->damping
+                                     : s == 2   ? (int)d->tangential
+                                                : (int)d->rolling,
                adem_law_choices(slot[s]));
       return buf;
     }
@@ -127,8 +129,7 @@ static const char *laws_conflict(const adem_interaction_def *d, char *buf, size_
 static const char *laws_check(const adem_materials *mt, const adem_interaction_def *d, char *buf,
                               size_t n) {
   const adem_material *ma = &mt->m[d->material_a], *mb = &mt->m[d->material_b];
-  adem_law_check c = {ma->def.param, mb->def.param, d->param, {ma->def.name, mb->def.name},
-                      {NULL, NULL}, NULL};
+  adem_law_check c = {ma->def.param, mb->def.param, d->param, {ma->def.name, mb->def.name}, {NULL, NULL}, NULL};
   adem_law_set laws = {(int)d->normal, (int)d->damping, (int)d->tangential, (int)d->rolling};
   adem_law_slot slot;
   int side;

@@ -14,8 +14,8 @@
 /* A material after derivation: the real values plus those the contact laws use. */
 typedef struct adem_material {
   adem_material_def def;
-  double young_mod;   /* E_mod = f E (H24) */
-  double shear_mod;   /* G_mod = E_mod / (2(1+nu)) */
+  double young_mod; /* E_mod = f E (H24) */
+  double shear_mod; /* G_mod = E_mod / (2(1+nu)) */
 } adem_material;
 
 /* Everything about a pair of materials that does not depend on the particles (H2, H12, H15):
@@ -26,7 +26,7 @@ typedef struct adem_interaction {
   adem_tangential_model tangential;
   adem_rolling_model rolling;
   adem_pair_params pp;
-  bool rolling_inertia; /* its contacts need the rolling inertia I_r (the rolling law's hook) */
+  bool rolling_inertia;               /* its contacts need the rolling inertia I_r (the rolling law's hook) */
   bool set_restitution, set_friction; /* given by an interaction entry */
   bool set_param[ADEM_PARAM_COUNT];
 } adem_interaction;
@@ -36,7 +36,7 @@ typedef struct adem_interaction {
 typedef struct adem_materials {
   adem_material *m;
   int n;
-  adem_interaction *pairs;   /* derived by adem_materials_derive */
+  adem_interaction *pairs;    /* derived by adem_materials_derive */
   adem_interaction_def *defs; /* as given */
   int ndefs;
 } adem_materials;

@@ -71,7 +71,7 @@ adem_status adem_mesh_transform_rotate(adem_mesh_transform *tf, adem_vec3 axis, 
 }
 
 adem_status adem_mesh_check_transform(const adem_mesh_transform *tf, const char *path,
-                                   adem_error *err) {
+                                      adem_error *err) {
   if (!(tf->scale > 0.0) || !isfinite(tf->scale))
     return adem_error_set(err, ADEM_ERR_INPUT, "%s: mesh scale must be finite and > 0, not %g",
                           path, tf->scale);
@@ -354,7 +354,7 @@ int adem_mesh_find_group(const adem_mesh *mesh, const char *name) {
 /* Appends the soup's blocks as groups. Builds a new mesh beside the old one and swaps it in, so
  * that a failure leaves mesh untouched. Messages name the facet's line (ascii) or the triangle. */
 adem_status adem_mesh_append_soup(adem_mesh *mesh, const adem_mesh_soup *s, const adem_mesh_transform *tf,
-                               const char *path, int ascii, adem_error *err) {
+                                  const char *path, int ascii, adem_error *err) {
   size_t nold_v = mesh->nverts, nold_t = mesh->ntris, n = s->n;
   if (nold_t + n >= INT32_MAX || nold_v + 3 * n >= UINT32_MAX)
     return adem_error_set(err, ADEM_ERR_INPUT, "%s: too many triangles for 32-bit indices", path);
@@ -412,7 +412,8 @@ adem_status adem_mesh_append_soup(adem_mesh *mesh, const adem_mesh_soup *s, cons
     }
     for (size_t r = i; r < j; ++r) {
       size_t q = keys[r].seq;
-      rep[q] = q < nold_v ? q : shared != SIZE_MAX ? shared : first_new;
+      rep[q] = q < nold_v ? q : shared != SIZE_MAX ? shared
+                                                   : first_new;
     }
     i = j;
   }
@@ -521,7 +522,6 @@ done:
   free(keep);
   return st;
 }
-
 
 
 adem_status adem_mesh_add_triangles(adem_mesh *mesh, const adem_vec3 *corners,

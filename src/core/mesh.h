@@ -18,19 +18,19 @@
 
 /* Kind of a triangle edge, seen from the side the triangle's normal points to. */
 typedef enum adem_mesh_edge_kind {
-  ADEM_MESH_EDGE_BORDER = 0,      /* no neighbour: an open edge of the surface */
-  ADEM_MESH_EDGE_FLAT = 1,        /* the neighbour is coplanar (within flat_angle) */
-  ADEM_MESH_EDGE_CONVEX = 2,      /* the neighbour bends away from the normal side */
-  ADEM_MESH_EDGE_CONCAVE = 3,     /* the neighbour bends towards the normal side */
-  ADEM_MESH_EDGE_NONMANIFOLD = 4  /* three or more triangles share the edge */
+  ADEM_MESH_EDGE_BORDER = 0,     /* no neighbour: an open edge of the surface */
+  ADEM_MESH_EDGE_FLAT = 1,       /* the neighbour is coplanar (within flat_angle) */
+  ADEM_MESH_EDGE_CONVEX = 2,     /* the neighbour bends away from the normal side */
+  ADEM_MESH_EDGE_CONCAVE = 3,    /* the neighbour bends towards the normal side */
+  ADEM_MESH_EDGE_NONMANIFOLD = 4 /* three or more triangles share the edge */
 } adem_mesh_edge_kind;
 
 /* A group: one STL file, or one `solid NAME` block of an ASCII file with several. */
 typedef struct adem_mesh_group {
   char name[ADEM_NAME_MAX];
   int material;
-  int own_vertices;            /* loaded with own_vertices: its vertices are its alone */
-  uint32_t first, count;       /* its triangles, first .. first + count - 1 */
+  int own_vertices;                /* loaded with own_vertices: its vertices are its alone */
+  uint32_t first, count;           /* its triangles, first .. first + count - 1 */
   uint32_t vert_first, vert_count; /* the vertices it added (with own_vertices: all of its own) */
 } adem_mesh_group;
 
@@ -41,18 +41,18 @@ typedef struct adem_mesh {
   /* vertices: exactly equal coordinates (after the transform) are one vertex */
   size_t nverts;
   adem_vec3 *vert;
-  uint8_t *vert_flat;  /* 1: every edge at the vertex is flat (the vertex is inside a flat region) */
-  size_t *vt_start;    /* nverts + 1: triangles at vertex v are vt_tri[vt_start[v] .. vt_start[v+1]) */
-  uint32_t *vt_tri;    /* ascending within each vertex */
+  uint8_t *vert_flat; /* 1: every edge at the vertex is flat (the vertex is inside a flat region) */
+  size_t *vt_start;   /* nverts + 1: triangles at vertex v are vt_tri[vt_start[v] .. vt_start[v+1]) */
+  uint32_t *vt_tri;   /* ascending within each vertex */
 
   /* triangles */
   size_t ntris;
-  uint32_t (*tri)[3];  /* vertex indices in the file's order */
-  adem_vec3 *normal;   /* unit, right-hand rule on that order (the file's winding is kept) */
-  double *area;        /* m^2 */
-  uint32_t *group;     /* index into groups */
-  uint32_t *region;    /* flat region: smallest triangle index of the coplanar set joined by flat edges */
-  int32_t (*adj)[3];   /* triangle across edge k, or -1 (border or non-manifold edge) */
+  uint32_t (*tri)[3];      /* vertex indices in the file's order */
+  adem_vec3 *normal;       /* unit, right-hand rule on that order (the file's winding is kept) */
+  double *area;            /* m^2 */
+  uint32_t *group;         /* index into groups */
+  uint32_t *region;        /* flat region: smallest triangle index of the coplanar set joined by flat edges */
+  int32_t (*adj)[3];       /* triangle across edge k, or -1 (border or non-manifold edge) */
   uint8_t (*edge_kind)[3]; /* adem_mesh_edge_kind of edge k */
   uint32_t (*edge_id)[3];  /* id of the undirected edge, 0 .. nedges-1, shared by both sides */
   size_t nedges;

@@ -35,9 +35,11 @@ static inline adem_vec3 adem_triangle_segment_closest(adem_vec3 p, adem_vec3 a, 
   adem_vec3 ab = v3_sub(b, a);
   double l2 = v3_norm2(ab);
   double s = l2 > 0.0 ? v3_dot(v3_sub(p, a), ab) / l2 : 0.0;
-  s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+  s = s < 0.0 ? 0.0 : s > 1.0 ? 1.0
+                              : s;
   *t = s;
-  return s == 0.0 ? a : s == 1.0 ? b : v3_axpy(a, s, ab);
+  return s == 0.0 ? a : s == 1.0 ? b
+                                 : v3_axpy(a, s, ab);
 }
 
 /* Closest point on triangle abc to p, by the Voronoi-region tests on barycentric coordinates
@@ -116,9 +118,9 @@ static inline double adem_triangle_distance2(const adem_mesh *m, uint32_t t, ade
 
 /* What a contact touches; the high half of its key. */
 typedef enum adem_mesh_contact_kind {
-  ADEM_MESH_CONTACT_PLANE = 0,  /* a face, or an edge or vertex inside a flat region: key = region */
-  ADEM_MESH_CONTACT_EDGE = 1,   /* a non-flat edge: key = edge id */
-  ADEM_MESH_CONTACT_VERTEX = 2  /* a vertex that is not inside a flat region: key = vertex index */
+  ADEM_MESH_CONTACT_PLANE = 0, /* a face, or an edge or vertex inside a flat region: key = region */
+  ADEM_MESH_CONTACT_EDGE = 1,  /* a non-flat edge: key = edge id */
+  ADEM_MESH_CONTACT_VERTEX = 2 /* a vertex that is not inside a flat region: key = vertex index */
 } adem_mesh_contact_kind;
 
 /* Region key: kind in the high 32 bits, the region/edge/vertex index in the low ones. Stable while
@@ -132,12 +134,12 @@ static inline adem_mesh_contact_kind adem_mesh_contact_key_kind(uint64_t key) {
 
 /* One sphere-mesh contact, in the conventions of contact_force.h (n from the particle into the wall). */
 typedef struct adem_mesh_contact {
-  adem_vec3 point;  /* on the mesh surface */
-  adem_vec3 normal; /* unit, from the sphere centre towards point */
-  double overlap;   /* radius - distance, > 0 */
-  uint32_t tri;     /* owning triangle (its group gives the material) */
+  adem_vec3 point;               /* on the mesh surface */
+  adem_vec3 normal;              /* unit, from the sphere centre towards point */
+  double overlap;                /* radius - distance, > 0 */
+  uint32_t tri;                  /* owning triangle (its group gives the material) */
   adem_triangle_feature feature; /* where on tri the closest point lies */
-  uint64_t key;     /* region key, unique among one sphere's contacts */
+  uint64_t key;                  /* region key, unique among one sphere's contacts */
 } adem_mesh_contact;
 
 /* Insertion sort of a few contacts: by key, then deepest, then triangle (by_depth = 0); or deepest,
@@ -208,7 +210,8 @@ static inline size_t adem_triangle_sphere_contacts(const adem_mesh *m, adem_vec3
     if (!(d2 < r2)) continue;
     int edge = adem_triangle_feature_is_edge(f), vertex = adem_triangle_feature_is_vertex(f);
     if ((edge || vertex) && !adem_triangle_feature_is_local_min(m, t, f, centre, d2)) continue;
-    int k = edge ? (int)f - ADEM_TRIANGLE_EDGE0 : vertex ? (int)f - ADEM_TRIANGLE_VERTEX0 : 0;
+    int k = edge ? (int)f - ADEM_TRIANGLE_EDGE0 : vertex ? (int)f - ADEM_TRIANGLE_VERTEX0
+                                                         : 0;
     int plane = f == ADEM_TRIANGLE_FACE || (edge && m->edge_kind[t][k] == ADEM_MESH_EDGE_FLAT) ||
                 (vertex && m->vert_flat[m->tri[t][k]]);
     adem_mesh_contact c;

@@ -22,7 +22,8 @@ static int compare_strip(const void *x, const void *y) {
   return 0;
 }
 
-static double comp(adem_vec3 x, int d) { return d == 0 ? x.x : d == 1 ? x.y : x.z; }
+static double comp(adem_vec3 x, int d) { return d == 0 ? x.x : d == 1 ? x.y
+                                                                      : x.z; }
 
 adem_status adem_mesh_check_periodic(const adem_mesh *m, int axis, double lo, double len,
                                      double reach, adem_error *err) {
@@ -47,7 +48,7 @@ adem_status adem_mesh_check_periodic(const adem_mesh *m, int axis, double lo, do
           "across periodic faces; only a shell that is the same all along the axis (a drum, a "
           "pipe, extruded along it) and reaches %g m past both faces works. Keep other meshes "
           "%g m inside the faces, or make the axis not periodic",
-          m->groups[m->group[t]].name, reach, "xyz"[axis], t, m->normal[t].x, m->normal[t].y,
+          m->groups[m->group[t]].name, reach, "xyz"[axis], t, m -> normal[t].x, m->normal[t].y,
           m->normal[t].z, reach, reach);
       break;
     }

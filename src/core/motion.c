@@ -214,8 +214,8 @@ double adem_motion_max_shift(const adem_motion *m, double t0, double t1, double 
 }
 
 adem_status adem_motion_copy(adem_motion *dst, const adem_motion *src, adem_error *err) {
-  adem_motion_def d = {src->n,     src->time,   src->positions ? NULL : src->velocity,
-                       src->axis,  src->omega,  src->center,
+  adem_motion_def d = {src->n, src->time, src->positions ? NULL : src->velocity,
+                       src->axis, src->omega, src->center,
                        src->positions ? src->displacement : NULL, src->servo};
   if (d.servo.on && isinf(d.servo.travel_min) && isinf(d.servo.travel_max))
     d.servo.travel_min = d.servo.travel_max = 0.0; /* none, as servo_init reads it */

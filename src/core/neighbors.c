@@ -645,7 +645,7 @@ adem_status adem_neighbors_gather(adem_neighbors *nb, const adem_particles *p,
 
 adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *scope,
                                  adem_error *err) {
-  build_ctx ctx = {nb,        scope->p,     scope->pp,      scope->pw,
+  build_ctx ctx = {nb, scope->p, scope->pp, scope->pw,
                    scope->pm, scope->walls, scope->nthreads};
   build_ctx *w = &ctx;
   adem_particles *p = w->p;
@@ -729,12 +729,10 @@ void adem_neighbors_estimate_bytes(double n, double npairs, bool mesh, double *g
   *grid = cells * (double)sizeof(size_t) * (mesh ? 2.0 : 1.0);
   /* history kept across the build: particle pairs' keys and links (carry_pair_history), the
    * copies of the wall and mesh pairs' (one a particle at most, as the estimate counts them) */
-  *build = npairs * (double)(sizeof(pair_key) + sizeof(uint32_t) + 1)
-           + n * (double)sizeof(saved_history)
-           + 3.0 * (n + 1.0) * (double)sizeof(size_t)      /* cell_of, perm, offsets */
-           + 2.0 * (n + 1.0) * (double)sizeof(size_t)      /* pp_start, pw_start */
-           + (n + 1.0) * (double)sizeof(uint32_t)          /* id_order */
-           + 2.0 * npairs * (double)sizeof(uint32_t);      /* gather entries */
+  *build = npairs * (double)(sizeof(pair_key) + sizeof(uint32_t) + 1) + n * (double)sizeof(saved_history) + 3.0 * (n + 1.0) * (double)sizeof(size_t) /* cell_of, perm, offsets */
+           + 2.0 * (n + 1.0) * (double)sizeof(size_t)                                                                                                /* pp_start, pw_start */
+           + (n + 1.0) * (double)sizeof(uint32_t)                                                                                                    /* id_order */
+           + 2.0 * npairs * (double)sizeof(uint32_t);                                                                                                /* gather entries */
 }
 
 void adem_neighbors_free(adem_neighbors *nb) {

@@ -15,11 +15,11 @@
 #include "walls.h"
 
 typedef struct adem_neighbors {
-  double skin;           /* absolute skin distance, m */
-  double skin_fraction;  /* skin as a fraction of the largest diameter */
-  bool brute_force;      /* O(N^2) search, for tests */
-  double rmax_floor;     /* largest radius of particles held elsewhere (other MPI ranks'), m:
-                          * the skin follows the whole system's largest; 0 in a serial run */
+  double skin;          /* absolute skin distance, m */
+  double skin_fraction; /* skin as a fraction of the largest diameter */
+  bool brute_force;     /* O(N^2) search, for tests */
+  double rmax_floor;    /* largest radius of particles held elsewhere (other MPI ranks'), m:
+                         * the skin follows the whole system's largest; 0 in a serial run */
   /* cell grid; along a periodic axis it spans the box, its last cell taking the remainder of
    * the length, and the cells wrap */
   adem_periodic periodic; /* of the last build */
@@ -29,7 +29,7 @@ typedef struct adem_neighbors {
   size_t stride[3]; /* cell index = sum of coordinate x stride: the axis with the fewest cells
                      * varies fastest (neighbours.c, cell_index) */
   size_t ncells;
-  size_t *cell_start;    /* ncells + 1; particles are sorted by cell */
+  size_t *cell_start; /* ncells + 1; particles are sorted by cell */
   size_t cell_cap;
   /* mesh triangles binned into the cells their box, grown by the largest reach, overlaps */
   size_t *tri_cell_start; /* ncells + 1 */
@@ -44,14 +44,14 @@ typedef struct adem_neighbors {
   uint32_t *id_order;
   size_t id_order_cap, gathered;
   uint64_t rebuilds;
-  double time_at_build;  /* moving walls use up the skin from then on */
+  double time_at_build; /* moving walls use up the skin from then on */
 } adem_neighbors;
 
 /* What a neighbour build reads and writes. */
 typedef struct adem_neighbor_scope {
-  adem_particles *p;          /* reordered by cell */
-  adem_pair_list *pp, *pw;    /* particle pairs, particle-plane pairs */
-  adem_mesh_pairs *pm;        /* particle-triangle candidates */
+  adem_particles *p;       /* reordered by cell */
+  adem_pair_list *pp, *pw; /* particle pairs, particle-plane pairs */
+  adem_mesh_pairs *pm;     /* particle-triangle candidates */
   const adem_walls *walls;
   const adem_periodic *periodic; /* positions are wrapped into its box first */
   int nthreads;

@@ -15,7 +15,7 @@
 static inline __attribute__((always_inline)) void
 pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws, bool balance) {
   const adem_interaction *it = b->it;
-  double dt = law_step(w); /* 0 while the pass holds histories (prepare) */
+  double dt = law_step(w);                              /* 0 while the pass holds histories (prepare) */
   double h_close = w->second_order ? 0.5 * w->dt : 0.0; /* as particle_pair's 0.5 hp */
   int m = b->m;
   for (int q = 0; q < m; ++q) {
@@ -42,15 +42,15 @@ pair_block_laws(const adem_force_scope *w, pair_block *restrict b, law_set laws,
 #define PAIR_BLOCK_CLONES __attribute__((flatten))
 #endif
 
-#define PAIR_BLOCK_KERNEL(name, normal, rolling)                                                  \
-  PAIR_BLOCK_CLONES static void pair_block_##name(const adem_force_scope *w, pair_block *b) {     \
-    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling};    \
-    pair_block_laws(w, b, laws, false);                                                          \
-  }                                                                                               \
-  PAIR_BLOCK_CLONES static void pair_block_##name##_balance(const adem_force_scope *w,            \
-                                                            pair_block *b) {                      \
-    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling};    \
-    pair_block_laws(w, b, laws, true);                                                           \
+#define PAIR_BLOCK_KERNEL(name, normal, rolling)                                              \
+  PAIR_BLOCK_CLONES static void pair_block_##name(const adem_force_scope *w, pair_block *b) { \
+    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling}; \
+    pair_block_laws(w, b, laws, false);                                                       \
+  }                                                                                           \
+  PAIR_BLOCK_CLONES static void pair_block_##name##_balance(const adem_force_scope *w,        \
+                                                            pair_block *b) {                  \
+    law_set laws = {normal, ADEM_DAMPING_VISCOELASTIC, ADEM_TANGENTIAL_INCREMENTAL, rolling}; \
+    pair_block_laws(w, b, laws, true);                                                        \
   }
 ADEM_PAIR_BLOCK_LAWS(PAIR_BLOCK_KERNEL)
 #undef PAIR_BLOCK_KERNEL

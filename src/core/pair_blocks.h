@@ -12,6 +12,7 @@ enum { PAIR_BLOCK = 64 };
 
 /* The block's inputs, a pair per lane: pair_kinematics and the history, one array per number
  * (contiguous lanes are what packed loads read). */
+// clang-format off
 #define PAIR_BLOCK_INPUTS(X)                                                                    \
   X(dx, d.x) X(dy, d.y) X(dz, d.z) X(dist, dist) X(ri, ri) X(rj, rj) X(mi, mi) X(mj, mj)         \
   X(vix, vi.x) X(viy, vi.y) X(viz, vi.z) X(vjx, vj.x) X(vjy, vj.y) X(vjz, vj.z)                  \
@@ -23,17 +24,22 @@ enum { PAIR_BLOCK = 64 };
   X(ry, rolling.y) X(rz, rolling.z) X(taux, tangential_aux) X(raux, rolling_aux)                \
   X(ftx, tangential_force.x) X(fty, tangential_force.y) X(ftz, tangential_force.z)               \
   X(elastic, elastic)
+// clang-format on
 
 typedef struct pair_block {
-  int m;                        /* pairs held */
-  int kind;                     /* the kernel's index in pair_block_kernels */
-  const adem_interaction *it;   /* the interaction of every pair of the block */
-  size_t k[PAIR_BLOCK];         /* pair index */
-  double fresh[PAIR_BLOCK];     /* 1: not touching at the last pass */
+  int m;                      /* pairs held */
+  int kind;                   /* the kernel's index in pair_block_kernels */
+  const adem_interaction *it; /* the interaction of every pair of the block */
+  size_t k[PAIR_BLOCK];       /* pair index */
+  double fresh[PAIR_BLOCK];   /* 1: not touching at the last pass */
   struct {
 #define PAIR_BLOCK_ARRAY(a, f) double a[PAIR_BLOCK];
-    struct { PAIR_BLOCK_INPUTS(PAIR_BLOCK_ARRAY) } kin;
-    struct { PAIR_BLOCK_HISTORY(PAIR_BLOCK_ARRAY) } hist;
+    struct {
+      PAIR_BLOCK_INPUTS(PAIR_BLOCK_ARRAY)
+    } kin;
+    struct {
+      PAIR_BLOCK_HISTORY(PAIR_BLOCK_ARRAY)
+    } hist;
 #undef PAIR_BLOCK_ARRAY
   } in;
   adem_contact_history hist[PAIR_BLOCK]; /* the histories after the pass */

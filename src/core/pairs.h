@@ -19,19 +19,19 @@
 
 /* Contact history carried from step to step, keyed by the pair's stable ids. */
 typedef struct adem_contact_history {
-  adem_vec3 tangential; /* incremental law: spring force on i (N); total law: accumulated
-                         * tangential displacement of i relative to j (H14, m) */
-  adem_vec3 rolling;    /* rolling displacement (DTK) or spring torque (model C) */
+  adem_vec3 tangential;  /* incremental law: spring force on i (N); total law: accumulated
+                          * tangential displacement of i relative to j (H14, m) */
+  adem_vec3 rolling;     /* rolling displacement (DTK) or spring torque (model C) */
   double tangential_aux; /* incremental law: the S_t its force was stored with (N/m) */
   double rolling_aux;    /* models C and DTK: the rolling stiffness their spring was stored with */
   /* the tangential force on i the contact applied at the last pass, N (second-order scheme: its
    * dashpot takes the slip velocity at the full step implicitly, with the contact's own force of
    * this pass in place of this one, contact_force.h) */
   adem_vec3 tangential_force;
-  double elastic;        /* energy the history's springs (tangential, rolling) stored at the
-                          * last force pass, J: what is lost when the contact opens or a mesh
-                          * contact moves to another region (the normal energy follows the
-                          * overlap, not the history) */
+  double elastic; /* energy the history's springs (tangential, rolling) stored at the
+                   * last force pass, J: what is lost when the contact opens or a mesh
+                   * contact moves to another region (the normal energy follows the
+                   * overlap, not the history) */
 } adem_contact_history;
 
 /* What a force pass writes for a pair and the per-particle sums read back: one record, so that
@@ -40,35 +40,35 @@ typedef struct adem_contact_history {
  * the stored energy and the energy balance's terms are apart (elastic, adem_pair_balance), written
  * only by the passes that want them. */
 typedef struct adem_pair_result {
-  adem_vec3 force_a;        /* force on a (on b it is the opposite), N */
-  double rolling_capacity;  /* BROF: e_c |F_n| this contact offers (I9) */
-  double overlap_ratio;     /* overlap / smaller radius */
-  adem_vec3 moment;         /* n x F_t, N: the tangential force's moment per metre of arm. It
-                             * acts at r_a n from a's centre and (as -F_t) at -r_b n from b's,
-                             * so a takes r_a n x F_t and b r_b n x F_t; each particle's sum
-                             * scales it by its own radius (a wall takes none) */
-  adem_vec3 rolling_a;      /* rolling couple on a (on b: the opposite), N m */
+  adem_vec3 force_a;       /* force on a (on b it is the opposite), N */
+  double rolling_capacity; /* BROF: e_c |F_n| this contact offers (I9) */
+  double overlap_ratio;    /* overlap / smaller radius */
+  adem_vec3 moment;        /* n x F_t, N: the tangential force's moment per metre of arm. It
+                            * acts at r_a n from a's centre and (as -F_t) at -r_b n from b's,
+                            * so a takes r_a n x F_t and b r_b n x F_t; each particle's sum
+                            * scales it by its own radius (a wall takes none) */
+  adem_vec3 rolling_a;     /* rolling couple on a (on b: the opposite), N m */
 } adem_pair_result;
 
 /* The energy balance's terms of a pair at the last force pass, written while the balance is on.
  * A list keeps these records only then (adem_pairs_keep_balance): they are most of a pair's
  * bytes, and a run without the balance never reads them. */
 typedef struct adem_pair_balance {
-  double dissipated;        /* energy the laws took in the step by slip or a spring's limit, J */
-  adem_vec3 damping_a;      /* dissipative force on a, the dashpots (b: the opposite), N */
+  double dissipated;          /* energy the laws took in the step by slip or a spring's limit, J */
+  adem_vec3 damping_a;        /* dissipative force on a, the dashpots (b: the opposite), N */
   adem_vec3 damping_torque_a; /* dissipative torque on a: the dashpots' moments and dissipative
                                * couples, N m */
   adem_vec3 damping_torque_b; /* the same on b, N m (0 for a wall) */
-  double wall_power;        /* walls: power the wall gives through the contact, F.V + R.Omega
-                             * (V, Omega the wall's), W */
-  double wall_damping_power; /* walls: the dissipative forces' and couples' share of wall_power */
+  double wall_power;          /* walls: power the wall gives through the contact, F.V + R.Omega
+                               * (V, Omega the wall's), W */
+  double wall_damping_power;  /* walls: the dissipative forces' and couples' share of wall_power */
 } adem_pair_balance;
 
 /* Roles of the per-pair arrays. */
 enum {
-  ADEM_PAIR_KEY = 0,    /* who the pair is: set by the neighbour build */
-  ADEM_PAIR_STATE = 1,  /* carried from step to step and across rebuilds */
-  ADEM_PAIR_RESULT = 2  /* written by every force pass; zero when the pair does not touch */
+  ADEM_PAIR_KEY = 0,   /* who the pair is: set by the neighbour build */
+  ADEM_PAIR_STATE = 1, /* carried from step to step and across rebuilds */
+  ADEM_PAIR_RESULT = 2 /* written by every force pass; zero when the pair does not touch */
 };
 
 /* X(type, name, role, what it holds) */
@@ -90,8 +90,8 @@ typedef struct adem_pair_list {
 #define ADEM_X(type, name, role, doc) type *name;
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
-  bool keeps_balance;      /* bal is kept (the energy balance is on) */
-  adem_pair_balance *bal;  /* the energy balance's terms, a result like res; NULL unless kept */
+  bool keeps_balance;     /* bal is kept (the energy balance is on) */
+  adem_pair_balance *bal; /* the energy balance's terms, a result like res; NULL unless kept */
 } adem_pair_list;
 
 /* Forgets the pair's state and results: a candidate out of contact. */

@@ -7,15 +7,15 @@
 
 /* Calls fn(ctx, i) for every i in [0, n): on a team of nthreads threads, or in a plain loop for
  * one thread, because entering an OpenMP region costs more than a tiny system's whole loop. */
-#define ADEM_FOR(nthreads, n, fn, ctx)                \
-  do {                                                \
-    size_t adem_n_ = (n);                             \
-    if ((nthreads) > 1) {                             \
-      ADEM_PARALLEL_FOR                               \
+#define ADEM_FOR(nthreads, n, fn, ctx)                                         \
+  do {                                                                         \
+    size_t adem_n_ = (n);                                                      \
+    if ((nthreads) > 1) {                                                      \
+      ADEM_PARALLEL_FOR                                                        \
       for (size_t adem_i_ = 0; adem_i_ < adem_n_; ++adem_i_) fn(ctx, adem_i_); \
-    } else {                                          \
+    } else {                                                                   \
       for (size_t adem_i_ = 0; adem_i_ < adem_n_; ++adem_i_) fn(ctx, adem_i_); \
-    }                                                 \
+    }                                                                          \
   } while (0)
 
 #ifdef ADEM_HAVE_OPENMP

@@ -97,7 +97,7 @@ typedef struct kick_args {
 
 static inline void kick_one(const kick_args *a, size_t i) {
   adem_particles *p = a->p;
-  if (p->frozen[i]) return; /* its wall's motion sets its velocity and spin */
+  if (p->frozen[i]) return;                                           /* its wall's motion sets its velocity and spin */
   p->vel[i] = v3_axpy(p->vel[i], a->h * p->inv_mass[i], p->force[i]); /* H3 */
   if (a->closing && p->held[i])
     p->omega[i] = v3_zero();
@@ -113,7 +113,7 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
 /* Kicks (opening half kick h) and moves particle i; returns how much farther than its radius
  * it went. */
 static inline double kick_drift_one(adem_particles *p, double h, double dt, size_t i) {
-  if (p->frozen[i]) return -p->radius[i]; /* placed with its wall (adem_world_place_frozen) */
+  if (p->frozen[i]) return -p->radius[i];                            /* placed with its wall (adem_world_place_frozen) */
   adem_vec3 v = v3_axpy(p->vel[i], h * p->inv_mass[i], p->force[i]); /* H3 */
   p->vel[i] = v;
   p->omega[i] = v3_axpy(p->omega[i], h * p->inv_inertia[i], p->torque[i]); /* H4 */

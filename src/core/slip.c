@@ -31,14 +31,14 @@ void adem_world_wall_slip(const adem_world *w, double *plane_slip, double *group
     if (p->frozen[i]) continue;
     adem_vec3 x = p->pos[i];
     /* each wall once per particle: the first contact found gives the normal */
-#define TAKE(slot, motion, normal)                                                        \
-  do {                                                                                    \
-    if (seen[slot] != (int)r) {                                                           \
-      seen[slot] = (int)r;                                                                \
-      adem_vec3 vr = v3_sub(p->vel[i], wall_velocity(motion, t, x));                      \
-      sum[slot] += v3_norm(tangential(vr, normal));                                       \
-      cnt[slot] += 1.0;                                                                   \
-    }                                                                                     \
+#define TAKE(slot, motion, normal)                                   \
+  do {                                                               \
+    if (seen[slot] != (int)r) {                                      \
+      seen[slot] = (int)r;                                           \
+      adem_vec3 vr = v3_sub(p->vel[i], wall_velocity(motion, t, x)); \
+      sum[slot] += v3_norm(tangential(vr, normal));                  \
+      cnt[slot] += 1.0;                                              \
+    }                                                                \
   } while (0)
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e) {
       size_t k = nb->pw_entries[e];
@@ -65,7 +65,8 @@ void adem_world_wall_slip(const adem_world *w, double *plane_slip, double *group
       size_t k = code >> 1, j = (code & 1u) ? w->pp.a[k] : w->pp.b[k];
       if (!w->pp.touching[k] || !p->frozen[j]) continue;
       int32_t a = p->attach[j];
-      int slot = a > 0 ? np + a - 1 : a < 0 ? -a - 1 : -1;
+      int slot = a > 0 ? np + a - 1 : a < 0 ? -a - 1
+                                            : -1;
       if (slot < 0 || slot >= np + ng) continue;
       const adem_motion *m = a > 0 ? &wl->mesh_motion[a - 1] : &wl->planes[-a - 1].motion;
       adem_vec3 d = adem_periodic_min_image(&w->periodic, v3_sub(x, p->pos[j]));

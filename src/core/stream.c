@@ -59,12 +59,36 @@ int adem_get(adem_reader *rd, void *out, size_t n) {
   rd->at += n;
   return 1;
 }
-uint8_t adem_get_u8(adem_reader *rd) { uint8_t v; adem_get(rd, &v, 1); return v; }
-uint32_t adem_get_u32(adem_reader *rd) { uint32_t v; adem_get(rd, &v, 4); return v; }
-int32_t adem_get_i32(adem_reader *rd) { int32_t v; adem_get(rd, &v, 4); return v; }
-uint64_t adem_get_u64(adem_reader *rd) { uint64_t v; adem_get(rd, &v, 8); return v; }
-double adem_get_f64(adem_reader *rd) { double v; adem_get(rd, &v, 8); return v; }
-adem_vec3 adem_get_vec(adem_reader *rd) { adem_vec3 v; adem_get(rd, &v, sizeof v); return v; }
+uint8_t adem_get_u8(adem_reader *rd) {
+  uint8_t v;
+  adem_get(rd, &v, 1);
+  return v;
+}
+uint32_t adem_get_u32(adem_reader *rd) {
+  uint32_t v;
+  adem_get(rd, &v, 4);
+  return v;
+}
+int32_t adem_get_i32(adem_reader *rd) {
+  int32_t v;
+  adem_get(rd, &v, 4);
+  return v;
+}
+uint64_t adem_get_u64(adem_reader *rd) {
+  uint64_t v;
+  adem_get(rd, &v, 8);
+  return v;
+}
+double adem_get_f64(adem_reader *rd) {
+  double v;
+  adem_get(rd, &v, 8);
+  return v;
+}
+adem_vec3 adem_get_vec(adem_reader *rd) {
+  adem_vec3 v;
+  adem_get(rd, &v, sizeof v);
+  return v;
+}
 
 char *adem_get_str(adem_reader *rd, int *nomem) {
   uint64_t n = adem_get_u64(rd);
@@ -158,4 +182,3 @@ adem_status adem_checkpoint_header_check(const char *data, size_t len, const cha
   rd->failed = 0;
   return ADEM_OK;
 }
-

@@ -68,16 +68,16 @@ size_t adem_reader_left(const adem_reader *rd);
  * header "ADEMCKPT" (or "ADEMWRLD"), u32 version, u32 0x01020304, u64 payload bytes, u64 FNV-1a
  * of the payload, u32 sizeof(adem_vec3), u32 history bytes; then the payload. */
 #define ADEM_CKPT_MAGIC "ADEMCKPT"
-#define ADEM_CKPT_VERSION 11u /* 6: pair results as one record per pair; 7: where the walls are
-                                placed from, servo state, material names, the case section's
-                                length, the energy-balance switch, the periodic box and the
-                                per-particle image counters; 8: a pair's energy bookkeeping in
-                                a record of its own; 9: a pair's stored energy alone, the
-                                balance's records only while the balance is on; 10: a pair's
-                                opened flag; 11: the domain's open (outlet) faces, the
-                                outlets' and mass flows' state, the per-particle external
-                                force, the rolling stiffness a contact's rolling spring was
-                                stored with, the tangential force a contact applied at the
+#define ADEM_CKPT_VERSION 11u /* 6: pair results as one record per pair; 7: where the walls are \
+                                placed from, servo state, material names, the case section's    \
+                                length, the energy-balance switch, the periodic box and the     \
+                                per-particle image counters; 8: a pair's energy bookkeeping in  \
+                                a record of its own; 9: a pair's stored energy alone, the       \
+                                balance's records only while the balance is on; 10: a pair's    \
+                                opened flag; 11: the domain's open (outlet) faces, the          \
+                                outlets' and mass flows' state, the per-particle external       \
+                                force, the rolling stiffness a contact's rolling spring was     \
+                                stored with, the tangential force a contact applied at the      \
                                 last pass, a plane's shape (cylinder, disc) */
 #define ADEM_CKPT_ENDIAN 0x01020304u
 #define ADEM_CKPT_HEADER_BYTES 40u

@@ -273,7 +273,8 @@ adem_status adem_walls_set_mesh_motion(adem_walls *wl, int group, const adem_mot
     adem_motion_free(&m);
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "mesh group '%s' shares vertices with other groups and cannot move: "
-                          "load it with its own vertices", g->name);
+                          "load it with its own vertices",
+                          g->name);
   }
   adem_motion_free(&wl->mesh_motion[group]);
   wl->mesh_motion[group] = m;

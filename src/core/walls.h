@@ -22,7 +22,8 @@ typedef struct adem_plane {
 } adem_plane;
 
 /* CSV columns a wall gets when some configuration of the run moves it or gives it a servo. */
-enum { ADEM_WALL_CSV_MOVES = 1u, ADEM_WALL_CSV_SERVO = 2u };
+enum { ADEM_WALL_CSV_MOVES = 1u,
+       ADEM_WALL_CSV_SERVO = 2u };
 
 /* One mesh wall: the groups one STL file made (several for an ASCII file with several solids),
  * for its whole-file loads. */
@@ -47,8 +48,8 @@ typedef struct adem_walls {
   double *face_torque;      /* 3 per triangle: its moment about its group's reference point */
   uint8_t *mesh_inactive;   /* per group < mesh_inactive_n, 1: switched off (no contacts) */
   int mesh_inactive_n;
-  adem_vec3 *mesh_ref0;     /* per group: the point its torque is taken about, at time 0 */
-  adem_vec3 *mesh_ref;      /* per group: that point where the group's motion has it now */
+  adem_vec3 *mesh_ref0;       /* per group: the point its torque is taken about, at time 0 */
+  adem_vec3 *mesh_ref;        /* per group: that point where the group's motion has it now */
   adem_mesh_wall *mesh_walls; /* one per STL file loaded */
   int nmesh_walls;
 } adem_walls;

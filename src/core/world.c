@@ -207,8 +207,8 @@ double adem_world_wall_shift(const adem_world *w) {
 }
 
 static adem_neighbor_scope neighbor_scope(adem_world *w) {
-  adem_neighbor_scope s = {&w->p,     &w->pp,      &w->pw,
-                           &w->pm,    &w->walls,   &w->periodic,
+  adem_neighbor_scope s = {&w->p, &w->pp, &w->pw,
+                           &w->pm, &w->walls, &w->periodic,
                            adem_world_threads(w)};
   return s;
 }
@@ -243,9 +243,9 @@ static void compute_forces(adem_world *w, bool energy, bool hold_history) {
     w->predicted = malloc(2 * cap * sizeof *w->predicted);
     w->predicted_cap = w->predicted ? cap : 0;
   }
-  adem_force_scope s = {&w->p,     &w->pp,   &w->pw,      &w->pm, &w->walls,
-                        &w->nb,    &w->mat,  w->groups,   w->gravity,
-                        w->dt,     adem_world_threads(w), w->second_order, energy,
+  adem_force_scope s = {&w->p, &w->pp, &w->pw, &w->pm, &w->walls,
+                        &w->nb, &w->mat, w->groups, w->gravity,
+                        w->dt, adem_world_threads(w), w->second_order, energy,
                         balance, &w->periodic, w->max_overlap_ratio,
                         &w->overlap_exceeded, w->predicted, w->pair_blocks,
                         &w->pair_block_pairs, 0, NULL, hold_history};
@@ -259,10 +259,10 @@ void adem_world_compute_forces(adem_world *w) { compute_forces(w, true, true); }
 void adem_world_advance_histories(adem_world *w) { compute_forces(w, true, false); }
 
 adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
-                                   const adem_plane_setting *next_planes,
-                                   const adem_mesh_setting *prev_meshes,
-                                   const adem_mesh_setting *next_meshes, double t_s,
-                                   adem_error *err) {
+                                    const adem_plane_setting *next_planes,
+                                    const adem_mesh_setting *prev_meshes,
+                                    const adem_mesh_setting *next_meshes, double t_s,
+                                    adem_error *err) {
   adem_status st =
       adem_walls_change(&w->walls, prev_planes, next_planes, prev_meshes, next_meshes, t_s, err);
   if (!st) adem_world_restart_anchors(w, t_s);
@@ -286,12 +286,12 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
   mt->defs = d;
   mt->ndefs = ninteractions;
   adem_status st = adem_materials_derive(mt, err);
-  size_t cleared = st ? 0 : adem_history_switch_all(mt, old, &w->p, &w->pp, &w->pw, &w->pm,
-                                                     &w->walls, w->energy_balance);
+  size_t cleared = st ? 0 : adem_history_switch_all(mt, old, &w->p, &w->pp, &w->pw, &w->pm, &w->walls, w->energy_balance);
   free(old);
   if (cleared > 0)
     adem_log(ADEM_LOG_INFO, "t = %.9g s: %zu contact histories cleared (their tangential or "
-             "rolling law changed, with no exact conversion; docs/models.md)", w->time, cleared);
+                            "rolling law changed, with no exact conversion; docs/models.md)",
+             w->time, cleared);
   return st;
 }
 
@@ -362,8 +362,9 @@ adem_status adem_world_add_particle(adem_world *w, const adem_particle_def *def,
   const adem_material_def *m = &w->mat.m[def->material].def;
   if (!(m->density > 0.0) || m->rigid) {
     return adem_error_set(err, ADEM_ERR_INPUT,
-                   "material '%s' cannot make particles: it needs a density > 0 and must not be "
-                   "rigid", m->name);
+                          "material '%s' cannot make particles: it needs a density > 0 and must not be "
+                          "rigid",
+                          m->name);
   }
   if (def->group < 0 || def->group >= w->ngroups) {
     return adem_error_set(err, ADEM_ERR_INPUT, "particle group %d does not exist", def->group);

@@ -92,7 +92,8 @@ adem_status adem_world_set_particles(adem_world *w, adem_particle_field field, c
     if (!isfinite(in[k]))
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "row %zu (particle of the %zu-th smallest id) is not finite: nothing "
-                            "was set", k / 3, k / 3);
+                            "was set",
+                            k / 3, k / 3);
   uint32_t *order = adem_world_id_order(w);
   if (!order && n) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (field == ADEM_FIELD_EXTERNAL_FORCE) {
@@ -138,16 +139,20 @@ adem_status adem_world_add_particles(adem_world *w, size_t n, const double *pos,
                (!omega || isfinite(omega[3 * k + d]));
     if (!(radius[k] > 0.0) || !isfinite(radius[k]))
       return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: particle radius %g must be > 0 "
-                            "(no particle was added)", k, radius[k]);
+                                                 "(no particle was added)",
+                            k, radius[k]);
     if (!finite)
       return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: particle position and velocities must "
-                            "be finite (no particle was added)", k);
+                                                 "be finite (no particle was added)",
+                            k);
     if (m < 0 || m >= w->mat.n || !(w->mat.m[m].def.density > 0.0) || w->mat.m[m].def.rigid)
       return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: material %d does not exist or cannot "
-                            "make particles (no particle was added)", k, m);
+                                                 "make particles (no particle was added)",
+                            k, m);
     if (g < 0 || g >= w->ngroups)
       return adem_error_set(err, ADEM_ERR_INPUT, "row %zu: group %d does not exist (no particle "
-                            "was added)", k, g);
+                                                 "was added)",
+                            k, g);
   }
   if (adem_particles_reserve(&w->p, w->p.n + n))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu more particles", n);

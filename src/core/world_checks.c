@@ -97,7 +97,7 @@ adem_status adem_world_check_periodic(const adem_world *w, adem_error *err) {
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "the periodic box along %c is %g m long; the minimum image needs at "
                             "least 2 (largest diameter + skin) = 2 (%g + %g) = %g m",
-                            "xyz"[d], pb->len[d], dmax, skin, need);
+                            "xyz"[d], pb -> len[d], dmax, skin, need);
     for (int k = 0; k < w->walls.nplanes; ++k) {
       const adem_plane_def *pl = &w->walls.planes[k].def;
       if (pl->shape != ADEM_WALL_PLANE) { /* a cylinder or disc: cylinder.c */
@@ -194,7 +194,8 @@ adem_status adem_world_check_state(const adem_world *w, adem_error *err) {
   /* The lowest index found is the same for every thread count. */
   if (nthreads > 1) {
 #ifdef ADEM_HAVE_OPENMP
-#pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min : bad)
+#pragma omp parallel for schedule(static) num_threads(nthreads) reduction(min \
+                                                                          : bad)
 #endif
     for (size_t i = 0; i < n; ++i)
       if (!particle_ok(p, &sb, i) && i < bad) bad = i;

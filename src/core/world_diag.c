@@ -53,7 +53,13 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   uint32_t *order = adem_world_id_order(w);
   if (!order) return d;
   /* one walk over the particles by id, each sum a stream of its own (adem_block_sum) */
-  enum { KINETIC, ROTATIONAL, POTENTIAL, DISSIPATED, WALL_WORK, MOMENTUM, IMPULSE = MOMENTUM + 3,
+  enum { KINETIC,
+         ROTATIONAL,
+         POTENTIAL,
+         DISSIPATED,
+         WALL_WORK,
+         MOMENTUM,
+         IMPULSE = MOMENTUM + 3,
          SUMS = IMPULSE + 3 };
   adem_block_sum sum[SUMS];
   for (int k = 0; k < SUMS; ++k) sum[k] = (adem_block_sum)ADEM_BLOCK_SUM_START;

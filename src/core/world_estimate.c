@@ -109,7 +109,7 @@ adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double n) {
   double pm = w->walls.mesh.ntris > 0 ? ADEM_MESH_SLOTS_PER_PARTICLE * n : 0.0;
   e.pairs = pp + pw + pm;
   e.particle_bytes = grown_capacity(n) * (double)adem_soa_item_bytes(adem_particles_layout()) +
-                     (n + 1.0) * (double)sizeof(size_t) + /* mesh slot ranges */
+                     (n + 1.0) * (double)sizeof(size_t) +         /* mesh slot ranges */
                      1.125 * n * 2.0 * (double)sizeof(adem_vec3); /* the predicted velocities */
   /* the lists keep a quarter more than they hold (adem_pairs_reserve) */
   e.pair_bytes = 1.25 * (e.pairs * (double)adem_pairs_item_bytes(w->energy_balance) +

@@ -160,10 +160,10 @@ double adem_world_wall_shift(const adem_world *w);
  * one setting to the next at time t_s (walls.h), materials and interaction entries are replaced
  * and the pair table derived again, a group's force, the skin (used from the next build). */
 adem_status adem_world_change_walls(adem_world *w, const adem_plane_setting *prev_planes,
-                                   const adem_plane_setting *next_planes,
-                                   const adem_mesh_setting *prev_meshes,
-                                   const adem_mesh_setting *next_meshes, double t_s,
-                                   adem_error *err);
+                                    const adem_plane_setting *next_planes,
+                                    const adem_mesh_setting *prev_meshes,
+                                    const adem_mesh_setting *next_meshes, double t_s,
+                                    adem_error *err);
 adem_status adem_world_change_materials(adem_world *w, const adem_material_def *defs,
                                         const adem_interaction_def *interactions, int ninteractions,
                                         adem_error *err);
@@ -257,7 +257,8 @@ typedef struct adem_block_sum {
   double total, part; /* the finished blocks; the block under way */
   size_t count;       /* terms in the block under way */
 } adem_block_sum;
-#define ADEM_BLOCK_SUM_START {0.0, 0.0, 0}
+#define ADEM_BLOCK_SUM_START \
+  { 0.0, 0.0, 0 }
 static inline void adem_block_sum_add(adem_block_sum *s, double x) {
   s->part += x;
   if (++s->count == ADEM_SUM_BLOCK) {

@@ -77,12 +77,12 @@ adem_status adem_world_read_particles(adem_reader *rd, adem_particles *p,
   *nmat = 0;
   if (!adem_get_u8(rd) || rd->failed)
     return damaged(err, "it was written before the first step (its particles are its case's)");
-  (void)adem_get_f64(rd); /* time */
-  (void)adem_get_u64(rd); /* step */
+  (void)adem_get_f64(rd);                             /* time */
+  (void)adem_get_u64(rd);                             /* step */
   for (int k = 0; k < 3; ++k) (void)adem_get_f64(rd); /* dt, next id, initial energy */
-  (void)adem_get_vec(rd);                               /* gravity */
-  (void)adem_get_f64(rd);                               /* overlap limit */
-  (void)adem_get_u8(rd);                                /* domain */
+  (void)adem_get_vec(rd);                             /* gravity */
+  (void)adem_get_f64(rd);                             /* overlap limit */
+  (void)adem_get_u8(rd);                              /* domain */
   (void)adem_get_vec(rd);
   (void)adem_get_vec(rd);
   (void)adem_get_u32(rd); /* periodic axes, then lo and length per axis */

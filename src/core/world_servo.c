@@ -32,7 +32,8 @@ static void servo_warn(adem_motion *m, const char *name, double K, double dt) {
   adem_log(ADEM_LOG_WARN,
            "the servo of wall '%s' may be unstable: gain x stiffness x dt = %.3g x %.3g N/m x %.3g s "
            "= %.3g (> 0.5, the rule is < 1 with the stiffness of all it presses on, estimated "
-           "from its contacts); lower the gain", name, m->servo.gain, K, dt, g);
+           "from its contacts); lower the gain",
+           name, m->servo.gain, K, dt, g);
 }
 
 /* The mesh wall (index among the mesh walls) whose measuring servo group g is, or -1. */

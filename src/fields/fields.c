@@ -26,8 +26,13 @@
 
 enum {
   /* per-node particle accumulators */
-  Q_RHO = 0, Q_NU = 1, Q_J = 2, Q_MVV = 5, /* 6: xx yy zz xy xz yz */
-  Q_Z = 11, Q_CNT = 12, Q_FAB = 13,        /* 6 */
+  Q_RHO = 0,
+  Q_NU = 1,
+  Q_J = 2,
+  Q_MVV = 5, /* 6: xx yy zz xy xz yz */
+  Q_Z = 11,
+  Q_CNT = 12,
+  Q_FAB = 13, /* 6 */
   Q_N = 19,
   /* contact stress: 9 per node, in its own array */
   GL_MAX = 32
@@ -37,15 +42,15 @@ struct adem_fields {
   adem_fields_options o;
   size_t n[3], nodes;
   double origin[3], h;
-  double vol;          /* a node's cell volume, an averaged axis counting its whole length */
-  double csupport;     /* the kernel's reach along an axis from its centre, m */
-  double *acc;         /* nodes x Q_N */
-  double *cst;         /* nodes x 9 */
+  double vol;      /* a node's cell volume, an averaged axis counting its whole length */
+  double csupport; /* the kernel's reach along an axis from its centre, m */
+  double *acc;     /* nodes x Q_N */
+  double *cst;     /* nodes x 9 */
   size_t frames;
   /* scratch: a stencil's weights over a box of nodes, and a line's */
   double *w, *wl;
   size_t wcap, wlcap;
-  double *g[3];        /* a Gaussian's 1-D weights per axis */
+  double *g[3]; /* a Gaussian's 1-D weights per axis */
   size_t gcap;
   double gl_x[GL_MAX + 1][GL_MAX], gl_w[GL_MAX + 1][GL_MAX]; /* Gauss-Legendre on [0, 1] */
 };
@@ -54,9 +59,7 @@ static const struct {
   const char *name;
   int ncomp;
 } field_def[ADEM_CG_COUNT_] = {
-    {"density", 1},       {"solid_fraction", 1}, {"momentum", 3},     {"velocity", 3},
-    {"kinetic_stress", 9}, {"contact_stress", 9}, {"stress", 9},       {"pressure", 1},
-    {"coordination", 1},  {"fabric", 9},          {"temperature", 1}};
+    {"density", 1}, {"solid_fraction", 1}, {"momentum", 3}, {"velocity", 3}, {"kinetic_stress", 9}, {"contact_stress", 9}, {"stress", 9}, {"pressure", 1}, {"coordination", 1}, {"fabric", 9}, {"temperature", 1}};
 
 int adem_cg_field_components(adem_cg_field f) {
   return f >= 0 && f < ADEM_CG_COUNT_ ? field_def[f].ncomp : 0;
@@ -122,7 +125,7 @@ adem_status adem_fields_create(const adem_fields_options *opt, adem_fields **out
   for (int a = 0; a < 3; ++a) {
     if (!(isfinite(o->lo[a]) && isfinite(o->hi[a]) && o->lo[a] < o->hi[a]))
       return adem_error_set(err, ADEM_ERR_INPUT, "grid extent along %c: %g .. %g (needs lo < hi)", 'x' + a,
-                  o->lo[a], o->hi[a]);
+                            o->lo[a], o->hi[a]);
     navg += o->average[a] != 0;
     double c = o->average[a] ? 1.0 : ceil((o->hi[a] - o->lo[a]) / o->cell - 1e-9);
     if (c < 1.0) c = 1.0;
@@ -132,7 +135,8 @@ adem_status adem_fields_create(const adem_fields_options *opt, adem_fields **out
     nodes *= n[a];
     if (nodes > ADEM_FIELDS_MAX_NODES)
       return adem_error_set(err, ADEM_ERR_INPUT, "grid of more than %zu nodes (cell %g m): use a coarser "
-                  "cell, a smaller box or average over an axis", ADEM_FIELDS_MAX_NODES, o->cell);
+                                                 "cell, a smaller box or average over an axis",
+                            ADEM_FIELDS_MAX_NODES, o->cell);
   }
   if (navg > 2) return adem_error_set(err, ADEM_ERR_INPUT, "averaging over all three axes leaves no grid");
   adem_fields *f = calloc(1, sizeof *f);
@@ -377,7 +381,7 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
     long ib = c->kind[k] == 0 ? find_id(map, np, c->id_b[k]) : -2;
     if (ia < 0 || ib == -1) {
       st = adem_error_set(err, ADEM_ERR_INPUT, "contact %zu names particle %lld, which is not in the frame",
-                k, (long long)(ia < 0 ? c->id_a[k] : c->id_b[k]));
+                          k, (long long)(ia < 0 ? c->id_a[k] : c->id_b[k]));
       break;
     }
     long who[2] = {ia, ib};
@@ -470,7 +474,9 @@ adem_status adem_fields_add(adem_fields *f, const adem_fields_particles *p,
       for (size_t kk = 0; kk < s.m[2]; ++kk)
         for (size_t jj = 0; jj < s.m[1]; ++jj) {
           size_t row = ((size_t)(s.k0[2] - U0[2] + (long)kk) * Um[1] +
-                        (size_t)(s.k0[1] - U0[1] + (long)jj)) * Um[0] + (size_t)(s.k0[0] - U0[0]);
+                        (size_t)(s.k0[1] - U0[1] + (long)jj)) *
+                           Um[0] +
+                       (size_t)(s.k0[0] - U0[0]);
           double *dst = f->wl + row;
           for (size_t ii = 0; ii < s.m[0]; ++ii, ++t) dst[ii] += wg * f->w[t];
         }
@@ -510,11 +516,21 @@ static void node_fields(const adem_fields *f, size_t node, adem_cg_field field, 
   switch (field) {
     case ADEM_CG_DENSITY: out[0] = rho; break;
     case ADEM_CG_SOLID_FRACTION: out[0] = A[Q_NU] * inv; break;
-    case ADEM_CG_MOMENTUM: for (int u = 0; u < 3; ++u) out[u] = A[Q_J + u] * inv; break;
-    case ADEM_CG_VELOCITY: for (int u = 0; u < 3; ++u) out[u] = V[u]; break;
-    case ADEM_CG_KINETIC_STRESS: for (int u = 0; u < 9; ++u) out[u] = K[u]; break;
-    case ADEM_CG_CONTACT_STRESS: for (int u = 0; u < 9; ++u) out[u] = C[u] * inv; break;
-    case ADEM_CG_STRESS: for (int u = 0; u < 9; ++u) out[u] = K[u] + C[u] * inv; break;
+    case ADEM_CG_MOMENTUM:
+      for (int u = 0; u < 3; ++u) out[u] = A[Q_J + u] * inv;
+      break;
+    case ADEM_CG_VELOCITY:
+      for (int u = 0; u < 3; ++u) out[u] = V[u];
+      break;
+    case ADEM_CG_KINETIC_STRESS:
+      for (int u = 0; u < 9; ++u) out[u] = K[u];
+      break;
+    case ADEM_CG_CONTACT_STRESS:
+      for (int u = 0; u < 9; ++u) out[u] = C[u] * inv;
+      break;
+    case ADEM_CG_STRESS:
+      for (int u = 0; u < 9; ++u) out[u] = K[u] + C[u] * inv;
+      break;
     case ADEM_CG_PRESSURE: out[0] = (K[0] + K[4] + K[8] + (C[0] + C[4] + C[8]) * inv) / 3.0; break;
     case ADEM_CG_COORDINATION: out[0] = A[Q_CNT] > 0.0 ? A[Q_Z] / A[Q_CNT] : 0.0; break;
     case ADEM_CG_FABRIC:
@@ -532,7 +548,7 @@ adem_status adem_fields_get(const adem_fields *f, adem_cg_field field, double *o
   size_t nc = (size_t)field_def[field].ncomp;
   if (capacity < f->nodes * nc)
     return adem_error_set(err, ADEM_ERR_INPUT, "%s needs %zu doubles, %zu given", field_def[field].name,
-                f->nodes * nc, capacity);
+                          f->nodes * nc, capacity);
   for (size_t k = 0; k < f->nodes; ++k) node_fields(f, k, field, out + k * nc);
   return ADEM_OK;
 }
@@ -633,7 +649,9 @@ adem_status adem_fields_write_csv(const adem_fields *f, const char *path, adem_e
     int nc = field_def[q].ncomp;
     for (int u = 0; u < nc; ++u)
       fprintf(fp, ",%s%s%s%s", field_def[q].name, nc > 1 ? "_" : "",
-              nc == 9 ? comp9[u] : nc == 3 ? comp3[u] : "", unit_of[q]);
+              nc == 9 ? comp9[u] : nc == 3 ? comp3[u]
+                                           : "",
+              unit_of[q]);
   }
   fputc('\n', fp);
   double v[9];

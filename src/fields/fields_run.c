@@ -41,7 +41,7 @@ static adem_status read_pvd(const char *dir, const char *name, const char *prefi
   adem_status st = adem_file_read_all(path, &text, &len, err);
   if (st) {
     st = adem_error_set(err, ADEM_ERR_INPUT, "cannot read %s%s", path,
-              strcmp(name, "contacts.pvd") ? "" : " (run the case with output.contacts: true)");
+                        strcmp(name, "contacts.pvd") ? "" : " (run the case with output.contacts: true)");
     free(path);
     return st;
   }
@@ -93,11 +93,13 @@ static adem_status load(const char *dir, const pick *pk, adem_vtu_frame *fr,
   adem_status st = pp && cp ? ADEM_OK : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (!st && strstr(pk->p->file, ".pvtu"))
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s: frames in pieces (output.pieces) are not read; run "
-              "without output.pieces for the fields", pp);
+                                             "without output.pieces for the fields",
+                        pp);
   if (!st) st = adem_vtu_read_file(pp, fr, err);
   if (!st && !fr->mass)
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s has no mass array (written by an adem older than the "
-              "fields): run the case again", pp);
+                                             "fields): run the case again",
+                        pp);
   if (!st && !fr->id) st = adem_error_set(err, ADEM_ERR_INPUT, "%s has no id array", pp);
   if (!st) st = adem_contact_frame_read_file(cp, cf, err);
   free(pp);
@@ -128,8 +130,9 @@ adem_status adem_fields_run(const char *dir, const adem_fields_run_options *opt_
   }
   if (!st && m == 0)
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s: no particle frame with a contact frame %s%.6g .. %.6g s "
-              "(%zu particle frames, %zu contact frames)", dir, all ? "(any time) " : "in ",
-              all ? 0.0 : opt.t0, all ? 0.0 : opt.t1, np, nc);
+                                             "(%zu particle frames, %zu contact frames)",
+                        dir, all ? "(any time) " : "in ",
+                        all ? 0.0 : opt.t0, all ? 0.0 : opt.t1, np, nc);
   if (!st && opt.last_only) {
     pk[0] = pk[m - 1];
     m = 1;

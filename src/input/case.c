@@ -38,8 +38,8 @@ adem_status adem_case_check_box(case_ctx *ctx, adem_vec3 lo, adem_vec3 hi, const
       char path[KEY_PATH_MAX];
       adem_yaml_join(path, sizeof path, m->path, "max");
       return adem_yaml_fail(ctx, hi_node ? hi_node : m->at, path,
-                  "must be greater than `min` in every component (%c: max %g <= min %g)", "xyz"[k],
-                  b[k], a[k]);
+                            "must be greater than `min` in every component (%c: max %g <= min %g)", "xyz"[k],
+                            b[k], a[k]);
     }
   return ADEM_OK;
 }
@@ -82,14 +82,16 @@ static adem_status check_periodic(case_ctx *ctx, const map_cursor *root, adem_ve
   for (size_t i = 0; i < l.n && !st; ++i) {
     map_cursor m;
     if ((st = adem_yaml_list_item(ctx, &l, i, &m))) break;
-    int d = per[0] ? 0 : per[1] ? 1 : 2;
+    int d = per[0] ? 0 : per[1] ? 1
+                                : 2;
     if (!strcmp(m.variant, "box")) {
       adem_yaml_where_short(ctx, per_items[d], where, sizeof where);
       adem_yaml_join(path, sizeof path, m.path, "type");
       return adem_yaml_fail(ctx, adem_yaml_map_get(ctx, m.node, "type"), path,
                             "a box wall has faces across every axis, and %c is periodic "
                             "(domain.periodic at %s); use plane walls parallel to the periodic "
-                            "axes", "xyz"[d], where);
+                            "axes",
+                            "xyz"[d], where);
     }
     if (strcmp(m.variant, "plane")) continue;
     adem_vec3 n;
@@ -250,7 +252,7 @@ static bool set_base_dir(adem_case *c, const char *dir) {
   char cwd[ADEM_PATH_MAX];
   if (!getcwd(cwd, sizeof cwd)) return false;
   int n = strcmp(dir, ".") == 0 ? snprintf(c->base_dir, sizeof c->base_dir, "%s", cwd)
-                                 : snprintf(c->base_dir, sizeof c->base_dir, "%s/%s", cwd, dir);
+                                : snprintf(c->base_dir, sizeof c->base_dir, "%s/%s", cwd, dir);
   return n > 0 && (size_t)n < sizeof c->base_dir;
 }
 
@@ -382,4 +384,3 @@ void adem_case_free(adem_case *c) {
 }
 
 void adem_case_write_reference(FILE *f) { adem_schema_write_markdown(f); }
-

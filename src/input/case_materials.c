@@ -42,7 +42,7 @@ adem_status adem_case_find_material(case_ctx *ctx, const char *name, const yaml_
   }
   if (s.best)
     return adem_yaml_fail(ctx, node, path, "unknown material `%s`; did you mean `%s`? Defined: %s", name,
-                s.best, known);
+                          s.best, known);
   return adem_yaml_fail(ctx, node, path, "unknown material `%s`; defined: %s", name, known);
 }
 
@@ -59,7 +59,7 @@ adem_status adem_case_find_group(case_ctx *ctx, const char *name, const yaml_nod
   }
   if (s.best)
     return adem_yaml_fail(ctx, node, path, "unknown group `%s`; did you mean `%s`? Defined: %s", name, s.best,
-                known);
+                          known);
   return adem_yaml_fail(ctx, node, path, "unknown group `%s`; defined: %s", name, known);
 }
 
@@ -85,7 +85,7 @@ adem_status adem_case_build_materials(case_ctx *ctx, const map_cursor *root) {
         adem_yaml_where_short(ctx, ctx->mat_node[k], first, sizeof first);
         adem_yaml_join(path, sizeof path, m.path, "name");
         return adem_yaml_fail(ctx, name_node, path, "duplicate material name `%s` (first defined at %s)",
-                    d.name, first);
+                              d.name, first);
       }
     if ((st = adem_yaml_get_bool(ctx, &m, "rigid", &rigid))) return st;
     d.rigid = rigid;
@@ -133,8 +133,7 @@ static adem_status check_laws(case_ctx *ctx, const map_cursor *m, const adem_int
   const int mats[2] = {d->material_a, d->material_b};
   char at[2][LOC_MAX];
   for (int s = 0; s < 2; ++s) adem_yaml_where_short(ctx, ctx->mat_node[mats[s]], at[s], sizeof at[s]);
-  adem_law_check c = {ctx->w->mat.m[mats[0]].def.param, ctx->w->mat.m[mats[1]].def.param,
-                      d->param, {names[0], names[1]}, {at[0], at[1]}, NULL};
+  adem_law_check c = {ctx->w->mat.m[mats[0]].def.param, ctx->w->mat.m[mats[1]].def.param, d->param, {names[0], names[1]}, {at[0], at[1]}, NULL};
   adem_law_set laws = {(int)d->normal, (int)d->damping, (int)d->tangential, (int)d->rolling};
   char why[1024], path[KEY_PATH_MAX];
   adem_law_slot slot;
@@ -223,9 +222,10 @@ void adem_case_warn_unused_law_params(case_ctx *ctx, const char *where, const ad
       yaml_node_t *node = ctx ? adem_yaml_map_get(ctx, ctx->mat_node[a], prm->key) : NULL;
       if (node) adem_yaml_where(ctx, node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN, "%s: materials.%s.%s = %g has no effect: every pair of `%s` has the "
-               "default law that does not read it (rolling: none, normal: hertz)%s; choose a law "
-               "that does in an interaction entry (`adem reference` lists the laws and their "
-               "parameters)", loc, mt->m[a].def.name, prm->key, v, mt->m[a].def.name,
+                              "default law that does not read it (rolling: none, normal: hertz)%s; choose a law "
+                              "that does in an interaction entry (`adem reference` lists the laws and their "
+                              "parameters)",
+               loc, mt->m[a].def.name, prm->key, v, mt->m[a].def.name,
                stages ? ", in every stage" : "");
     }
 }
@@ -272,9 +272,10 @@ void adem_case_warn_brof_turning(const char *where, const adem_world *w, const a
   }
   if (meets)
     adem_log(ADEM_LOG_WARN, "%s: BROF meets a turning wall: between particles it resists their "
-             "absolute spin (I9-I10 act per particle), so a bed turning with the wall is braked "
-             "and part of the drive torque goes into BROF, not into the wall's load; the CSV's "
-             "brof_impulse_*_Nms columns give the angular impulse it adds (docs/models.md)", where);
+                            "absolute spin (I9-I10 act per particle), so a bed turning with the wall is braked "
+                            "and part of the drive torque goes into BROF, not into the wall's load; the CSV's "
+                            "brof_impulse_*_Nms columns give the angular impulse it adds (docs/models.md)",
+             where);
 }
 
 adem_status adem_case_build_interactions(case_ctx *ctx, const map_cursor *root) {
@@ -309,7 +310,7 @@ adem_status adem_case_build_interactions(case_ctx *ctx, const map_cursor *root) 
         char first[LOC_MAX];
         adem_yaml_where_short(ctx, nodes[k], first, sizeof first);
         st = adem_yaml_fail(ctx, m.node, m.path, "a second interaction of `%s` and `%s` (first at %s)",
-                  names[0], names[1], first);
+                            names[0], names[1], first);
       }
     if (st) break;
     if ((st = adem_yaml_get_number(ctx, &m, "restitution", &e, &e_node))) break;
@@ -380,7 +381,7 @@ adem_status adem_case_build_groups(case_ctx *ctx, const map_cursor *root) {
         adem_yaml_where_short(ctx, ctx->group_node[k], first, sizeof first);
         adem_yaml_join(path, sizeof path, m.path, "name");
         return adem_yaml_fail(ctx, name_node, path, "duplicate group name `%s` (first defined at %s)", name,
-                    first);
+                              first);
       }
     if ((st = adem_yaml_get_vec3(ctx, &m, "external_force", &force, NULL))) return st;
     /* Naming `default` sets the force of the group particles without `group` belong to. */

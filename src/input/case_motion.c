@@ -60,9 +60,9 @@ static adem_status read_table(case_ctx *ctx, const map_cursor *mo, const char *k
     }
     if (k > 0 && !(x[0] > (*time)[k - 1]))
       return adem_yaml_fail(ctx, row, rp,
-                  "the table is not ordered in time: t = %g s does not come after t = %g s of "
-                  "the row before; times must increase strictly",
-                  x[0], (*time)[k - 1]);
+                            "the table is not ordered in time: t = %g s does not come after t = %g s of "
+                            "the row before; times must increase strictly",
+                            x[0], (*time)[k - 1]);
     (*time)[k] = x[0];
     (*xyz)[k] = v3(x[1], x[2], x[3]);
   }

@@ -50,7 +50,7 @@ static adem_status read_track(case_ctx *ctx, const map_cursor *out) {
     }
     if (id >= ctx->n)
       return adem_yaml_fail(ctx, item, p, "there is no particle %llu: the case creates %zu (ids 0 to %zu)",
-                  (unsigned long long)id, ctx->n, ctx->n ? ctx->n - 1 : 0);
+                            (unsigned long long)id, ctx->n, ctx->n ? ctx->n - 1 : 0);
     for (int j = 0; j < o->ntrack; ++j)
       if (o->track[j] == id)
         return adem_yaml_fail(ctx, item, p, "particle %llu is listed twice", (unsigned long long)id);

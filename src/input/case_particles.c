@@ -98,13 +98,13 @@ adem_status adem_case_check_memory(case_ctx *ctx, double extra, const yaml_node_
   if (!(c->memory_limit > 0.0) || e->total <= c->memory_limit) return ADEM_OK;
   const double mib = 1024.0 * 1024.0;
   return adem_yaml_fail(ctx, node, path,
-              "the run would need about %.4g MiB for %.4g particles (%.0f B each with their "
-              "%.3g candidate pairs, the neighbour grid and build included), more than the "
-              "%.4g MiB %s; make fewer particles, or set limits.max_memory (bytes, or auto)",
-              e->total / mib, n, e->total / fmax(n, 1.0), e->pairs / fmax(n, 1.0),
-              c->memory_limit / mib,
-              ctx->memory_auto ? "the machine has available (MemAvailable)"
-                               : "limits.max_memory allows");
+                        "the run would need about %.4g MiB for %.4g particles (%.0f B each with their "
+                        "%.3g candidate pairs, the neighbour grid and build included), more than the "
+                        "%.4g MiB %s; make fewer particles, or set limits.max_memory (bytes, or auto)",
+                        e->total / mib, n, e->total / fmax(n, 1.0), e->pairs / fmax(n, 1.0),
+                        c->memory_limit / mib,
+                        ctx->memory_auto ? "the machine has available (MemAvailable)"
+                                         : "limits.max_memory allows");
 }
 
 /* Spheres a solid fraction of a volume takes, with the distribution's mean r^3 (normal: mean^3
@@ -157,9 +157,10 @@ static adem_status build_list(case_ctx *ctx, const map_cursor *set, int mat, int
         snprintf(pb, sizeof pb, "%.240s[%zu]", l.path, b);
         adem_yaml_where_short(ctx, na, first_at, sizeof first_at);
         st = adem_yaml_fail(ctx, nb, pb,
-                  "overlaps %s (at %s): centre distance %g m < sum of radii %g m (a settled "
-                  "bed may overlap: set limits.initial_overlap)", pa, first_at,
-                  v3_norm(v3_sub(ctx->pos[i], ctx->pos[j])), ctx->rad[i] + ctx->rad[j]);
+                            "overlaps %s (at %s): centre distance %g m < sum of radii %g m (a settled "
+                            "bed may overlap: set limits.initial_overlap)",
+                            pa, first_at,
+                            v3_norm(v3_sub(ctx->pos[i], ctx->pos[j])), ctx->rad[i] + ctx->rad[j]);
       } else if (adem_insert_grid_add(&g, ctx->pos, ctx->rad, i)) {
         st = adem_yaml_nomem(ctx);
       }
@@ -189,8 +190,8 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   if (s < 2.0 * r) {
     adem_yaml_join(path, sizeof path, m->path, "spacing");
     return adem_yaml_fail(ctx, s_node, path,
-                "spacing %g m is less than the diameter 2 radius = %g m; neighbours would overlap", s,
-                2.0 * r);
+                          "spacing %g m is less than the diameter 2 radius = %g m; neighbours would overlap", s,
+                          2.0 * r);
   }
   if ((st = adem_yaml_get_vec3(ctx, m, "min", &lo, NULL))) return st;
   if ((st = adem_yaml_get_vec3(ctx, m, "max", &hi, &hi_node))) return st;
@@ -203,13 +204,14 @@ static adem_status build_lattice(case_ctx *ctx, const map_cursor *m, int mat, in
   if (nx < 1 || ny < 1 || nz < 1) {
     adem_yaml_join(path, sizeof path, m->path, "max");
     return adem_yaml_fail(ctx, hi_node, path, "the box is narrower than one sphere (diameter %g m) along %c",
-                2.0 * r, nx < 1 ? 'x' : ny < 1 ? 'y' : 'z');
+                          2.0 * r, nx < 1 ? 'x' : ny < 1 ? 'y'
+                                                         : 'z');
   }
   double capacity = nx * ny * nz;
   double n = count > 0 ? fmin((double)count, capacity) : capacity;
   if (n > MAX_SET_SPHERES)
     return adem_yaml_fail(ctx, m->node, m->path, "would create %.3g spheres (at most %.0g per set)", n,
-                MAX_SET_SPHERES);
+                          MAX_SET_SPHERES);
   if ((double)count > capacity)
     adem_log(ADEM_LOG_WARN, "%s: the lattice box holds %.0f spheres; count asks for %llu", m->path,
              capacity, (unsigned long long)count);
@@ -259,7 +261,7 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
   }
   if (!st && (double)count > MAX_SET_SPHERES)
     st = adem_yaml_fail(ctx, m->node, m->path, "count %llu is more than %.0g spheres per set",
-              (unsigned long long)count, MAX_SET_SPHERES);
+                        (unsigned long long)count, MAX_SET_SPHERES);
   if (!st) st = adem_yaml_get_uint(ctx, m, "max_attempts", &max_attempts, &attempts_node);
   if (!st && !attempts_node) max_attempts = 0;
   if (!st) st = adem_yaml_get_vec3(ctx, m, "velocity", &v, NULL);
@@ -277,7 +279,7 @@ static adem_status build_random(case_ctx *ctx, const map_cursor *m, size_t set_i
     st = adem_insert_fill(&def, &rng, ctx->pos, ctx->rad, ctx->n, &res, &werr);
     if (st == ADEM_ERR_NOMEM) st = adem_yaml_nomem(ctx);
     else if (st) st = adem_yaml_fail(ctx, dm.node, dm.path, "%s the %s (%s is %g m)", werr.message, word,
-                           fit_what, fit);
+                                     fit_what, fit);
   }
   size_t first = ctx->n;
   for (size_t k = 0; k < res.n && !st; ++k) st = push_sphere(ctx, res.pos[k], res.radius[k], v, w);
@@ -327,7 +329,7 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
   adem_reader rd;
   st = adem_file_read_all(resolved, &data, &len, &werr);
   if (!st) st = adem_checkpoint_header_check(data, len, resolved, ADEM_CKPT_MAGIC,
-                                              sizeof(adem_contact_history), &rd, &werr);
+                                             sizeof(adem_contact_history), &rd, &werr);
   if (!st) { /* the case section, skipped by its length */
     uint64_t skip = adem_get_u64(&rd);
     if (rd.failed || skip > (uint64_t)(rd.end - rd.at))
@@ -385,13 +387,15 @@ static adem_status build_state(case_ctx *ctx, const map_cursor *m, int group) {
     if (mat < 0) {
       st = adem_yaml_fail(ctx, file_node, path,
                           "the particles of %s are made of material `%s`, which this case does not "
-                          "have; add a material of that name", resolved, name);
+                          "have; add a material of that name",
+                          resolved, name);
       break;
     }
     if (ctx->mat_rigid[mat] || !ctx->mat_density[mat]) {
       st = adem_yaml_fail(ctx, file_node, path,
                           "material `%s` of the particles of %s needs a `density` and must not be "
-                          "rigid here", name, resolved);
+                          "rigid here",
+                          name, resolved);
       break;
     }
     if ((st = push_sphere(ctx, p.pos[i], p.radius[i], p.vel[i], p.omega[i]))) break;
@@ -424,7 +428,8 @@ static adem_status freeze_set(case_ctx *ctx, const map_cursor *m, size_t n0) {
     if (g >= 0) attach = g + 1;
     if (!attach)
       return adem_yaml_fail(ctx, node, path, "no plane or mesh group named `%s` to attach to "
-                            "(a box's planes are NAME.xmin ...)", name);
+                                             "(a box's planes are NAME.xmin ...)",
+                            name);
   }
   for (size_t i = n0; i < ctx->w->p.n; ++i) {
     adem_error werr = {ADEM_OK, ""};
@@ -460,13 +465,13 @@ adem_status adem_case_build_particles(case_ctx *ctx, const map_cursor *root) {
     if ((st = adem_case_find_material(ctx, material, mat_node, path, &mat))) return st;
     if (ctx->mat_rigid[mat])
       return adem_yaml_fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
-                  material);
+                            material);
     if (!ctx->mat_density[mat]) {
       char at[LOC_MAX];
       adem_yaml_where_short(ctx, ctx->mat_node[mat], at, sizeof at);
       return adem_yaml_fail(ctx, mat_node, path,
-                  "material `%s` (at %s) has no `density`; materials of particles need one", material,
-                  at);
+                            "material `%s` (at %s) has no `density`; materials of particles need one", material,
+                            at);
     }
     if ((st = adem_yaml_get_string(ctx, &m, "group", group_name, sizeof group_name, &group_node))) return st;
     adem_yaml_join(path, sizeof path, m.path, "group");

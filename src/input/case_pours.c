@@ -75,7 +75,7 @@ adem_status adem_case_read_dist(case_ctx *ctx, const map_cursor *m, double fit, 
     adem_yaml_join(path, sizeof path, dm->path, "value");
     if (d->value > fit)
       return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->value,
-                  region_word, fit_what, fit);
+                            region_word, fit_what, fit);
   } else if (!strcmp(dm->variant, "uniform")) {
     d->kind = ADEM_SIZE_UNIFORM;
     if ((st = adem_yaml_get_number(ctx, dm, "min", &d->min, NULL))) return st;
@@ -84,7 +84,7 @@ adem_status adem_case_read_dist(case_ctx *ctx, const map_cursor *m, double fit, 
     if (!(d->max > d->min)) return adem_yaml_fail(ctx, node, path, "must be greater than `min` (%g m)", d->min);
     if (d->max > fit)
       return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->max,
-                  region_word, fit_what, fit);
+                            region_word, fit_what, fit);
   } else if (!strcmp(dm->variant, "discrete")) {
     d->kind = ADEM_SIZE_DISCRETE;
     double *weights = NULL;
@@ -106,13 +106,13 @@ adem_status adem_case_read_dist(case_ctx *ctx, const map_cursor *m, double fit, 
     adem_yaml_join(path, sizeof path, dm->path, "weights");
     if (wnode && nw != d->n)
       return adem_yaml_fail(ctx, wnode, path, "has %zu weights for %zu values; give one weight per value", nw,
-                  d->n);
+                            d->n);
     if (!(sum > 0.0)) return adem_yaml_fail(ctx, wnode, path, "the weights are all 0");
     adem_yaml_join(path, sizeof path, dm->path, "values");
     for (size_t k = 0; k < d->n; ++k)
       if (d->values[k] > fit)
         return adem_yaml_fail(ctx, node, path, "radius %g m does not fit the %s (%s is %g m)", d->values[k],
-                    region_word, fit_what, fit);
+                              region_word, fit_what, fit);
   } else {
     d->kind = !strcmp(dm->variant, "lognormal") ? ADEM_SIZE_LOGNORMAL : ADEM_SIZE_NORMAL;
     if ((st = adem_yaml_get_number(ctx, dm, "mean", &d->mean, NULL))) return st;
@@ -186,7 +186,7 @@ adem_status adem_case_read_region(case_ctx *ctx, const map_cursor *m, bool box_k
     if (rm.node && (lo_node || hi_node)) {
       adem_yaml_join(path, sizeof path, m->path, lo_node ? "min" : "max");
       return adem_yaml_fail(ctx, lo_node ? lo_node : hi_node, path,
-                  "give either the box `min`/`max` or a `region`, not both");
+                            "give either the box `min`/`max` or a `region`, not both");
     }
     if (!rm.node) {
       *word = "box";
@@ -215,13 +215,13 @@ static adem_status particle_material(case_ctx *ctx, const map_cursor *m, int *ma
   if ((st = adem_case_find_material(ctx, material, mat_node, path, mat))) return st;
   if (ctx->mat_rigid[*mat])
     return adem_yaml_fail(ctx, mat_node, path, "material `%s` is rigid; rigid materials are for walls only",
-                material);
+                          material);
   if (!ctx->mat_density[*mat]) {
     char at[LOC_MAX];
     adem_yaml_where_short(ctx, ctx->mat_node[*mat], at, sizeof at);
     return adem_yaml_fail(ctx, mat_node, path,
-                "material `%s` (at %s) has no `density`; materials of particles need one", material,
-                at);
+                          "material `%s` (at %s) has no `density`; materials of particles need one", material,
+                          at);
   }
   return ADEM_OK;
 }
@@ -273,14 +273,15 @@ adem_status adem_case_build_pours(case_ctx *ctx, const map_cursor *root) {
     if (!(d.end > d.start)) {
       adem_yaml_join(path, sizeof path, m.path, "end");
       st = adem_yaml_fail(ctx, end_node, path, "the window ends (%g s) before it starts (`start`: %g s)",
-                d.end, d.start);
+                          d.end, d.start);
       break;
     }
     if (d.end > ctx->c->end_time) {
       char loc[LOC_MAX];
       adem_yaml_where(ctx, end_node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN, "%s: %s.end: the pour ends at t = %g s, after time.end = %g s: the "
-               "run stops before it is complete", loc, m.path, d.end, ctx->c->end_time);
+                              "run stops before it is complete",
+               loc, m.path, d.end, ctx->c->end_time);
     }
     d.interval = (d.end - d.start) / 20.0;
     if ((st = adem_yaml_get_number(ctx, &m, "interval", &d.interval, &interval_node))) break;
@@ -297,7 +298,7 @@ adem_status adem_case_build_pours(case_ctx *ctx, const map_cursor *root) {
     double window = d.end - d.start;
     ctx->poured += d.rate > 0.0 ? d.rate * window
                                 : adem_case_spheres_for_volume(&d.dist, d.mass_rate * window /
-                                                                 w->mat.m[d.material].def.density);
+                                                                            w->mat.m[d.material].def.density);
     if ((st = adem_case_check_memory(ctx, 0.0, m.node, m.path))) {
       adem_insert_region_free(&d.region);
       adem_insert_dist_free(&d.dist);

@@ -74,7 +74,7 @@ static adem_status apply_set(case_ctx *ctx, const char *text) {
       break;
     }
     yaml_node_t *n = yaml_document_get_node(doc, node);
-    int target = 0;  /* id of the node the segment names, 0 if missing */
+    int target = 0;   /* id of the node the segment names, 0 if missing */
     int *slot = NULL; /* where that id is stored, to replace it */
     size_t slot_index = 0;
     bool in_map = n->type == YAML_MAPPING_NODE;

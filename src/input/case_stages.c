@@ -292,20 +292,23 @@ adem_status adem_case_stages_prepare(adem_case *c, adem_error *err) {
                             "%s: stages[%d] (`%s`): duration: required value is missing (every "
                             "stage but the last needs one%s)",
                             g->where, k, g->name, g->until ? "; with `until` it is the most the "
-                            "stage lasts" : "");
+                                                             "stage lasts"
+                                                           : "");
     /* the step it begins on, as adem_stages_start_step plans it, against the run's last step */
     double dt = adem_world_dt(c->world);
     if (k > 0 && !earlier && llround(t / dt) >= (long long)adem_schedule_total_steps(c->end_time, dt))
       adem_log(ADEM_LOG_WARN, "%s: stage `%s` begins at t = %g s, at or after time.end = %g s: it "
-               "will not run (unless the run goes on to a later end: adem run --resume DIR --set "
-               "time.end=T)", g->where, g->name, t, c->end_time);
+                              "will not run (unless the run goes on to a later end: adem run --resume DIR --set "
+                              "time.end=T)",
+               g->where, g->name, t, c->end_time);
     if (g->until) earlier = true;
     if (g->duration >= 0.0) t += g->duration;
   }
   const adem_stage *last = &s->s[s->n - 1];
   if (last->duration >= 0.0 && t < c->end_time * (1.0 - 1e-12))
     adem_log(ADEM_LOG_WARN, "%s: the stages end at t = %g s, before time.end = %g s: the last "
-             "stage (`%s`) goes on until time.end", last->where, t, c->end_time, last->name);
+                            "stage (`%s`) goes on until time.end",
+             last->where, t, c->end_time, last->name);
   s->current = 0;
   return adem_stages_enter(c, 0, false, err);
 }

@@ -51,7 +51,7 @@ adem_status adem_case_read_until(case_ctx *ctx, const map_cursor *parent, adem_u
     char rpath[KEY_PATH_MAX];
     adem_yaml_join(rpath, sizeof rpath, u.path, "kinetic_energy_ratio");
     return adem_yaml_fail(ctx, ratio_node, rpath, "is relative to sum m |g| d and gravity is zero: "
-                          "give `kinetic_energy_per_particle` instead");
+                                                  "give `kinetic_energy_per_particle` instead");
   }
   if ((st = adem_yaml_get_map(ctx, &u, "wall_load", &wl))) return st;
   if (wl.node) {
@@ -94,7 +94,8 @@ adem_status adem_case_read_until(case_ctx *ctx, const map_cursor *parent, adem_u
     if (def->wall_index < 0) {
       if (sg.best)
         return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; did you mean `%s`? The "
-                              "walls: %s", def->wall, sg.best, names[0] ? names : "none");
+                                                    "walls: %s",
+                              def->wall, sg.best, names[0] ? names : "none");
       return adem_yaml_fail(ctx, wall_node, path, "no wall is named `%s`; the walls: %s", def->wall,
                             names[0] ? names : "none");
     }
@@ -148,7 +149,7 @@ adem_status adem_case_choose_step(case_ctx *ctx, const map_cursor *time, adem_ve
   if (step_auto) {
     if (!proposal)
       return adem_yaml_fail(ctx, time->at, "time.step",
-                  "`auto` cannot propose a step (no particles were created); give a number");
+                            "`auto` cannot propose a step (no particles were created); give a number");
     adem_world_set_dt(ctx->w, c->estimate.dt);
     c->dt_auto = 1;
     c->dt_user_ratio = 1.0;
@@ -158,22 +159,25 @@ adem_status adem_case_choose_step(case_ctx *ctx, const map_cursor *time, adem_ve
     c->dt_user_ratio = proposal ? step / c->estimate.dt : 0.0;
     if (proposal && isfinite(limit) && step > limit && !ctx->allow_large_step)
       return adem_yaml_fail(ctx, step_node ? step_node : time->at, "time.step",
-                  "%g s is %.2fx the %s = %g s of the stiffest pair "
-                  "(t_collision %g s at v_ref %g m/s): the explicit integration gains or loses "
-                  "energy beyond it. Allowed: `auto` (%g s) or a step up to %g s; or set "
-                  "limits.allow_large_step: true", step, step / limit, limit_name,
-                  limit, c->estimate.t_collision, v_ref, c->estimate.dt, limit);
+                            "%g s is %.2fx the %s = %g s of the stiffest pair "
+                            "(t_collision %g s at v_ref %g m/s): the explicit integration gains or loses "
+                            "energy beyond it. Allowed: `auto` (%g s) or a step up to %g s; or set "
+                            "limits.allow_large_step: true",
+                            step, step / limit, limit_name,
+                            limit, c->estimate.t_collision, v_ref, c->estimate.dt, limit);
     if (c->dt_user_ratio > 1.0) {
       bool collision = c->estimate.t_collision / 50.0 <= 0.2 * c->estimate.t_rayleigh;
       char loc[LOC_MAX];
       adem_yaml_where(ctx, step_node, loc, sizeof loc);
       adem_log(ADEM_LOG_WARN,
                "%s: time.step %g s is %.1fx the proposed %g s (%s); the %s = %g s is %.1fx "
-               "the proposal%s", loc, step, c->dt_user_ratio,
+               "the proposal%s",
+               loc, step, c->dt_user_ratio,
                c->estimate.dt,
                c->estimate.dt < fmin(c->estimate.t_collision / 50.0, 0.2 * c->estimate.t_rayleigh)
                    ? "a fifth of the stability limit"
-                   : collision ? "t_collision/50" : "0.2 t_Rayleigh",
+               : collision ? "t_collision/50"
+                           : "0.2 t_Rayleigh",
                limit_name, limit, limit / c->estimate.dt,
                step > limit ? " and the step is above it (limits.allow_large_step)" : "");
     }

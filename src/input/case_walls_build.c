@@ -35,19 +35,19 @@ static adem_status check_wall_names(case_ctx *ctx, const map_cursor *m) {
     for (int k = 0; k < w->walls.nplanes; ++k)
       if (!strcmp(an, w->walls.planes[k].def.name))
         return adem_yaml_fail(ctx, m->node, m->path,
-                    "the name `%s` is used by a plane and by a mesh; give one of them another "
-                    "`name`",
-                    an);
+                              "the name `%s` is used by a plane and by a mesh; give one of them another "
+                              "`name`",
+                              an);
     for (int b = ng; b < a; ++b)
       if (w->walls.mesh_walls[b - ng].count >= 2 && !strcmp(an, w->walls.mesh_walls[b - ng].name))
         return adem_yaml_fail(ctx, m->node, m->path,
-                    "the name `%s` is used by two meshes; give one of them another `name`", an);
+                              "the name `%s` is used by two meshes; give one of them another `name`", an);
     for (int g = 0; a >= ng && g < ng; ++g)
       if (!strcmp(an, w->walls.mesh.groups[g].name))
         return adem_yaml_fail(ctx, m->node, m->path,
-                    "the name `%s` is used by a mesh file and by a mesh group; give one of them "
-                    "another `name`",
-                    an);
+                              "the name `%s` is used by a mesh file and by a mesh group; give one of them "
+                              "another `name`",
+                              an);
   }
   return ADEM_OK;
 }
@@ -128,7 +128,7 @@ static adem_status build_mesh_wall(case_ctx *ctx, const map_cursor *m, int mat, 
   if (moves && !own) {
     adem_yaml_join(path, sizeof path, m->path, "own_vertices");
     st = adem_yaml_fail(ctx, own_node, path,
-              "a mesh with a `motion` needs its own vertices: set `own_vertices: true`");
+                        "a mesh with a `motion` needs its own vertices: set `own_vertices: true`");
     goto done;
   }
   tf.own_vertices = own;
@@ -249,7 +249,7 @@ adem_status adem_case_build_walls(case_ctx *ctx, const map_cursor *root) {
         adem_yaml_where_short(ctx, nodes[k], first, sizeof first);
         adem_yaml_join(path, sizeof path, m.path, "name");
         st = adem_yaml_fail(ctx, nodes[i], path, "duplicate wall name `%s` (first used at %s)", names[i],
-                  first);
+                            first);
       }
     if (st) break;
     if ((st = adem_yaml_get_string(ctx, &m, "material", material, sizeof material, &mat_node))) break;

@@ -39,7 +39,7 @@ void adem_yaml_where_short(const case_ctx *ctx, const yaml_node_t *node, char *b
 }
 
 adem_status adem_yaml_fail(case_ctx *ctx, const yaml_node_t *node, const char *path, const char *fmt,
-                        ...) {
+                           ...) {
   char loc[LOC_MAX], msg[ADEM_MSG_MAX];
   adem_yaml_where(ctx, node, loc, sizeof loc);
   va_list ap;
@@ -229,7 +229,7 @@ bool adem_yaml_valid_name(const char *s) {
 /* ---- typed readers of a present value ---- */
 
 adem_status adem_yaml_wrong_type(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                              const char *path) {
+                                 const char *path) {
   char d[256], t[128];
   adem_schema_describe(e, d, sizeof d);
   adem_yaml_node_text(v, t, sizeof t);
@@ -237,7 +237,7 @@ adem_status adem_yaml_wrong_type(case_ctx *ctx, const adem_schema_entry *e, cons
 }
 
 adem_status adem_yaml_check_range(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, double x) {
+                                  const char *path, double x) {
   if (adem_schema_in_range(e, x)) return ADEM_OK;
   char r[64], unit[48] = "";
   adem_schema_describe_range(e, r, sizeof r);
@@ -246,19 +246,19 @@ adem_status adem_yaml_check_range(case_ctx *ctx, const adem_schema_entry *e, con
 }
 
 adem_status adem_yaml_read_number(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, double *x) {
+                                  const char *path, double *x) {
   if (!adem_yaml_parse_number(v, x)) return adem_yaml_wrong_type(ctx, e, v, path);
   return adem_yaml_check_range(ctx, e, v, path, *x);
 }
 
 adem_status adem_yaml_read_uint(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                             const char *path, uint64_t *x) {
+                                const char *path, uint64_t *x) {
   if (!adem_yaml_parse_uint(v, x)) return adem_yaml_wrong_type(ctx, e, v, path);
   return adem_yaml_check_range(ctx, e, v, path, (double)*x);
 }
 
 adem_status adem_yaml_read_string(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                               const char *path, char *buf, size_t n) {
+                                  const char *path, char *buf, size_t n) {
   if (v->type != YAML_SCALAR_NODE || adem_yaml_is_null(v)) return adem_yaml_wrong_type(ctx, e, v, path);
   if (e->type == ADEM_SCHEMA_NAME && !adem_yaml_valid_name(adem_yaml_sval(v))) return adem_yaml_wrong_type(ctx, e, v, path);
   if (v->data.scalar.length >= n || strlen(adem_yaml_sval(v)) != v->data.scalar.length)
@@ -268,7 +268,7 @@ adem_status adem_yaml_read_string(case_ctx *ctx, const adem_schema_entry *e, con
 }
 
 adem_status adem_yaml_read_vec3(case_ctx *ctx, const adem_schema_entry *e, yaml_node_t *v,
-                             const char *path, adem_vec3 *out) {
+                                const char *path, adem_vec3 *out) {
   if (v->type != YAML_SEQUENCE_NODE || v->data.sequence.items.top - v->data.sequence.items.start != 3)
     return adem_yaml_wrong_type(ctx, e, v, path);
   double x[3];
@@ -286,7 +286,7 @@ adem_status adem_yaml_read_vec3(case_ctx *ctx, const adem_schema_entry *e, yaml_
 }
 
 adem_status adem_yaml_read_enum(case_ctx *ctx, const adem_schema_entry *e, const yaml_node_t *v,
-                             const char *path, int *index) {
+                                const char *path, int *index) {
   if (v->type != YAML_SCALAR_NODE || adem_yaml_is_null(v)) return adem_yaml_wrong_type(ctx, e, v, path);
   *index = adem_schema_choice(e, adem_yaml_sval(v));
   if (*index >= 0) return ADEM_OK;
@@ -304,7 +304,7 @@ adem_status adem_yaml_read_enum(case_ctx *ctx, const adem_schema_entry *e, const
   if (s.best) {
     size_t len = strcspn(s.best, "|");
     return adem_yaml_fail(ctx, v, path, "`%.80s` is not one of: %s; did you mean `%.*s`?", adem_yaml_sval(v), list,
-                (int)len, s.best);
+                          (int)len, s.best);
   }
   return adem_yaml_fail(ctx, v, path, "`%.80s` is not one of: %s", adem_yaml_sval(v), list);
 }
@@ -347,7 +347,7 @@ adem_status adem_yaml_unknown_key(case_ctx *ctx, const map_cursor *m, const yaml
     char vs[128];
     adem_schema_list_choices(other->variant, vs, sizeof vs);
     return adem_yaml_fail(ctx, k, path, "`%s` does not apply to %s `%s` (only to %s: %s); allowed here: %s",
-                key, m->discriminator, m->variant, m->discriminator, vs, allowed);
+                          key, m->discriminator, m->variant, m->discriminator, vs, allowed);
   }
   if (s.best)
     return adem_yaml_fail(ctx, k, path, "unknown key; did you mean `%s`? Allowed here: %s", s.best, allowed);
@@ -357,7 +357,7 @@ adem_status adem_yaml_unknown_key(case_ctx *ctx, const map_cursor *m, const yaml
 /* Checks a mapping's keys (duplicates, unknown keys) and reads its discriminator. node NULL or
  * null: the mapping is absent and every key takes its default. */
 adem_status adem_yaml_map_open(case_ctx *ctx, yaml_node_t *node, yaml_node_t *parent, const char *path,
-                            const char *schema_prefix, const char *discriminator, map_cursor *m) {
+                               const char *schema_prefix, const char *discriminator, map_cursor *m) {
   memset(m, 0, sizeof *m);
   m->at = node ? node : parent;
   snprintf(m->schema, sizeof m->schema, "%s", schema_prefix);
@@ -416,18 +416,18 @@ adem_status adem_yaml_map_open(case_ctx *ctx, yaml_node_t *node, yaml_node_t *pa
 }
 
 adem_status adem_yaml_missing(case_ctx *ctx, const map_cursor *m, const adem_schema_entry *e,
-                           const char *path) {
+                              const char *path) {
   char d[256];
   adem_schema_describe(e, d, sizeof d);
   if (e->need == ADEM_SCHEMA_REQUIRED_IF)
     return adem_yaml_fail(ctx, m->at, path, "required value is missing (required %s): expected %s",
-                e->need_doc, d);
+                          e->need_doc, d);
   return adem_yaml_fail(ctx, m->at, path, "required value is missing: expected %s", d);
 }
 
 /* The schema entry and value node of key in m; fails when a required key is missing. */
 adem_status adem_yaml_lookup(case_ctx *ctx, const map_cursor *m, const char *key,
-                          const adem_schema_entry **e, yaml_node_t **v, char *path) {
+                             const adem_schema_entry **e, yaml_node_t **v, char *path) {
   adem_yaml_join(path, KEY_PATH_MAX, m->path, key);
   *e = adem_schema_find(m->schema, key, m->variant);
   if (!*e)
@@ -441,7 +441,7 @@ adem_status adem_yaml_lookup(case_ctx *ctx, const map_cursor *m, const char *key
 /* The get_* functions read key from m, or its default when absent; *node (if not NULL) is the
  * value node, NULL when the key was not given. */
 adem_status adem_yaml_get_number(case_ctx *ctx, const map_cursor *m, const char *key, double *x,
-                              yaml_node_t **node) {
+                                 yaml_node_t **node) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -456,7 +456,7 @@ adem_status adem_yaml_get_number(case_ctx *ctx, const map_cursor *m, const char 
 }
 
 adem_status adem_yaml_get_uint(case_ctx *ctx, const map_cursor *m, const char *key, uint64_t *x,
-                            yaml_node_t **node) {
+                               yaml_node_t **node) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -517,7 +517,7 @@ adem_status adem_yaml_get_bool3(case_ctx *ctx, const map_cursor *m, const char *
 }
 
 adem_status adem_yaml_get_string(case_ctx *ctx, const map_cursor *m, const char *key, char *buf,
-                              size_t n, yaml_node_t **node) {
+                                 size_t n, yaml_node_t **node) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -532,7 +532,7 @@ adem_status adem_yaml_get_string(case_ctx *ctx, const map_cursor *m, const char 
 }
 
 adem_status adem_yaml_get_vec3(case_ctx *ctx, const map_cursor *m, const char *key, adem_vec3 *x,
-                            yaml_node_t **node) {
+                               yaml_node_t **node) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -566,7 +566,7 @@ adem_status adem_yaml_get_enum(case_ctx *ctx, const map_cursor *m, const char *k
 
 /* `auto` or a number: *is_auto tells which. */
 adem_status adem_yaml_get_auto(case_ctx *ctx, const map_cursor *m, const char *key, bool *is_auto,
-                            double *x, yaml_node_t **node) {
+                               double *x, yaml_node_t **node) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -584,7 +584,7 @@ adem_status adem_yaml_get_auto(case_ctx *ctx, const map_cursor *m, const char *k
 
 /* [name, name]: the names and their nodes (for messages about unknown names). */
 adem_status adem_yaml_get_pair(case_ctx *ctx, const map_cursor *m, const char *key,
-                            char names[2][ADEM_NAME_MAX], yaml_node_t *nodes[2], char paths[2][KEY_PATH_MAX]) {
+                               char names[2][ADEM_NAME_MAX], yaml_node_t *nodes[2], char paths[2][KEY_PATH_MAX]) {
   const adem_schema_entry *e;
   yaml_node_t *v;
   char path[KEY_PATH_MAX];
@@ -645,7 +645,7 @@ adem_status adem_yaml_list_item(case_ctx *ctx, const list_cursor *l, size_t i, m
 /* ---- --set overrides ---- */
 
 adem_status adem_yaml_load_yaml(const char *text, size_t len, yaml_document_t *doc, const char *file,
-                             bool is_set, adem_error *err) {
+                                bool is_set, adem_error *err) {
   yaml_parser_t parser;
   if (!yaml_parser_initialize(&parser))
     return adem_error_set(err, ADEM_ERR_NOMEM, "%s: out of memory", file);
@@ -690,4 +690,3 @@ adem_status adem_yaml_load_yaml(const char *text, size_t len, yaml_document_t *d
   yaml_parser_delete(&parser);
   return st;
 }
-

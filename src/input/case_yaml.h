@@ -22,12 +22,12 @@
 typedef struct case_ctx {
   yaml_document_t doc;
   bool have_doc;
-  const char *file;          /* name used in messages */
-  const char *stem_of;       /* file whose stem is the default case name */
-  const char *base_dir;      /* folder relative file paths of the case start from */
-  const char *const *sets;   /* the --set strings */
-  int nbase;                 /* node ids 1..nbase come from the text, later ones from --set */
-  int *origin;               /* origin[id - nbase - 1]: the --set that made node id (-1: none) */
+  const char *file;        /* name used in messages */
+  const char *stem_of;     /* file whose stem is the default case name */
+  const char *base_dir;    /* folder relative file paths of the case start from */
+  const char *const *sets; /* the --set strings */
+  int nbase;               /* node ids 1..nbase come from the text, later ones from --set */
+  int *origin;             /* origin[id - nbase - 1]: the --set that made node id (-1: none) */
   size_t norigin;
   adem_error *err;
   adem_case *c;
@@ -46,9 +46,9 @@ typedef struct case_ctx {
   adem_vec3 *pos, *vel, *omega;
   double *rad;
   size_t n, cap;
-  double rmax;      /* largest radius */
-  double vmax;      /* largest initial speed of a particle or a plane wall */
-  bool has_box;     /* bounding box of particles and walls */
+  double rmax;  /* largest radius */
+  double vmax;  /* largest initial speed of a particle or a plane wall */
+  bool has_box; /* bounding box of particles and walls */
   adem_vec3 box_lo, box_hi;
   double initial_overlap; /* limits.initial_overlap, read before the particles */
   bool memory_auto;       /* limits.max_memory: auto (what the machine has) */
@@ -60,11 +60,11 @@ typedef struct case_ctx {
 /* A mapping being read: its node (NULL when the section is absent) and where it sits. */
 typedef struct map_cursor {
   yaml_node_t *node;
-  yaml_node_t *at;                  /* node messages point at: the mapping, or its parent */
-  char schema[96];                  /* prefix of its keys in the schema table */
-  const char *discriminator;        /* key choosing the variant, or NULL */
-  char variant[32];                 /* value of the discriminator */
-  char path[KEY_PATH_MAX];          /* key path for messages, "materials[0]" */
+  yaml_node_t *at;           /* node messages point at: the mapping, or its parent */
+  char schema[96];           /* prefix of its keys in the schema table */
+  const char *discriminator; /* key choosing the variant, or NULL */
+  char variant[32];          /* value of the discriminator */
+  char path[KEY_PATH_MAX];   /* key path for messages, "materials[0]" */
 } map_cursor;
 
 typedef struct list_cursor {

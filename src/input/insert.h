@@ -32,12 +32,12 @@ typedef enum adem_size_kind {
 /* A radius distribution. The discrete arrays belong to it (adem_insert_dist_free). */
 typedef struct adem_size_dist {
   adem_size_kind kind;
-  double value;         /* constant */
-  double min, max;      /* uniform */
-  double mean, std;     /* normal, lognormal: of the radius itself */
-  size_t n;             /* discrete: radii and the running sum of their weights */
+  double value;     /* constant */
+  double min, max;  /* uniform */
+  double mean, std; /* normal, lognormal: of the radius itself */
+  size_t n;         /* discrete: radii and the running sum of their weights */
   double *values, *cumulative;
-  double limit;         /* normal, lognormal: draws outside (0, limit] are drawn again */
+  double limit; /* normal, lognormal: draws outside (0, limit] are drawn again */
 } adem_size_dist;
 
 /* Draws one radius. Normal and lognormal draws outside (0, limit] are drawn again, 1000 times at
@@ -65,8 +65,8 @@ typedef enum adem_region_kind {
 /* A volume to fill. Zero-initialise, make with one of the init functions, free. */
 typedef struct adem_region {
   adem_region_kind kind;
-  adem_vec3 lo, hi;            /* bounding box (the box itself for a box) */
-  double volume;               /* m^3 */
+  adem_vec3 lo, hi; /* bounding box (the box itself for a box) */
+  double volume;    /* m^3 */
   /* cylinder: the axis runs from `start` (centre of one end) along the unit `axis` */
   adem_vec3 start, axis, e1, e2;
   double length, radius;
@@ -74,7 +74,7 @@ typedef struct adem_region {
   adem_mesh mesh;
   int cols[2];
   double col_size;
-  size_t *col_start;           /* cols[0] cols[1] + 1 */
+  size_t *col_start; /* cols[0] cols[1] + 1 */
   uint32_t *col_tri;
 } adem_region;
 
@@ -120,7 +120,7 @@ bool adem_insert_region_cuts_triangle(const adem_region *r, adem_vec3 a, adem_ve
  * random sets were filled in (kept for `adem check`). */
 typedef struct adem_named_region {
   char name[ADEM_NAME_MAX];
-  char where[128];         /* key path, e.g. particles[0].region */
+  char where[128]; /* key path, e.g. particles[0].region */
   adem_region region;
 } adem_named_region;
 
@@ -168,18 +168,18 @@ int64_t adem_insert_grid_overlap(const adem_sphere_grid *g, const adem_vec3 *pos
 typedef struct adem_fill_def {
   const adem_region *region;
   const adem_size_dist *dist;
-  uint64_t count;           /* spheres to place; 0: as many as solid_fraction asks */
-  double solid_fraction;    /* of the region's volume, when count is 0 */
-  uint64_t max_attempts;    /* trial positions in all; 0: max(1000000, 100 spheres) */
-  const adem_world *walls;  /* active planes and mesh groups to keep clear of; may be NULL */
+  uint64_t count;          /* spheres to place; 0: as many as solid_fraction asks */
+  double solid_fraction;   /* of the region's volume, when count is 0 */
+  uint64_t max_attempts;   /* trial positions in all; 0: max(1000000, 100 spheres) */
+  const adem_world *walls; /* active planes and mesh groups to keep clear of; may be NULL */
 } adem_fill_def;
 
 typedef struct adem_fill_result {
   adem_vec3 *pos;
   double *radius;
-  size_t n;          /* placed */
-  size_t wanted;     /* asked for (count, or the number the fraction takes) */
-  double volume;     /* of the spheres placed, m^3 */
+  size_t n;      /* placed */
+  size_t wanted; /* asked for (count, or the number the fraction takes) */
+  double volume; /* of the spheres placed, m^3 */
   uint64_t attempts;
 } adem_fill_result;
 
@@ -225,26 +225,26 @@ int adem_insert_compare_descending(const void *a, const void *b);
  * rate: the mass, to within half a particle), measured at the end of the batch's interval. */
 typedef struct adem_pour_def {
   char name[ADEM_NAME_MAX];
-  adem_region region;       /* moved into the pour by adem_pours_add */
-  adem_size_dist dist;      /* moved too */
+  adem_region region;  /* moved into the pour by adem_pours_add */
+  adem_size_dist dist; /* moved too */
   int material, group;
   adem_vec3 velocity, angular_velocity;
-  double rate;              /* particles/s, or 0 */
-  double mass_rate;         /* kg/s, or 0 */
-  double start, end;        /* s */
-  double interval;          /* s between batches */
-  uint64_t max_attempts;    /* trial positions per particle */
-  uint64_t seed;            /* stream of this pour */
+  double rate;           /* particles/s, or 0 */
+  double mass_rate;      /* kg/s, or 0 */
+  double start, end;     /* s */
+  double interval;       /* s between batches */
+  uint64_t max_attempts; /* trial positions per particle */
+  uint64_t seed;         /* stream of this pour */
 } adem_pour_def;
 
 typedef struct adem_pour {
   adem_pour_def def;
-  double density;           /* of the material, for masses */
+  double density; /* of the material, for masses */
   adem_rng rng;
-  uint64_t inserted;        /* particles so far */
-  double mass;              /* kg so far */
-  uint64_t next_batch;      /* index of the next batch */
-  int short_batches;        /* batches that could not place every particle */
+  uint64_t inserted;   /* particles so far */
+  double mass;         /* kg so far */
+  uint64_t next_batch; /* index of the next batch */
+  int short_batches;   /* batches that could not place every particle */
 } adem_pour;
 
 struct adem_pours {

@@ -73,8 +73,10 @@ static bool edge_holds(double e, adem_vec3 u, adem_vec3 v) {
 
 static void column_of(const adem_region *r, double x, double y, int c[2]) {
   double a = floor((x - r->lo.x) / r->col_size), b = floor((y - r->lo.y) / r->col_size);
-  c[0] = a < 0 ? 0 : a >= r->cols[0] ? r->cols[0] - 1 : (int)a;
-  c[1] = b < 0 ? 0 : b >= r->cols[1] ? r->cols[1] - 1 : (int)b;
+  c[0] = a < 0 ? 0 : a >= r->cols[0] ? r->cols[0] - 1
+                                     : (int)a;
+  c[1] = b < 0 ? 0 : b >= r->cols[1] ? r->cols[1] - 1
+                                     : (int)b;
 }
 
 /* True when the vertical ray up from p crosses triangle abc above p. Triangles seen edge-on from
@@ -291,7 +293,8 @@ static bool triangle_box_overlap(adem_vec3 lo, adem_vec3 hi, adem_vec3 a, adem_v
   axes[n++] = v3(0, 0, 1);
   axes[n++] = v3_cross(e[0], e[1]); /* the triangle's normal */
   for (int i = 0; i < 3; ++i) {
-    adem_vec3 u = i == 0 ? v3(1, 0, 0) : i == 1 ? v3(0, 1, 0) : v3(0, 0, 1);
+    adem_vec3 u = i == 0 ? v3(1, 0, 0) : i == 1 ? v3(0, 1, 0)
+                                                : v3(0, 0, 1);
     for (int j = 0; j < 3; ++j) axes[n++] = v3_cross(u, e[j]);
   }
   for (int k = 0; k < n; ++k) {
@@ -319,7 +322,8 @@ bool adem_insert_region_cuts_triangle(const adem_region *r, adem_vec3 a, adem_ve
   double spacing = fmin(s.x, fmin(s.y, s.z)) / 8.0;
   double longest = fmax(v3_norm(v3_sub(b, a)), fmax(v3_norm(v3_sub(c, b)), v3_norm(v3_sub(a, c))));
   double nd = ceil(longest / fmax(spacing, 1e-300));
-  int n = nd < 1.0 ? 1 : nd > 256.0 ? 256 : (int)nd;
+  int n = nd < 1.0 ? 1 : nd > 256.0 ? 256
+                                    : (int)nd;
   adem_vec3 ab = v3_sub(b, a), ac = v3_sub(c, a);
   for (int i = 0; i <= n; ++i)
     for (int j = 0; i + j <= n; ++j) {

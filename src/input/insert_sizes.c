@@ -101,7 +101,10 @@ double adem_insert_dist_largest(const adem_size_dist *d) {
 
 void adem_insert_dist_moments(const adem_size_dist *d, double *mean, double *std) {
   switch (d->kind) {
-    case ADEM_SIZE_CONSTANT: *mean = d->value; *std = 0.0; return;
+    case ADEM_SIZE_CONSTANT:
+      *mean = d->value;
+      *std = 0.0;
+      return;
     case ADEM_SIZE_UNIFORM:
       *mean = 0.5 * (d->min + d->max);
       *std = (d->max - d->min) / sqrt(12.0);
@@ -119,7 +122,10 @@ void adem_insert_dist_moments(const adem_size_dist *d, double *mean, double *std
       return;
     }
     case ADEM_SIZE_NORMAL:
-    case ADEM_SIZE_LOGNORMAL: *mean = d->mean; *std = d->std; return;
+    case ADEM_SIZE_LOGNORMAL:
+      *mean = d->mean;
+      *std = d->std;
+      return;
   }
 }
 

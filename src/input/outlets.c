@@ -25,12 +25,12 @@ typedef struct adem_outlet {
 
 typedef struct adem_flow {
   char name[ADEM_NAME_MAX];
-  int region;         /* index in output.regions, or -1: a plane */
-  int plane;          /* index among the planes (side bytes), or -1 */
+  int region; /* index in output.regions, or -1: a plane */
+  int plane;  /* index among the planes (side bytes), or -1 */
   adem_vec3 point, normal;
-  double window;      /* s; 0: the last CSV interval */
-  double through;     /* plane: mass crossed along the normal since the start, kg */
-  double *t, *q;      /* the CSV rows the window needs: time and through mass / region mass */
+  double window;  /* s; 0: the last CSV interval */
+  double through; /* plane: mass crossed along the normal since the start, kg */
+  double *t, *q;  /* the CSV rows the window needs: time and through mass / region mass */
   size_t n, cap;
 } adem_flow;
 
@@ -74,7 +74,8 @@ static adem_status check_name(case_ctx *ctx, const adem_outlets *o, const char *
   if (taken)
     return adem_yaml_fail(ctx, node, path,
                           "duplicate name `%s`: regions, outlets and mass flows each need their "
-                          "own (they name CSV columns)", name);
+                          "own (they name CSV columns)",
+                          name);
   return ADEM_OK;
 }
 
@@ -119,7 +120,8 @@ static adem_status read_flows(case_ctx *ctx, adem_outlets *o, const map_cursor *
                             "`normal` (a plane), not both");
     }
     if (!rnode && !(pnode && nnode)) {
-      const char *key = !pnode && !nnode ? "region" : !pnode ? "point" : "normal";
+      const char *key = !pnode && !nnode ? "region" : !pnode ? "point"
+                                                             : "normal";
       adem_yaml_join(path, sizeof path, m.path, key);
       return adem_yaml_missing(ctx, &m, adem_schema_find("output.mass_flow[]", key, NULL), path);
     }
@@ -180,7 +182,8 @@ static adem_status read_outlet_list(case_ctx *ctx, adem_outlets *o, const map_cu
       if ((w->periodic.axes >> axis) & 1u)
         return adem_yaml_fail(ctx, fnode, path,
                               "%s is a face of a periodic axis (domain.periodic): particles that "
-                              "cross it come back through the other face", FACES[t->face]);
+                              "cross it come back through the other face",
+                              FACES[t->face]);
       w->open_faces |= 1u << t->face;
     }
     o->no++;

@@ -447,35 +447,35 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
   if (e->unit && *e->unit) snprintf(unit, sizeof unit, " (%s)", e->unit);
   const char *sp = *range ? " " : "";
   switch (e->type) {
-  case ADEM_SCHEMA_NUMBER: snprintf(buf, n, "a number%s%s%s", sp, range, unit); break;
-  case ADEM_SCHEMA_INT: snprintf(buf, n, "an integer%s%s", sp, range); break;
-  case ADEM_SCHEMA_BOOL: snprintf(buf, n, "true or false"); break;
-  case ADEM_SCHEMA_STRING: snprintf(buf, n, "a string"); break;
-  case ADEM_SCHEMA_NAME:
-    snprintf(buf, n, "a name (a letter or _, then letters, digits, _ or -; at most 63 characters)");
-    break;
-  case ADEM_SCHEMA_VEC3: snprintf(buf, n, "a list [x, y, z] of 3 numbers%s", unit); break;
-  case ADEM_SCHEMA_ENUM:
-    adem_schema_list_choices(e->choices, choices, sizeof choices);
-    snprintf(buf, n, "one of: %s", choices);
-    break;
-  case ADEM_SCHEMA_AUTO: snprintf(buf, n, "`auto` or a number%s%s%s", sp, range, unit); break;
-  case ADEM_SCHEMA_NAME_PAIR: snprintf(buf, n, "a list [name, name] of 2 names"); break;
-  case ADEM_SCHEMA_MAP: snprintf(buf, n, "a mapping (key: value)"); break;
-  case ADEM_SCHEMA_LIST:
-    if (e->range & ADEM_RANGE_MIN)
-      snprintf(buf, n, "a list of mappings (at least %g)", e->lo);
-    else
-      snprintf(buf, n, "a list of mappings");
-    break;
-  case ADEM_SCHEMA_ID_LIST: snprintf(buf, n, "a list [id, ...] of particle ids (at most %g)", e->hi); break;
-  case ADEM_SCHEMA_TABLE: snprintf(buf, n, "a list of rows [t, x, y, z] of 4 numbers%s", unit); break;
-  case ADEM_SCHEMA_NUMBER_LIST:
-    snprintf(buf, n, "a list [a, b, ...] of numbers%s%s%s", sp, range, unit);
-    break;
-  case ADEM_SCHEMA_SETTINGS: snprintf(buf, n, "a mapping of key paths to values (key.path: value)"); break;
-  case ADEM_SCHEMA_LAW_PARAMS: snprintf(buf, n, "contact-law parameters"); break;
-  case ADEM_SCHEMA_BOOL3: snprintf(buf, n, "a list [x, y, z] of 3 booleans (true or false)"); break;
+    case ADEM_SCHEMA_NUMBER: snprintf(buf, n, "a number%s%s%s", sp, range, unit); break;
+    case ADEM_SCHEMA_INT: snprintf(buf, n, "an integer%s%s", sp, range); break;
+    case ADEM_SCHEMA_BOOL: snprintf(buf, n, "true or false"); break;
+    case ADEM_SCHEMA_STRING: snprintf(buf, n, "a string"); break;
+    case ADEM_SCHEMA_NAME:
+      snprintf(buf, n, "a name (a letter or _, then letters, digits, _ or -; at most 63 characters)");
+      break;
+    case ADEM_SCHEMA_VEC3: snprintf(buf, n, "a list [x, y, z] of 3 numbers%s", unit); break;
+    case ADEM_SCHEMA_ENUM:
+      adem_schema_list_choices(e->choices, choices, sizeof choices);
+      snprintf(buf, n, "one of: %s", choices);
+      break;
+    case ADEM_SCHEMA_AUTO: snprintf(buf, n, "`auto` or a number%s%s%s", sp, range, unit); break;
+    case ADEM_SCHEMA_NAME_PAIR: snprintf(buf, n, "a list [name, name] of 2 names"); break;
+    case ADEM_SCHEMA_MAP: snprintf(buf, n, "a mapping (key: value)"); break;
+    case ADEM_SCHEMA_LIST:
+      if (e->range & ADEM_RANGE_MIN)
+        snprintf(buf, n, "a list of mappings (at least %g)", e->lo);
+      else
+        snprintf(buf, n, "a list of mappings");
+      break;
+    case ADEM_SCHEMA_ID_LIST: snprintf(buf, n, "a list [id, ...] of particle ids (at most %g)", e->hi); break;
+    case ADEM_SCHEMA_TABLE: snprintf(buf, n, "a list of rows [t, x, y, z] of 4 numbers%s", unit); break;
+    case ADEM_SCHEMA_NUMBER_LIST:
+      snprintf(buf, n, "a list [a, b, ...] of numbers%s%s%s", sp, range, unit);
+      break;
+    case ADEM_SCHEMA_SETTINGS: snprintf(buf, n, "a mapping of key paths to values (key.path: value)"); break;
+    case ADEM_SCHEMA_LAW_PARAMS: snprintf(buf, n, "contact-law parameters"); break;
+    case ADEM_SCHEMA_BOOL3: snprintf(buf, n, "a list [x, y, z] of 3 booleans (true or false)"); break;
   }
 }
 
@@ -483,32 +483,32 @@ void adem_schema_describe(const adem_schema_entry *e, char *buf, size_t n) {
 
 static void md_type(FILE *f, const adem_schema_entry *e) {
   switch (e->type) {
-  case ADEM_SCHEMA_NUMBER: fputs("number", f); break;
-  case ADEM_SCHEMA_INT: fputs("integer", f); break;
-  case ADEM_SCHEMA_BOOL: fputs("bool", f); break;
-  case ADEM_SCHEMA_STRING: fputs("string", f); break;
-  case ADEM_SCHEMA_NAME: fputs("name", f); break;
-  case ADEM_SCHEMA_VEC3: fputs("[x, y, z]", f); break;
-  case ADEM_SCHEMA_ENUM:
-    fputc('`', f);
-    for (const char *s = e->choices; *s; ++s) {
-      if (*s == '|')
-        fputs("` \\| `", f);
-      else
-        fputc(*s, f);
-    }
-    fputc('`', f);
-    break;
-  case ADEM_SCHEMA_AUTO: fputs("`auto` or number", f); break;
-  case ADEM_SCHEMA_NAME_PAIR: fputs("[name, name]", f); break;
-  case ADEM_SCHEMA_MAP: fputs("mapping", f); break;
-  case ADEM_SCHEMA_LIST: fputs("list", f); break;
-  case ADEM_SCHEMA_ID_LIST: fputs("[id, ...]", f); break;
-  case ADEM_SCHEMA_TABLE: fputs("[[t, x, y, z], ...]", f); break;
-  case ADEM_SCHEMA_NUMBER_LIST: fputs("[number, ...]", f); break;
-  case ADEM_SCHEMA_SETTINGS: fputs("{key.path: value, ...}", f); break;
-  case ADEM_SCHEMA_BOOL3: fputs("[bool, bool, bool]", f); break;
-  default: break;
+    case ADEM_SCHEMA_NUMBER: fputs("number", f); break;
+    case ADEM_SCHEMA_INT: fputs("integer", f); break;
+    case ADEM_SCHEMA_BOOL: fputs("bool", f); break;
+    case ADEM_SCHEMA_STRING: fputs("string", f); break;
+    case ADEM_SCHEMA_NAME: fputs("name", f); break;
+    case ADEM_SCHEMA_VEC3: fputs("[x, y, z]", f); break;
+    case ADEM_SCHEMA_ENUM:
+      fputc('`', f);
+      for (const char *s = e->choices; *s; ++s) {
+        if (*s == '|')
+          fputs("` \\| `", f);
+        else
+          fputc(*s, f);
+      }
+      fputc('`', f);
+      break;
+    case ADEM_SCHEMA_AUTO: fputs("`auto` or number", f); break;
+    case ADEM_SCHEMA_NAME_PAIR: fputs("[name, name]", f); break;
+    case ADEM_SCHEMA_MAP: fputs("mapping", f); break;
+    case ADEM_SCHEMA_LIST: fputs("list", f); break;
+    case ADEM_SCHEMA_ID_LIST: fputs("[id, ...]", f); break;
+    case ADEM_SCHEMA_TABLE: fputs("[[t, x, y, z], ...]", f); break;
+    case ADEM_SCHEMA_NUMBER_LIST: fputs("[number, ...]", f); break;
+    case ADEM_SCHEMA_SETTINGS: fputs("{key.path: value, ...}", f); break;
+    case ADEM_SCHEMA_BOOL3: fputs("[bool, bool, bool]", f); break;
+    default: break;
   }
 }
 

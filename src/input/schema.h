@@ -14,23 +14,23 @@
 #endif
 
 typedef enum adem_schema_type {
-  ADEM_SCHEMA_NUMBER,    /* finite real number */
-  ADEM_SCHEMA_INT,       /* non-negative integer */
-  ADEM_SCHEMA_BOOL,      /* true or false */
-  ADEM_SCHEMA_STRING,    /* any text */
-  ADEM_SCHEMA_NAME,      /* identifier: a letter or _, then letters, digits, _ or - */
-  ADEM_SCHEMA_VEC3,      /* [x, y, z] */
-  ADEM_SCHEMA_ENUM,      /* one of `choices` */
-  ADEM_SCHEMA_AUTO,      /* `auto` or a number */
-  ADEM_SCHEMA_NAME_PAIR, /* [name, name] */
-  ADEM_SCHEMA_MAP,       /* mapping; its keys are entries "path.key" */
-  ADEM_SCHEMA_LIST,      /* list of mappings; their keys are entries "path[].key" */
-  ADEM_SCHEMA_ID_LIST,   /* list of particle ids [0, 5, ...]; range bounds the item count */
-  ADEM_SCHEMA_TABLE,     /* list of rows [t, x, y, z] of 4 numbers; range bounds the row count */
+  ADEM_SCHEMA_NUMBER,      /* finite real number */
+  ADEM_SCHEMA_INT,         /* non-negative integer */
+  ADEM_SCHEMA_BOOL,        /* true or false */
+  ADEM_SCHEMA_STRING,      /* any text */
+  ADEM_SCHEMA_NAME,        /* identifier: a letter or _, then letters, digits, _ or - */
+  ADEM_SCHEMA_VEC3,        /* [x, y, z] */
+  ADEM_SCHEMA_ENUM,        /* one of `choices` */
+  ADEM_SCHEMA_AUTO,        /* `auto` or a number */
+  ADEM_SCHEMA_NAME_PAIR,   /* [name, name] */
+  ADEM_SCHEMA_MAP,         /* mapping; its keys are entries "path.key" */
+  ADEM_SCHEMA_LIST,        /* list of mappings; their keys are entries "path[].key" */
+  ADEM_SCHEMA_ID_LIST,     /* list of particle ids [0, 5, ...]; range bounds the item count */
+  ADEM_SCHEMA_TABLE,       /* list of rows [t, x, y, z] of 4 numbers; range bounds the row count */
   ADEM_SCHEMA_NUMBER_LIST, /* [a, b, ...] of numbers; range bounds each number */
-  ADEM_SCHEMA_SETTINGS,  /* mapping of case-file key paths to values (stages[].set) */
-  ADEM_SCHEMA_BOOL3,     /* [bool, bool, bool], one per axis x, y, z */
-  ADEM_SCHEMA_LAW_PARAMS /* in the source table only: one NUMBER per contact-law parameter */
+  ADEM_SCHEMA_SETTINGS,    /* mapping of case-file key paths to values (stages[].set) */
+  ADEM_SCHEMA_BOOL3,       /* [bool, bool, bool], one per axis x, y, z */
+  ADEM_SCHEMA_LAW_PARAMS   /* in the source table only: one NUMBER per contact-law parameter */
 } adem_schema_type;
 
 /* Bounds of a number (for lists: of the item count). */
@@ -48,14 +48,14 @@ typedef enum adem_schema_need {
 } adem_schema_need;
 
 typedef struct adem_schema_entry {
-  const char *path;          /* "materials[].density": "[]" marks the items of a list */
-  const char *variant;       /* NULL, or the values of the parent's discriminator it belongs to: "lattice|random" */
+  const char *path;    /* "materials[].density": "[]" marks the items of a list */
+  const char *variant; /* NULL, or the values of the parent's discriminator it belongs to: "lattice|random" */
   adem_schema_type type;
-  const char *unit;          /* SI unit, "" if none */
-  const char *def;           /* default as written in a case file; NULL if none */
-  const char *def_doc;       /* default computed by the loader, in words; NULL if none */
-  double lo, hi;             /* bounds, see range */
-  unsigned range;            /* ADEM_RANGE_* flags */
+  const char *unit;    /* SI unit, "" if none */
+  const char *def;     /* default as written in a case file; NULL if none */
+  const char *def_doc; /* default computed by the loader, in words; NULL if none */
+  double lo, hi;       /* bounds, see range */
+  unsigned range;      /* ADEM_RANGE_* flags */
   adem_schema_need need;
   const char *need_doc;      /* the condition of ADEM_SCHEMA_REQUIRED_IF */
   const char *choices;       /* ENUM: "hertz|jkr" */

@@ -177,7 +177,8 @@ adem_status adem_stages_enter(adem_case *c, int k, bool live, adem_error *err) {
   adem_world_add_external_work(w, total_energy(w) - before);
   if (w->step >= adem_schedule_total_steps(c->end_time, w->dt)) /* as the load warned: no step */
     adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` is set up at the end time; it runs "
-             "only if the run goes on to a later end", w->time, (unsigned long long)w->step,
+                            "only if the run goes on to a later end",
+             w->time, (unsigned long long)w->step,
              s->s[k].name);
   else
     adem_log(ADEM_LOG_INFO, "t = %.9g s (step %llu): stage `%s` begins", w->time,
@@ -213,9 +214,11 @@ adem_status adem_stages_resume(adem_case *c, int current, adem_error *err) {
 }
 
 static double interval_of(const adem_stage_config *g, const adem_case *c, int which) {
-  if (!g) return which == 0 ? c->output.frame_interval
-                : which == 1 ? c->output.csv_interval : c->output.checkpoint_interval;
-  return which == 0 ? g->frame_interval : which == 1 ? g->csv_interval : g->checkpoint_interval;
+  if (!g) return which == 0   ? c->output.frame_interval
+                 : which == 1 ? c->output.csv_interval
+                              : c->output.checkpoint_interval;
+  return which == 0 ? g->frame_interval : which == 1 ? g->csv_interval
+                                                     : g->checkpoint_interval;
 }
 
 bool adem_stages_output_on(const adem_case *c, int which) {

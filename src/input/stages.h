@@ -44,26 +44,26 @@ typedef struct adem_stage_config {
 
 typedef struct adem_stage {
   char name[ADEM_NAME_MAX];
-  double duration;          /* s; < 0: until time.end (the last stage only); with `until`: the most */
-  adem_until *until;        /* stages[].until, or NULL */
-  char where[640];          /* file:line:column of the stage, for messages */
-  char **sets;              /* "path=value" */
+  double duration;   /* s; < 0: until time.end (the last stage only); with `until`: the most */
+  adem_until *until; /* stages[].until, or NULL */
+  char where[640];   /* file:line:column of the stage, for messages */
+  char **sets;       /* "path=value" */
   int nsets;
   adem_stage_config config;
 } adem_stage;
 
 struct adem_stages {
   int n;
-  int current;              /* stage in force */
+  int current; /* stage in force */
   adem_stage *s;
-  adem_stage_config base;   /* the case as written, before stage 0 */
+  adem_stage_config base; /* the case as written, before stage 0 */
   /* When stages began: start[k] for k < nrecorded (the stages begun so far, and the one a met
    * condition has just set going). Later stages are planned from their durations: from the
    * start (no stage cut short: round(sum of the earlier durations / dt)), or from the last
    * recorded start. In checkpoints. */
   uint64_t *start;
   int nrecorded;
-  bool cut;                 /* a stage has been ended by its `until` */
+  bool cut; /* a stage has been ended by its `until` */
 };
 
 /* ---- building (case.c) ---- */

@@ -281,7 +281,8 @@ static adem_status name_blocks(const adem_mesh *mesh, adem_mesh_soup *s, const c
     /* Composed at full length, then cut: a long name only labels output. */
     char full[2 * ADEM_NAME_MAX + 24];
     if (s->nblocks == 1)
-      snprintf(full, sizeof full, "%s", group_name && *group_name ? group_name : *solid ? solid : stem);
+      snprintf(full, sizeof full, "%s", group_name && *group_name ? group_name : *solid ? solid
+                                                                                        : stem);
     else if (*solid)
       snprintf(full, sizeof full, "%s.%s", prefix, solid);
     else

@@ -27,28 +27,28 @@ typedef enum adem_until_wall_kind {
 } adem_until_wall_kind;
 
 typedef struct adem_until_def {
-  double kinetic;              /* J per particle; <= 0: no such condition */
-  double kinetic_ratio;        /* kinetic energy over sum m |g| d; <= 0: no such condition */
-  bool load;                   /* a wall-load condition is given */
+  double kinetic;       /* J per particle; <= 0: no such condition */
+  double kinetic_ratio; /* kinetic energy over sum m |g| d; <= 0: no such condition */
+  bool load;            /* a wall-load condition is given */
   char wall[ADEM_NAME_MAX];
   adem_until_wall_kind wall_kind;
   int wall_index;
-  adem_vec3 direction;         /* unit */
-  double tolerance;            /* relative */
-  double hold;                 /* s every condition must hold (`for`) */
-  double interval;             /* s between checks */
+  adem_vec3 direction; /* unit */
+  double tolerance;    /* relative */
+  double hold;         /* s every condition must hold (`for`) */
+  double interval;     /* s between checks */
 } adem_until_def;
 
 typedef struct adem_until {
   adem_until_def def;
   /* state */
-  uint64_t kinetic_since;      /* first check of the current streak below the threshold */
-  uint64_t load_since;         /* first check of the current steady streak */
-  double load_lo, load_hi;     /* the load's range over that streak */
-  double kinetic_now, load_now;/* at the last check (for messages) */
-  double ratio_now;            /* kinetic energy over sum m |g| d at the last check */
-  bool checked;                /* a check has run since the condition (or its stage) began */
-  uint64_t met_step;           /* step it was met at; UINT64_MAX: not (yet) */
+  uint64_t kinetic_since;       /* first check of the current streak below the threshold */
+  uint64_t load_since;          /* first check of the current steady streak */
+  double load_lo, load_hi;      /* the load's range over that streak */
+  double kinetic_now, load_now; /* at the last check (for messages) */
+  double ratio_now;             /* kinetic energy over sum m |g| d at the last check */
+  bool checked;                 /* a check has run since the condition (or its stage) began */
+  uint64_t met_step;            /* step it was met at; UINT64_MAX: not (yet) */
 } adem_until;
 
 #define ADEM_UNTIL_NEVER UINT64_MAX

@@ -33,12 +33,12 @@ typedef struct adem_law_check {
  * k_theta (couple per unit relative rotation) and its damping ratio zeta_r. */
 typedef struct adem_law_mode_input {
   const adem_pair_params *pp;
-  double Sn;       /* normal stiffness at the peak */
-  double a;        /* Hertz contact radius there */
-  double R;        /* effective radius */
-  double eta;      /* rolling friction: the mean of the sides, the particle's on a wall */
+  double Sn;                 /* normal stiffness at the peak */
+  double a;                  /* Hertz contact radius there */
+  double R;                  /* effective radius */
+  double eta;                /* rolling friction: the mean of the sides, the particle's on a wall */
   double m_i, r_i, m_j, r_j; /* m_j = 0: a wall */
-  double inv_I;    /* 1/I_i + 1/I_j of the spins */
+  double inv_I;              /* 1/I_i + 1/I_j of the spins */
 } adem_law_mode_input;
 
 /* `adem check`'s view of a pair at its smallest spheres. */
@@ -46,10 +46,10 @@ typedef struct adem_law_report {
   const adem_pair_params *pp;
   double R, mstar, v_ref;
   bool wall;
-  const char *pair;    /* "a-b", "a-b (wall)": for warnings */
-  const char *law;     /* the name of the row whose hook runs (the dispatch sets it) */
-  double eta_a, eta_b; /* rolling friction of each side */
-  const char *from;    /* where the rolling friction comes from, said after it */
+  const char *pair;                          /* "a-b", "a-b (wall)": for warnings */
+  const char *law;                           /* the name of the row whose hook runs (the dispatch sets it) */
+  double eta_a, eta_b;                       /* rolling friction of each side */
+  const char *from;                          /* where the rolling friction comes from, said after it */
   void (*line)(void *ctx, const char *text); /* one line of the report (the caller indents) */
   void (*warn)(void *ctx, const char *text); /* a warning */
   void *ctx;

@@ -11,9 +11,8 @@
 
 /* A row's descriptive columns are a designated initializer (adem/laws.h); those it leaves out
  * take the defaults written first here, which the row's own override. */
-#define ROW(SLOT, ID, hist, ...)                                                             \
-  {.slot = SLOT, .id = ID, .history = hist, .requires = "", .params = "", .equations = "",   \
-   .doc = "", .history_kind = "", __VA_ARGS__},
+#define ROW(SLOT, ID, hist, ...) \
+  {.slot = SLOT, .id = ID, .history = hist, .requires = "", .params = "", .equations = "", .doc = "", .history_kind = "", __VA_ARGS__},
 #if defined(__clang__)
 #pragma clang diagnostic push
 #pragma clang diagnostic ignored "-Winitializer-overrides"

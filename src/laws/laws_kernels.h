@@ -25,12 +25,12 @@ typedef struct adem_pair_params {
   double E_real; /* the same for the real material (f = 1) */
   double G_real;
   double restitution;
-  double beta;   /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
+  double beta;         /* ln e / sqrt(ln^2 e + pi^2) <= 0 (H12) */
   double beta_clamped; /* beta that gives e_eff = e when the normal force cannot pull (damping
                         * `clamped`; derived only for pairs that use it) */
   double friction;
-  double gamma;      /* effective surface energy, modified (H24) */
-  double gamma_real; /* of the real material */
+  double gamma;                     /* effective surface energy, modified (H24) */
+  double gamma_real;                /* of the real material */
   double param[ADEM_PARAM_COUNT];   /* the pair's value of each law parameter (its mixing rule) */
   double param_a[ADEM_PARAM_COUNT]; /* side a's (the first material's) value */
   double param_b[ADEM_PARAM_COUNT]; /* side b's value */
@@ -40,24 +40,24 @@ typedef struct adem_pair_params {
 
 /* One contact as the laws see it. */
 typedef struct adem_contact_geometry {
-  adem_vec3 n;         /* unit normal from i to j */
-  double delta;        /* overlap, > 0 */
-  double R;            /* effective radius (H2; wall: r_i) */
-  double mstar;        /* effective mass (wall: m_i) */
-  adem_vec3 w;         /* relative velocity of the contact points, i minus j, at the half step
-                        * (the drift's: displacements of the step are w dt) */
-  adem_vec3 omega_rel; /* (omega_i - omega_j) without its twist about n, at the half step */
-  adem_vec3 w_pred;    /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
-  double mob_t;        /* the change of w's tangential part per unit tangential force on i over
-                        * the closing half kick: for spheres (r^2/I = 2.5/m) 3.5 (1/m_i + 1/m_j)
-                        * dt/2; 0 in the first-order scheme */
+  adem_vec3 n;          /* unit normal from i to j */
+  double delta;         /* overlap, > 0 */
+  double R;             /* effective radius (H2; wall: r_i) */
+  double mstar;         /* effective mass (wall: m_i) */
+  adem_vec3 w;          /* relative velocity of the contact points, i minus j, at the half step
+                         * (the drift's: displacements of the step are w dt) */
+  adem_vec3 omega_rel;  /* (omega_i - omega_j) without its twist about n, at the half step */
+  adem_vec3 w_pred;     /* w predicted at the full step, v + F_old dt/(2m): the dashpots' */
+  double mob_t;         /* the change of w's tangential part per unit tangential force on i over
+                         * the closing half kick: for spheres (r^2/I = 2.5/m) 3.5 (1/m_i + 1/m_j)
+                         * dt/2; 0 in the first-order scheme */
   adem_vec3 omega_pred; /* omega_rel likewise: model C's dashpot */
-  double ri, rj;       /* radii; rj = 0 for a wall */
-  double inertia_r;    /* rolling inertia I_r (Ai et al. 2011) */
-  bool energy;         /* the normal law's stored energy is wanted (else it may be left 0) */
-  bool packed;         /* in a loop the compiler packs (the force pass's block kernels): where a
-                        * law would call the library it gives NaN instead, and the pass does
-                        * that contact again one at a time */
+  double ri, rj;        /* radii; rj = 0 for a wall */
+  double inertia_r;     /* rolling inertia I_r (Ai et al. 2011) */
+  bool energy;          /* the normal law's stored energy is wanted (else it may be left 0) */
+  bool packed;          /* in a loop the compiler packs (the force pass's block kernels): where a
+                         * law would call the library it gives NaN instead, and the pass does
+                         * that contact again one at a time */
 } adem_contact_geometry;
 
 /* ---------------------------------------------------------------- normal slot */
@@ -74,7 +74,7 @@ ADEM_LAW adem_normal_result adem_normal_hertz_law(const adem_pair_params *pp,
                                                   const adem_contact_geometry *g,
                                                   double a_hertz) {
   adem_normal_result r;
-  r.f_elastic = adem_hertz_force(pp->E, a_hertz, g->delta);  /* H9 without adhesion */
+  r.f_elastic = adem_hertz_force(pp->E, a_hertz, g->delta); /* H9 without adhesion */
   r.e_elastic = g->energy ? adem_hertz_energy(pp->E, a_hertz, g->delta) : 0.0;
   r.f_critical = 0.0;
   r.a = a_hertz;
@@ -87,7 +87,7 @@ ADEM_LAW adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
   (void)a_hertz;
   adem_normal_result r;
   r.a = adem_jkr_contact_radius_as(pp->gamma, g->R, pp->E, g->delta, g->packed); /* H10 */
-  r.f_elastic = adem_jkr_force(pp->gamma, g->R, pp->E, r.a);       /* H8-H9 */
+  r.f_elastic = adem_jkr_force(pp->gamma, g->R, pp->E, r.a);                     /* H8-H9 */
   r.e_elastic = g->energy ? adem_jkr_energy(pp->gamma, g->R, pp->E, r.a) : 0.0;
   r.f_critical = adem_jkr_critical_force(pp->gamma, g->R);
   return r;
@@ -97,7 +97,7 @@ ADEM_LAW adem_normal_result adem_normal_jkr_law(const adem_pair_params *pp,
 
 /* The dashpots beside the normal and tangential springs, and the total normal force. */
 typedef struct adem_damping_input {
-  double Sn, St;     /* normal and tangential stiffness, 2 E a and 8 G a (H13, H14) */
+  double Sn, St; /* normal and tangential stiffness, 2 E a and 8 G a (H13, H14) */
   double mstar;
   double vn;         /* normal approach speed (> 0 approaching) */
   double f_elastic;  /* elastic normal force of the normal law, > 0 repulsive */
@@ -266,8 +266,8 @@ ADEM_LAW void adem_rolling_dtk_law(const adem_rolling_input *in, adem_vec3 *hist
   double a0_mod = adem_jkr_a0(pp->gamma, g->R, pp->E);
   double a0_real = keep_real ? adem_jkr_a0(pp->gamma_real, g->R, pp->E_real) : a0_mod;
   double ratio = in->a / a0_mod;
-  double k_r = 4.0 * f_c * ratio * sqrt(ratio);                                   /* H20 */
-  double xi_crit = a0_real / 12.0 * pp->param[ADEM_PARAM_ADHESION_HYSTERESIS];   /* H22 */
+  double k_r = 4.0 * f_c * ratio * sqrt(ratio);                                /* H20 */
+  double xi_crit = a0_real / 12.0 * pp->param[ADEM_PARAM_ADHESION_HYSTERESIS]; /* H22 */
   /* Rolling velocity without Marshall's slip term (as Wang et al. 2015, eq. 31, and LAMMPS):
    * with it xi follows the translation while the couple acts on the spin alone, a circulatory
    * law that feeds energy in when the tangential spring is soft (reduced stiffness). Pure rolling

@@ -50,7 +50,8 @@ static const char *dtk_check(const adem_law_check *c, int *side, char *buf, size
   if (gamma > 0.0) return NULL;
   *side = -1;
   snprintf(buf, n, "`%s` rolling needs a surface energy > 0 (its stiffness and limit come from "
-           "F_C and a0), but the pair's is 0", c->law);
+                   "F_C and a0), but the pair's is 0",
+           c->law);
   return buf;
 }
 

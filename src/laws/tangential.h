@@ -30,9 +30,9 @@ ADEM_LAW adem_vec3 adem_tangential_project(adem_vec3 xi, adem_vec3 n) {
 
 /* One step of a tangential law. */
 typedef struct adem_tangential_input {
-  adem_vec3 n;      /* unit normal from i to j */
-  adem_vec3 vt;     /* slip velocity of i's surface relative to j's (tangent plane), at the
-                     * half step: the slip of the step is vt dt */
+  adem_vec3 n;       /* unit normal from i to j */
+  adem_vec3 vt;      /* slip velocity of i's surface relative to j's (tangent plane), at the
+                      * half step: the slip of the step is vt dt */
   adem_vec3 vt_damp; /* the same predicted at the full step, for the dashpot */
   double dt;
   double stiffness; /* S_t = 8 G sqrt(R delta) (H14) */
@@ -111,7 +111,7 @@ ADEM_LAW void adem_tangential_incremental(const adem_tangential_input *in, adem_
   adem_vec3 f_prev = *fs;
   double u_prev = S_old > 0.0 ? 0.5 * v3_norm2(f_prev) / S_old : 0.0;
   adem_vec3 f0 = adem_tangential_project(f_prev, in->n);
-  if (S_old > S) f0 = v3_scale(f0, S / S_old); /* unloading: LAMMPS mindlin_rescale */
+  if (S_old > S) f0 = v3_scale(f0, S / S_old);         /* unloading: LAMMPS mindlin_rescale */
   adem_vec3 spring = v3_axpy(f0, -S * in->dt, in->vt); /* dF = -S_t ds */
   double s2 = v3_norm2(spring);
   out->sliding = false;

@@ -81,7 +81,9 @@ static void quantile_cuts(double *x, size_t n, int size, double *cut) {
   qsort(x, n, sizeof *x, compare_double);
   for (int r = 1; r < size; ++r) {
     size_t k = (size_t)r * n / (size_t)size;
-    cut[r - 1] = n == 0 ? 0.0 : k == 0 ? x[0] : k >= n ? x[n - 1] : 0.5 * (x[k - 1] + x[k]);
+    cut[r - 1] = n == 0 ? 0.0 : k == 0 ? x[0]
+                            : k >= n   ? x[n - 1]
+                                       : 0.5 * (x[k - 1] + x[k]);
   }
 }
 
@@ -586,7 +588,8 @@ static adem_status place_cuts(adem_split *s, const adem_world *w) {
   s->plo = w->periodic.lo[s->axis];
   s->plen = w->periodic.len[s->axis];
   if (wraps && split_broken("periodic_axis")) { /* the test's control: along one that wraps, */
-    s->axis = wraps & 1u ? 0 : wraps & 2u ? 1 : 2; /* as if it did not (no images across) */
+    s->axis = wraps & 1u ? 0 : wraps & 2u ? 1
+                                          : 2; /* as if it did not (no images across) */
     s->wraps = false;
   }
   size_t n = p->n;
@@ -660,7 +663,8 @@ adem_status adem_split_create(const adem_world *whole, MPI_Comm comm, adem_split
   if (why)
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "this case cannot run on more than one MPI process yet because of %s; "
-                          "run it with one process", why);
+                          "run it with one process",
+                          why);
   adem_split *s = calloc(1, sizeof *s);
   if (!s) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   s->comm = comm;

@@ -27,7 +27,7 @@ static int compare_wall_term(const void *x, const void *y) {
  * serial order (particles by id, each one's contacts as its gather list has them). An
  * MPI_Allreduce would add in another order. Collective. */
 adem_status adem_split_plane_forces_hook(void *ctx, const adem_world *w, adem_vec3 *out,
-                                     adem_error *err) {
+                                         adem_error *err) {
   adem_split *s = ctx;
   const adem_particles *p = &w->p;
   const adem_neighbors *nb = &w->nb;
@@ -88,7 +88,7 @@ static int compare_face_term(const void *x, const void *y) {
  * every process): each process computes its own particles' terms as the serial pass does, and
  * the receivers add them all in the serial order. Collective. */
 adem_status adem_split_face_loads(adem_split *s, const adem_world *w, adem_walls *into,
-                              bool everywhere, adem_error *err) {
+                                  bool everywhere, adem_error *err) {
   const adem_particles *p = &w->p;
   const adem_mesh_pairs *pm = &w->pm;
   const adem_pair_list *l = &pm->l;
@@ -143,7 +143,7 @@ static int compare_id_term(const void *x, const void *y) {
 /* Sums of terms over every process's own particles, in the serial order (id, then seq), on
  * every process. Collective. */
 adem_status adem_split_sum_terms_hook(void *ctx, const adem_world *w, const adem_id_term *t,
-                                  size_t n, double *out, int nout, adem_error *err) {
+                                      size_t n, double *out, int nout, adem_error *err) {
   adem_split *s = ctx;
   bytes mine = {0}, all = {0};
   adem_status st = ADEM_OK;

@@ -14,11 +14,11 @@
 struct adem_split {
   MPI_Comm comm;
   int rank, size;
-  int axis;    /* slabs along x, y or z */
-  bool wraps;  /* that axis is periodic: slab 0 and the last are neighbours across its faces */
+  int axis;         /* slabs along x, y or z */
+  bool wraps;       /* that axis is periodic: slab 0 and the last are neighbours across its faces */
   double plo, plen; /* the periodic box along it */
-  double *cut; /* size - 1 cuts, ascending: slab r is [cut[r-1], cut[r]) */
-  double rmax; /* the whole system's largest radius */
+  double *cut;      /* size - 1 cuts, ascending: slab r is [cut[r-1], cut[r]) */
+  double rmax;      /* the whole system's largest radius */
   adem_world_split hooks;
   /* ghost refresh, each by id within each rank: the own particles whose copies rank q holds
    * (send_idx[sdispl[q] ..]), and the copies here of rank r's (recv_idx[rdispl[r] ..]) */
@@ -27,8 +27,8 @@ struct adem_split {
   unsigned char *sbuf, *rbuf;
   size_t sbuf_cap, rbuf_cap;
   int *bytes_a, *bytes_b, *bytes_c, *bytes_d; /* byte counts and offsets of an exchange */
-  adem_split_stats stats; /* what the exchanges cost (split.h) */
-  double sent;            /* bytes this process has sent to others, every exchange */
+  adem_split_stats stats;                     /* what the exchanges cost (split.h) */
+  double sent;                                /* bytes this process has sent to others, every exchange */
 };
 
 /* Bytes sent to the other processes by a collective in which this process sends `bytes` to
@@ -40,7 +40,8 @@ typedef struct bytes {
   size_t n, cap;
 } bytes;
 
-static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y : v.z; }
+static inline double along(adem_vec3 v, int axis) { return axis == 0 ? v.x : axis == 1 ? v.y
+                                                                                       : v.z; }
 
 /* A centre's coordinate along the slabs' axis; along a periodic axis wrapped into the box as the
  * neighbour build wraps it (periodic.h), so that the slab a build sends a particle to is the

@@ -61,14 +61,15 @@ void adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *s
  * ADEM_PAIR_FIELDS but the keys, then (bal: while the balance is on) its balance record. */
 size_t adem_split_pair_bytes(bool bal) {
   size_t n = 2 * sizeof(uint64_t);
-#define ADEM_X(type, name, role, doc) if (role != ADEM_PAIR_KEY) n += sizeof(type);
+#define ADEM_X(type, name, role, doc) \
+  if (role != ADEM_PAIR_KEY) n += sizeof(type);
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
   return n + (bal ? sizeof(adem_pair_balance) : 0);
 }
 
 bool adem_split_put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb,
-                     bool bal) {
+                         bool bal) {
   bool ok = adem_split_bytes_put(b, &ka, sizeof ka) && adem_split_bytes_put(b, &kb, sizeof kb);
 #define ADEM_X(type, name, role, doc) \
   if (role != ADEM_PAIR_KEY) ok = ok && adem_split_bytes_put(b, &l->name[k], sizeof(type));
@@ -83,14 +84,14 @@ bool adem_split_put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t k
 }
 
 void adem_split_get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
-                     uint64_t *kb, bool bal) {
+                         uint64_t *kb, bool bal) {
   memcpy(ka, src, sizeof *ka);
   memcpy(kb, src + sizeof *ka, sizeof *kb);
   src += 2 * sizeof(uint64_t);
-#define ADEM_X(type, name, role, doc)                  \
-  if (role != ADEM_PAIR_KEY) {                         \
-    memcpy(&l->name[k], src, sizeof(type));            \
-    src += sizeof(type);                               \
+#define ADEM_X(type, name, role, doc)       \
+  if (role != ADEM_PAIR_KEY) {              \
+    memcpy(&l->name[k], src, sizeof(type)); \
+    src += sizeof(type);                    \
   }
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X

@@ -130,18 +130,24 @@ static int put_array(FILE *f, int k, const adem_contact_record *c, size_t n) {
     const adem_contact_record *r = c + i0;
     size_t wrote = 0, want = m;
     switch (k) {
-      case 0: case 2: case 3: case 4: case 11: { /* 3-vectors */
+      case 0:
+      case 2:
+      case 3:
+      case 4:
+      case 11: { /* 3-vectors */
         for (size_t j = 0; j < m; ++j) {
           adem_vec3 v = k == 0 ? r[j].force : k == 2 ? r[j].normal_force
-                        : k == 3 ? r[j].tangential_force : k == 4 ? r[j].rolling_torque
-                                                                 : v3_sub(r[j].p1, r[j].p0);
+                                          : k == 3   ? r[j].tangential_force
+                                          : k == 4   ? r[j].rolling_torque
+                                                     : v3_sub(r[j].p1, r[j].p0);
           d[3 * j] = v.x, d[3 * j + 1] = v.y, d[3 * j + 2] = v.z;
         }
         want = 3 * m;
         wrote = fwrite(d, 8, want, f);
         break;
       }
-      case 1: case 5: /* scalars */
+      case 1:
+      case 5: /* scalars */
         for (size_t j = 0; j < m; ++j)
           d[j] = k == 1 ? v3_norm(r[j].normal_force) : r[j].overlap;
         wrote = fwrite(d, 8, m, f);
@@ -150,7 +156,8 @@ static int put_array(FILE *f, int k, const adem_contact_record *c, size_t n) {
         for (size_t j = 0; j < m; ++j) s[j] = r[j].kind;
         wrote = fwrite(s, 4, m, f);
         break;
-      case 7: case 8:
+      case 7:
+      case 8:
         for (size_t j = 0; j < m; ++j) l[j] = k == 7 ? r[j].a : r[j].b;
         wrote = fwrite(l, 8, m, f);
         break;
@@ -193,13 +200,7 @@ adem_status adem_contact_write_vtp(const adem_world *w, const adem_contact_recor
   static const struct {
     const char *name, *type;
     int ncomp, size;
-  } def[] = {{"force", "Float64", 3, 8},           {"normal_force_magnitude", "Float64", 1, 8},
-             {"normal_force", "Float64", 3, 8},    {"tangential_force", "Float64", 3, 8},
-             {"rolling_torque", "Float64", 3, 8},  {"overlap", "Float64", 1, 8},
-             {"kind", "Int32", 1, 4},              {"id_a", "Int64", 1, 8},
-             {"id_b", "Int64", 1, 8},              {"position", "Float64", 3, 8},
-             {"connectivity", "Int64", 1, 8},      {"branch", "Float64", 3, 8},
-             {"offsets", "Int64", 1, 8}};
+  } def[] = {{"force", "Float64", 3, 8}, {"normal_force_magnitude", "Float64", 1, 8}, {"normal_force", "Float64", 3, 8}, {"tangential_force", "Float64", 3, 8}, {"rolling_torque", "Float64", 3, 8}, {"overlap", "Float64", 1, 8}, {"kind", "Int32", 1, 4}, {"id_a", "Int64", 1, 8}, {"id_b", "Int64", 1, 8}, {"position", "Float64", 3, 8}, {"connectivity", "Int64", 1, 8}, {"branch", "Float64", 3, 8}, {"offsets", "Int64", 1, 8}};
   const int order[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 9, 10, 12}; /* as appended */
   const int nord = (int)(sizeof order / sizeof order[0]);
   size_t bytes[13];

@@ -15,15 +15,15 @@
 
 /* One touching contact as the frames write it. */
 typedef struct adem_contact_record {
-  int32_t kind;       /* adem_contact_kind: 0 particle, 1 plane, 2 mesh */
-  int64_t a, b;       /* particle id a (the lower id of a pair); b: particle id, plane index or
-                       * mesh group index */
-  adem_vec3 p0, p1;   /* a's centre; b's centre (minimum image) or the contact point on the wall */
-  adem_vec3 force;    /* force on a, N (on b the opposite) */
+  int32_t kind;                             /* adem_contact_kind: 0 particle, 1 plane, 2 mesh */
+  int64_t a, b;                             /* particle id a (the lower id of a pair); b: particle id, plane index or
+                                             * mesh group index */
+  adem_vec3 p0, p1;                         /* a's centre; b's centre (minimum image) or the contact point on the wall */
+  adem_vec3 force;                          /* force on a, N (on b the opposite) */
   adem_vec3 normal_force, tangential_force; /* its parts along and across n = (p1 - p0)/|p1 - p0| */
-  adem_vec3 rolling_torque; /* rolling resistance couple on a, N m */
-  double overlap;     /* r_a + r_b - |p1 - p0| (a wall: r_a - |p1 - p0|), m; < 0 for an adhesive
-                       * neck that has not broken yet */
+  adem_vec3 rolling_torque;                 /* rolling resistance couple on a, N m */
+  double overlap;                           /* r_a + r_b - |p1 - p0| (a wall: r_a - |p1 - p0|), m; < 0 for an adhesive
+                                             * neck that has not broken yet */
 } adem_contact_record;
 
 /* The touching contacts in a fixed order that neither the storage order, the thread count nor

@@ -147,10 +147,7 @@ static int put_particle_array(FILE *f, int k, void *user) {
 static const struct {
   const char *name, *type;
   int ncomp;
-} frame_arrays[] = {{"radius", "Float64", 1},           {"id", "Int64", 1},
-                    {"material", "Int32", 1},           {"velocity", "Float64", 3},
-                    {"angular_velocity", "Float64", 3}, {"force", "Float64", 3},
-                    {"rolling_torque", "Float64", 3},   {"mass", "Float64", 1}};
+} frame_arrays[] = {{"radius", "Float64", 1}, {"id", "Int64", 1}, {"material", "Int32", 1}, {"velocity", "Float64", 3}, {"angular_velocity", "Float64", 3}, {"force", "Float64", 3}, {"rolling_torque", "Float64", 3}, {"mass", "Float64", 1}};
 
 adem_status adem_output_write_vtu(const adem_world *w, const char *path, adem_error *err) {
   return adem_output_write_vtu_of(w, NULL, w->p.n, path, err);
@@ -163,12 +160,17 @@ adem_status adem_output_write_vtu_of(const adem_world *w, const uint32_t *idx, s
   frame_set fs = {p, idx, n};
   /* Arrays in the order they are appended. */
   const adem_vtu_array arr[] = {
-      {"radius", "Float64", 1, 8 * n},           {"id", "Int64", 1, 8 * n},
-      {"material", "Int32", 1, 4 * n},           {"velocity", "Float64", 3, 24 * n},
-      {"angular_velocity", "Float64", 3, 24 * n}, {"force", "Float64", 3, 24 * n},
-      {"rolling_torque", "Float64", 3, 24 * n},   {"mass", "Float64", 1, 8 * n},
+      {"radius", "Float64", 1, 8 * n},
+      {"id", "Int64", 1, 8 * n},
+      {"material", "Int32", 1, 4 * n},
+      {"velocity", "Float64", 3, 24 * n},
+      {"angular_velocity", "Float64", 3, 24 * n},
+      {"force", "Float64", 3, 24 * n},
+      {"rolling_torque", "Float64", 3, 24 * n},
+      {"mass", "Float64", 1, 8 * n},
       {"position", "Float64", 3, 24 * n},
-      {"connectivity", "Int64", 1, 8 * n},       {"offsets", "Int64", 1, 8 * n},
+      {"connectivity", "Int64", 1, 8 * n},
+      {"offsets", "Int64", 1, 8 * n},
       {"types", "UInt8", 1, n},
   };
   char field[512];
@@ -278,7 +280,7 @@ static adem_status pvd_reload(adem_pvd *pvd, const char *path, size_t frames_don
                               double frame_period, adem_error *err) {
   double *time = malloc((frames_done ? frames_done : 1) * sizeof *time);
   unsigned char *found = calloc(frames_done ? frames_done : 1, 1);
-  char (*names)[64] = calloc(frames_done ? frames_done : 1, sizeof *names);
+  char(*names)[64] = calloc(frames_done ? frames_done : 1, sizeof *names);
   if (!time || !found || !names) {
     free(time);
     free(found);
@@ -518,7 +520,7 @@ adem_status adem_output_frame_pvtu(adem_output *o, const adem_world *w, int npie
   char name[64];
   piece_name(name, sizeof name, o->next_frame, -1);
   char *path = adem_file_join(o->dir, name);
-  char (*pieces)[64] = calloc((size_t)(npieces > 0 ? npieces : 1), sizeof *pieces);
+  char(*pieces)[64] = calloc((size_t)(npieces > 0 ? npieces : 1), sizeof *pieces);
   const char **src = calloc((size_t)(npieces > 0 ? npieces : 1), sizeof *src);
   adem_status st = path && pieces && src ? ADEM_OK : adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   for (int k = 0; k < npieces && !st; ++k) { /* beside the .pvtu, in frames/ */

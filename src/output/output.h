@@ -41,7 +41,7 @@ void adem_output_pvd_free(adem_pvd *pvd);
  * p<id>_distance_m, the path length its centre has travelled (sum of |v| dt). */
 typedef struct adem_output_track {
   int n;
-  const uint64_t *id;       /* stable ids */
+  const uint64_t *id; /* stable ids */
 } adem_output_track;
 
 /* Columns the caller computes (the run's output.regions), after all others: their names, and a
@@ -49,7 +49,7 @@ typedef struct adem_output_track {
 typedef struct adem_output_extra {
   int n;
   const char *const *name;
-  const double *value;      /* n values of the current row */
+  const double *value; /* n values of the current row */
 } adem_output_extra;
 
 /* The header line of the CSV time series (with the final newline); a fresh string. track and
@@ -73,12 +73,12 @@ adem_status adem_output_plot_loads(const adem_world *w, const char *csv_path, co
 /* The output of one run: files under dir, the PVD entries and the open CSV. */
 typedef struct adem_output {
   char *dir, *pvd_path, *csv_path, *png_path;
-  bool frames, csv;   /* which outputs are on */
+  bool frames, csv; /* which outputs are on */
   adem_pvd pvd;
-  size_t next_frame;  /* index of the next VTU file */
-  int csv_fd;         /* -1 when closed */
+  size_t next_frame;       /* index of the next VTU file */
+  int csv_fd;              /* -1 when closed */
   adem_output_track track; /* points into the caller's arrays, which must outlive the output */
-  adem_output_extra extra;  /* the same */
+  adem_output_extra extra; /* the same */
   /* output.contacts (contact_frames.c): contact frames with every contacts_every-th particle
    * frame (0: none), listed in contacts.pvd; contacts_csv: a CSV of each too */
   int contacts_every;

@@ -18,9 +18,9 @@ typedef int adem_vtu_put_fn(FILE *f, int k, void *user);
 
 typedef struct adem_vtu_layout {
   size_t npoints, ncells;
-  const char *field_data; /* XML lines inside <FieldData>, or NULL for none */
-  const char *data_tag;   /* "PointData" or "CellData": the arrays before points_at */
-  const char *data_attrs; /* e.g. "Scalars=\"radius\" Vectors=\"velocity\"" */
+  const char *field_data;  /* XML lines inside <FieldData>, or NULL for none */
+  const char *data_tag;    /* "PointData" or "CellData": the arrays before points_at */
+  const char *data_attrs;  /* e.g. "Scalars=\"radius\" Vectors=\"velocity\"" */
   int points_at, cells_at; /* index of the <Points> array and of the first <Cells> array */
 } adem_vtu_layout;
 

@@ -203,8 +203,8 @@ typedef struct header {
   int have_piece;
   array_ref radius, position, id, velocity, mass; /* a particle frame's */
   array_ref force, kind, id_a, id_b;              /* a contact frame's cell data */
-  int poly;        /* a contact frame: PolyData of lines */
-  uint64_t nlines; /* its NumberOfLines */
+  int poly;                                       /* a contact frame: PolyData of lines */
+  uint64_t nlines;                                /* its NumberOfLines */
   double time;
   int64_t step;
   size_t data; /* offset of the first byte after '_' */
@@ -293,7 +293,8 @@ static adem_status parse_header(const char *s, size_t total, const char *name, i
                   NAME_OF(name), xml_end);
     if (!attrs_ok(&t))
       return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: malformed attributes in <%.*s> (expected "
-                  "name=\"value\")", NAME_OF(name), t.at, (int)(t.name.n > 40 ? 40 : t.name.n),
+                                       "name=\"value\")",
+                  NAME_OF(name), t.at, (int)(t.name.n > 40 ? 40 : t.name.n),
                   t.name.p);
     slice v;
     if (slice_is(t.name, "VTKFile")) {
@@ -308,10 +309,12 @@ static adem_status parse_header(const char *s, size_t total, const char *name, i
         return fail(err, ADEM_ERR_INPUT, "%s: VTKFile type is not \"%s\"", NAME_OF(name), grid);
       if (tag_attr(&t, "byte_order", &v) != 1 || !slice_is(v, machine_order()))
         return fail(err, ADEM_ERR_INPUT, "%s: byte_order is not \"%s\" (this machine's; files are "
-                    "read without swapping)", NAME_OF(name), machine_order());
+                                         "read without swapping)",
+                    NAME_OF(name), machine_order());
       if (tag_attr(&t, "header_type", &v) != 1 || !slice_is(v, "UInt64"))
         return fail(err, ADEM_ERR_INPUT, "%s: header_type is not \"UInt64\" (adem writes UInt64 "
-                    "block headers)", NAME_OF(name));
+                                         "block headers)",
+                    NAME_OF(name));
       continue;
     }
     if (!in_vtk)
@@ -352,7 +355,8 @@ static adem_status parse_header(const char *s, size_t total, const char *name, i
       if (poly && (tag_attr(&t, "NumberOfLines", &v) != 1 ||
                    !parse_u64(v, UINT64_MAX, &h->nlines) || h->npoints != 2 * h->nlines))
         return fail(err, ADEM_ERR_INPUT, "%s: byte %zu: Piece without a valid NumberOfLines (two "
-                    "points per line)", NAME_OF(name), t.at);
+                                         "points per line)",
+                    NAME_OF(name), t.at);
     } else if (slice_is(t.name, "PointData")) {
       in_pdata = in_piece && !t.closing && !t.self_closing;
     } else if (slice_is(t.name, "CellData")) {
@@ -481,12 +485,14 @@ static adem_status check_blocks(const unsigned char *base, size_t len, const hea
     if (off > avail || avail - off < 8)
       return fail(err, ADEM_ERR_INPUT,
                   "%s: an appended block at offset %llu starts past the end of the data (%zu "
-                  "bytes; truncated?)", NAME_OF(name), (unsigned long long)off, avail);
+                  "bytes; truncated?)",
+                  NAME_OF(name), (unsigned long long)off, avail);
     memcpy(&nbytes, base + h->data + off, 8);
     if (nbytes > avail - off - 8)
       return fail(err, ADEM_ERR_INPUT,
                   "%s: the appended block at offset %llu (%llu bytes) runs past the end of the "
-                  "file (truncated?)", NAME_OF(name), (unsigned long long)off,
+                  "file (truncated?)",
+                  NAME_OF(name), (unsigned long long)off,
                   (unsigned long long)nbytes);
     if (off + 8 + nbytes > last) last = (size_t)(off + 8 + nbytes);
   }

@@ -104,7 +104,8 @@ static adem_status write_file(const char *path, const char *magic, save_fn *save
     failed = fseek(af.f, 0, SEEK_SET) != 0 || fwrite(h, 1, sizeof h, af.f) != sizeof h;
   }
   if (failed) {
-    int e = nomem ? ENOMEM : errno ? errno : EIO;
+    int e = nomem ? ENOMEM : errno ? errno
+                                   : EIO;
     adem_file_abort(&af);
     return adem_error_set(err, ADEM_ERR_IO, "cannot write checkpoint %s: %s", path, strerror(e));
   }
@@ -152,7 +153,11 @@ static adem_status bad_file(adem_error *err, const char *path, const char *why) 
 /* What a resumed run may change (adem_checkpoint_read_with): the end and the output intervals. */
 static const char *const resume_keys[] = {"time.end", "output.frame_interval",
                                           "output.csv_interval", "output.checkpoint_interval"};
-enum { RESUME_END = 0, RESUME_FRAME = 1, RESUME_CSV = 2, RESUME_CKPT = 3, RESUME_KEYS = 4 };
+enum { RESUME_END = 0,
+       RESUME_FRAME = 1,
+       RESUME_CSV = 2,
+       RESUME_CKPT = 3,
+       RESUME_KEYS = 4 };
 
 /* Which of resume_keys the sets change (given[k]); ADEM_ERR_INPUT for any other key. */
 static adem_status resume_sets_check(const char *const *sets, int nsets, bool given[RESUME_KEYS],
@@ -387,7 +392,8 @@ adem_status adem_checkpoint_read_with(const char *path, const char *const *sets,
   if (!st && given[RESUME_END] && (*out)->end_time < adem_world_time((*out)->world)) {
     st = adem_error_set(err, ADEM_ERR_INPUT,
                         "--set time.end=%g: the checkpoint %s is at t = %.9g s already; give a "
-                        "later end", (*out)->end_time, path, adem_world_time((*out)->world));
+                        "later end",
+                        (*out)->end_time, path, adem_world_time((*out)->world));
     adem_case_free(*out);
     *out = NULL;
   }

@@ -58,8 +58,7 @@ adem_status adem_run_plot_flow(const adem_case *c, const char *csv, const char *
   snprintf(line, sizeof line, "f = %s\n", adem_plot_quote(csv, q, sizeof q));
   append(&b, &n, &cap, line);
   for (int pass = 0; pass < 2; ++pass) {
-    append(&b, &n, &cap, pass == 0 ? "set ylabel 'mass flow (kg/s)'\nplot "
-                                   : "set title\nset xlabel 'time (s)'\nset ylabel 'mass (kg)'\nplot ");
+    append(&b, &n, &cap, pass == 0 ? "set ylabel 'mass flow (kg/s)'\nplot " : "set title\nset xlabel 'time (s)'\nset ylabel 'mass (kg)'\nplot ");
     int drawn = 0;
     for (int k = 0; k < ncol; ++k) {
       adem_outlets_column_name(c->outlets, k, name, sizeof name);

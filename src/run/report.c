@@ -109,15 +109,16 @@ static void print_pair(FILE *f, const adem_world *w, int a, int b, bool wall, co
   if (Rlo == Rhi) snprintf(R, sizeof R, "%.4g", Rlo);
   else snprintf(R, sizeof R, "%.4g..%.4g", Rlo, Rhi);
   fprintf(f, "  %-26s %-11.4g %-11.4g %-21s %-6.3g %-9.4g %-6.3g %-6s %s\n", name, it->pp.E, it->pp.G, R,
-         it->pp.restitution, it->pp.beta, it->pp.friction, adem_law_get(ADEM_SLOT_NORMAL, (int)it->normal)->name,
-         adem_law_get(ADEM_SLOT_ROLLING, (int)it->rolling)->name);
+          it->pp.restitution, it->pp.beta, it->pp.friction, adem_law_get(ADEM_SLOT_NORMAL, (int)it->normal)->name,
+          adem_law_get(ADEM_SLOT_ROLLING, (int)it->rolling)->name);
   if (it->pp.E != it->pp.E_real)
     fprintf(f, "  %-26s real material: E* = %.4g Pa, G* = %.4g Pa (stiffness reduced, H24)\n", "",
-           it->pp.E_real, it->pp.G_real);
+            it->pp.E_real, it->pp.G_real);
   print_rolling_friction(f, w, a, b, wall);
   if (it->set_restitution || it->set_friction)
     fprintf(f, "  %-26s %s from the interaction entry (not the materials' mean)\n", "",
-            !it->set_friction ? "e" : !it->set_restitution ? "mu" : "e and mu");
+            !it->set_friction ? "e" : !it->set_restitution ? "mu"
+                                                           : "e and mu");
   print_laws(f, w, a, b, wall, rmin, v_ref, name);
 }
 
@@ -203,7 +204,7 @@ static void print_wall_path(FILE *f, const adem_case *c, bool mesh, int k, adem_
       const adem_motion *prev = wall_motion(c, mesh, k, j - 1, &inactive, &p0);
       const adem_motion *mj = wall_motion(c, mesh, k, j, &inactive, &q0);
       bool moved = p0 && q0 && memcmp(p0, q0, sizeof *p0) != 0; /* a stage puts a plane elsewhere */
-      if (moved || !adem_motion_same(prev, mj)) { /* a new motion from where the wall is */
+      if (moved || !adem_motion_same(prev, mj)) {               /* a new motion from where the wall is */
         anchor = moved ? *q0 : adem_motion_place(&cur, ws, anchor);
         cur = *mj;
         cur.t0 = ws;
@@ -299,10 +300,12 @@ static void check_region(FILE *f, const adem_case *c, const char *what, const ad
     int side = adem_insert_region_plane_side(r, pl->point0, pl->normal0);
     if (side == 0)
       geometry_warning(f, nwarn, "%s crosses plane `%s`: spheres are placed only on its front "
-                       "side, and the region's part behind it stays empty", what, pl->def.name);
+                                 "side, and the region's part behind it stays empty",
+                       what, pl->def.name);
     else if (side < 0)
       geometry_warning(f, nwarn, "%s lies wholly behind plane `%s` (on the side away from its "
-                       "normal)", what, pl->def.name);
+                                 "normal)",
+                       what, pl->def.name);
   }
   const adem_mesh *m = &w->walls.mesh;
   for (int g = 0; g < m->ngroups; ++g) {
@@ -314,7 +317,8 @@ static void check_region(FILE *f, const adem_case *c, const char *what, const ad
     }
     if (cut)
       geometry_warning(f, nwarn, "%s crosses mesh group `%s` (%zu of its triangles pass through "
-                       "it): spheres may be placed on both sides of it", what,
+                                 "it): spheres may be placed on both sides of it",
+                       what,
                        m->groups[g].name, cut);
   }
   /* closed mesh walls that could hold it (their volume at least the region's) */
@@ -330,8 +334,9 @@ static void check_region(FILE *f, const adem_case *c, const char *what, const ad
   }
   if (any && !inside)
     geometry_warning(f, nwarn, "%s lies outside every closed mesh wall that could hold it (%s): "
-                     "if it is meant to be inside one, check its coordinates and the mesh's "
-                     "scale and translate", what, names);
+                               "if it is meant to be inside one, check its coordinates and the mesh's "
+                               "scale and translate",
+                     what, names);
   if (*nwarn == before) fprintf(f, "    %s: clear of every wall\n", what);
 }
 
@@ -457,7 +462,7 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   fprintf(f, "%s\n", w->walls.nplanes > 12 ? ", ..." : "");
   if (w->walls.mesh.ngroups > 0) {
     fprintf(f, "meshes      %zu triangles in %d group%s", w->walls.mesh.ntris, w->walls.mesh.ngroups,
-           w->walls.mesh.ngroups == 1 ? "" : "s");
+            w->walls.mesh.ngroups == 1 ? "" : "s");
     for (int k = 0; k < w->walls.mesh.ngroups && k < 12; ++k)
       fprintf(f, "%s%s", k ? ", " : ": ", w->walls.mesh.groups[k].name);
     fprintf(f, "%s\n", w->walls.mesh.ngroups > 12 ? ", ..." : "");
@@ -466,15 +471,15 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
     const adem_pour *q = &c->pours->p[k];
     static const char *const shapes[] = {"box", "cylinder", "mesh"};
     fprintf(f, "pour        %s: %.6g %s from t = %g to %g s into a %s, radius %.4g..%.4g m\n",
-           q->def.name, adem_pour_total(q), q->def.rate > 0.0 ? "particles" : "kg", q->def.start,
-           q->def.end, shapes[q->def.region.kind], adem_insert_dist_smallest(&q->def.dist),
-           adem_insert_dist_largest(&q->def.dist));
+            q->def.name, adem_pour_total(q), q->def.rate > 0.0 ? "particles" : "kg", q->def.start,
+            q->def.end, shapes[q->def.region.kind], adem_insert_dist_smallest(&q->def.dist),
+            adem_insert_dist_largest(&q->def.dist));
   }
   for (int k = 0; c->stages && k < c->stages->n; ++k) {
     const adem_stage *g = &c->stages->s[k];
     double t0 = (double)adem_stages_start_step(c, k) * w->dt;
     fprintf(f, "stage %-5d %s: from t = %.6g s, %d change%s\n", k + 1, g->name, t0, g->nsets,
-           g->nsets == 1 ? "" : "s");
+            g->nsets == 1 ? "" : "s");
     if (g->until) {
       char u[512];
       adem_until_summary(g->until, u, sizeof u);
@@ -496,12 +501,13 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   else
     fprintf(f, "domain      none: particles may go anywhere (`domain` bounds them)\n");
   fprintf(f, "contacts    %zu particle pairs, %zu plane pairs and %zu mesh pairs within reach at the "
-          "start\n", w->pp.n, w->pw.n, w->pm.l.n);
+             "start\n",
+          w->pp.n, w->pw.n, w->pm.l.n);
 
   fprintf(f, "\nmaterial pairs (effective values: E*, G* from H2 and H15, R* = r_i r_j/(r_i+r_j), "
-         "beta from H12)\n");
+             "beta from H12)\n");
   fprintf(f, "  %-26s %-11s %-11s %-21s %-6s %-9s %-6s %-6s %s\n", "pair", "E* (Pa)", "G* (Pa)",
-         "R* (m)", "e", "beta", "mu", "normal", "rolling");
+          "R* (m)", "e", "beta", "mu", "normal", "rolling");
   for (int a = 0; a < nm; ++a) {
     if (!(rmax[a] > 0.0)) continue;
     for (int b = a; b < nm; ++b)
@@ -524,7 +530,7 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
     fprintf(f, "  chosen step               %.4g s (auto)\n", dt);
   else
     fprintf(f, "  chosen step               %.4g s (time.step: %.3g times the proposed one)%s\n", dt,
-           c->dt_user_ratio, c->dt_user_ratio > 1.0 ? " -- larger than proposed" : "");
+            c->dt_user_ratio, c->dt_user_ratio > 1.0 ? " -- larger than proposed" : "");
   fprintf(f, "  end time                  %.6g s: %llu steps%s\n", c->end_time, (unsigned long long)total,
           c->until ? " at most (time.until)" : "");
 
@@ -535,13 +541,13 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   uint64_t nframes = adem_schedule_count(kf, total), nrows = adem_schedule_count(kc, total);
   fprintf(f, "\noutput in %s\n", os->dir);
   if (kf) fprintf(f, "  frames       every %.4g s (%llu steps): %llu frames\n", os->frame_interval,
-                 (unsigned long long)kf, (unsigned long long)nframes);
+                  (unsigned long long)kf, (unsigned long long)nframes);
   else fprintf(f, "  frames       off\n");
   if (kc) fprintf(f, "  CSV rows     every %.4g s (%llu steps): %llu rows\n", os->csv_interval,
-                 (unsigned long long)kc, (unsigned long long)nrows);
+                  (unsigned long long)kc, (unsigned long long)nrows);
   else fprintf(f, "  CSV rows     off\n");
   if (kk) fprintf(f, "  checkpoints  every %.4g s (%llu steps), on Ctrl-C and at the end\n",
-                 os->checkpoint_interval, (unsigned long long)kk);
+                  os->checkpoint_interval, (unsigned long long)kk);
   else fprintf(f, "  checkpoints  on Ctrl-C and at the end\n");
   fprintf(f, "  energy plot  %s\n", os->plot ? "yes (gnuplot)" : "no");
 
@@ -555,7 +561,8 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
   fprintf(f, "\nestimates\n");
   char m0[32], m1[32], m2[32], m3[32], m4[32];
   fprintf(f, "  memory       %s at most: %.0f particles%s %s, %.0f candidate pairs %s, grid %s, "
-          "neighbour build %s\n", mem_text(m0, sizeof m0, me->total), me->particles,
+             "neighbour build %s\n",
+          mem_text(m0, sizeof m0, me->total), me->particles,
           c->pours ? " (the pours' totals included)" : "", mem_text(m1, sizeof m1, me->particle_bytes),
           me->pairs, mem_text(m2, sizeof m2, me->pair_bytes), mem_text(m3, sizeof m3, me->grid_bytes),
           mem_text(m4, sizeof m4, me->build_bytes));
@@ -565,8 +572,8 @@ adem_status adem_case_report(const adem_case *c, FILE *f, adem_error *err) {
             c->memory_auto ? "available on this machine" : "limits.max_memory",
             me->total / c->memory_limit);
   fprintf(f, "  disk         %.1f MiB: frames %llu x %.2f MiB, CSV %.2f MiB, checkpoint %.2f MiB\n",
-         mib((double)nframes * frame + (double)nrows * row + ckpt), (unsigned long long)nframes,
-         mib(frame), mib((double)nrows * row), mib(ckpt));
+          mib((double)nframes * frame + (double)nrows * row + ckpt), (unsigned long long)nframes,
+          mib(frame), mib((double)nrows * row), mib(ckpt));
   free(rmin);
   free(rmax);
   free(wallmat);

@@ -239,7 +239,7 @@ static bool region_columns_make(region_columns *rc, const adem_regions *rs, cons
   for (int k = 0, c = 2 * nr + no; k < nw; ++k) {
     if (!slip_column(&w->walls, k)) continue;
     const char *wn = k < w->walls.nplanes ? w->walls.planes[k].def.name
-                                           : w->walls.mesh.groups[k - w->walls.nplanes].name;
+                                          : w->walls.mesh.groups[k - w->walls.nplanes].name;
     snprintf(rc->names[c], sizeof rc->names[0], "%s_slip_m_s", wn);
     rc->name[c] = rc->names[c];
     c++;
@@ -372,7 +372,8 @@ static adem_status write_frame(adem_output *out, adem_case *c, run_split *rs, si
     if (!st && adem_split_break("pieces")) { /* the test's control: the ghosts too */
       n = 0;
       uint32_t *all = realloc(idx, (rs->part->p.n + 1) * sizeof *all);
-      if (all) for (idx = all; n < rs->part->p.n; ++n) idx[n] = (uint32_t)n;
+      if (all)
+        for (idx = all; n < rs->part->p.n; ++n) idx[n] = (uint32_t)n;
     }
     const char *dir = c->output.dir[0] ? c->output.dir : ".";
     if (!st)
@@ -539,7 +540,8 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
     for (int j = 0; j < 2; ++j)
       if (every[j].k && fabs((double)every[j].k * dt - every[j].interval) > 1e-9 * every[j].interval)
         adem_log(ADEM_LOG_INFO, "%s every %llu steps = %.9g s (the interval %g s in whole steps of "
-                 "dt = %.9g s): at t = %.9g, %.9g, ... s", every[j].what,
+                                "dt = %.9g s): at t = %.9g, %.9g, ... s",
+                 every[j].what,
                  (unsigned long long)every[j].k, (double)every[j].k * dt, every[j].interval, dt,
                  (double)every[j].k * dt, 2.0 * (double)every[j].k * dt);
   }
@@ -586,7 +588,7 @@ static adem_status run_case(adem_case *c, const adem_run_options *opt_in, run_sp
   bool have_ckpt = resume;
   double t_ckpt = w->time;
 
-  bool stale = false; /* the whole changed: split it again before the next step */
+  bool stale = false;            /* the whole changed: split it again before the next step */
   size_t frame_no = frames_done; /* the next frame's index, on every process */
   if (!st && !resume) st = write_frame(&out, c, rs, &frame_no, err);
   if (!st && !resume && rs->writer) {

@@ -71,7 +71,8 @@ adem_status adem_calib_target_parse(const char *spec, adem_calib_target *t, adem
     if (k == nm)
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "--target %s: unknown repose measure '%s'; there are lab (the "
-                            "primary), surface, slices, ringtop, footprint", spec, what);
+                            "primary), surface, slices, ringtop, footprint",
+                            spec, what);
   } else if (t->kind == ADEM_CALIB_LOAD) {
     size_t len = strlen(t->what);
     if (len > 2 && t->what[len - 2] == '.' && strchr("xyz", t->what[len - 1])) {
@@ -102,7 +103,8 @@ adem_status adem_calib_vary_parse(const char *spec, adem_calib_vary *v, adem_err
   if (!eq || eq == spec || (size_t)(eq - spec) >= sizeof v->key)
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "--vary %s: expected key.path=LO:HI, e.g. "
-                          "materials.ballast.rolling_friction=0.1:0.4", spec ? spec : "");
+                          "materials.ballast.rolling_friction=0.1:0.4",
+                          spec ? spec : "");
   memcpy(v->key, spec, (size_t)(eq - spec));
   v->key[eq - spec] = '\0';
   char *end;
@@ -164,7 +166,8 @@ static adem_status read_series(const char *dir, const char *const *col, int nc, 
       if (idx[j] < 0) {
         st = adem_error_set(err, ADEM_ERR_INPUT,
                             "%s has no column %s: is the region or wall named so in the case "
-                            "(output.regions, walls)?", path, col[j]);
+                            "(output.regions, walls)?",
+                            path, col[j]);
         goto done;
       }
   }
@@ -360,7 +363,7 @@ static adem_status evaluate(calib *cb, const double *xs, int n, adem_error *err)
   const adem_calib_options *o = cb->o;
   int nsets = o->nsets + 2;
   const char **sets = malloc((size_t)n * (size_t)nsets * sizeof *sets);
-  char (*own)[4400] = malloc((size_t)n * 2 * sizeof *own);
+  char(*own)[4400] = malloc((size_t)n * 2 * sizeof *own);
   adem_calib_job *jobs = malloc((size_t)n * sizeof *jobs);
   int *which = malloc((size_t)n * sizeof *which);
   adem_status *status = malloc((size_t)n * sizeof *status);
@@ -529,7 +532,8 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
   if (!o->case_path || !o->out_dir || o->jobs < 1 || o->points < 2 || o->max_runs < o->points)
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "calibrate: a case, an output folder, jobs >= 1, points >= 2 and "
-                          "max_runs >= points are needed (points %d, max_runs %d)", o->points,
+                          "max_runs >= points are needed (points %d, max_runs %d)",
+                          o->points,
                           o->max_runs);
   calib cb;
   memset(&cb, 0, sizeof cb);
@@ -541,7 +545,8 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
   if (!o->resume && exists(cb.runs_dir))
     return adem_error_set(err, ADEM_ERR_INPUT,
                           "%s already holds runs of a calibration: go on with --resume, or choose "
-                          "another --out", o->out_dir);
+                          "another --out",
+                          o->out_dir);
   /* The case loads with the first value (a bad key or value is named now, before any run);
    * the region's volume for a density target comes from it. */
   {
@@ -558,7 +563,8 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
       char msg[sizeof err->message];
       snprintf(msg, sizeof msg, "%s", err->message);
       return adem_error_set(err, st, "--vary %s=%.6g:%.6g: the case does not load with its first "
-                            "value: %s", o->vary.key, o->vary.lo, o->vary.hi, msg);
+                                     "value: %s",
+                            o->vary.key, o->vary.lo, o->vary.hi, msg);
     }
     if (o->target.kind == ADEM_CALIB_DENSITY)
       st = adem_case_region_volume(c, o->target.what, &cb.volume, err);
@@ -619,10 +625,10 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
 
 static const char *unit_of(const adem_calib_target *t) {
   switch (t->kind) {
-  case ADEM_CALIB_REPOSE: return "deg";
-  case ADEM_CALIB_DENSITY: return "kg/m^3";
-  case ADEM_CALIB_RATE: return "1/s";
-  default: return "N";
+    case ADEM_CALIB_REPOSE: return "deg";
+    case ADEM_CALIB_DENSITY: return "kg/m^3";
+    case ADEM_CALIB_RATE: return "1/s";
+    default: return "N";
   }
 }
 
@@ -730,11 +736,13 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
                 res->x_best, res->y_best, unit_of(t), t->value, t->tol);
       else
         fprintf(af.f, "**Not found** within the tolerance: the nearest run, %s = %.10g, gives "
-                      "%.6g %s (target %.6g ± %.6g).\n", o->vary.key, res->x_best, res->y_best,
+                      "%.6g %s (target %.6g ± %.6g).\n",
+                o->vary.key, res->x_best, res->y_best,
                 unit_of(t), t->value, t->tol);
       if (res->bracketed)
         fprintf(af.f, "\nBracket: [%.10g, %.10g]; the line through its ends meets the target at "
-                      "%.10g and is within the tolerance over [%.10g, %.10g].\n", res->x_lo,
+                      "%.10g and is within the tolerance over [%.10g, %.10g].\n",
+                res->x_lo,
                 res->x_hi, res->x_interp, res->x_band_lo, res->x_band_hi);
       fprintf(af.f, "\n| run | %s | measured (%s) | within | wall s |\n|---|---|---|---|---|\n",
               o->vary.key, unit_of(t));

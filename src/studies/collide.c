@@ -116,7 +116,7 @@ double adem_collide_yield_force(const adem_collide_spec *s) {
   double r = s->radius;
   double f_c = adem_law_jkr_critical_force(s->surface_energy, r);
   double xi_crit = adem_law_jkr_a0(s->surface_energy, r, s->young) / 12.0 * s->hysteresis; /* H18 */
-  return 4.0 * f_c * xi_crit / r; /* k_r xi_crit / R at a = a0 (H20-H21, notes section 4) */
+  return 4.0 * f_c * xi_crit / r;                                                          /* k_r xi_crit / R at a = a0 (H20-H21, notes section 4) */
 }
 
 double adem_collide_force(const adem_collide_spec *s) {
@@ -139,7 +139,7 @@ adem_collide_params adem_collide_derive(const adem_collide_spec *s) {
     p.mstar = mi * mj / (mi + mj);
   }
   double f = s->stiffness_factor;
-  p.E_mod = f * s->young;                                                 /* H24 */
+  p.E_mod = f * s->young;                                                            /* H24 */
   p.gamma_mod = s->keep_gamma ? s->surface_energy : s->surface_energy * pow(f, 0.4); /* H24 */
   p.v_n = s->speed * sqrt(sin2_angle(s));
   double v_in = p.v_n;
@@ -208,10 +208,12 @@ static adem_status build_world(const adem_collide_spec *s, const adem_collide_pa
   it.material_b = mw;
   it.restitution = s->restitution;
   it.friction = s->friction;
-  it.normal = s->normal_law >= 0 ? (adem_normal_model)s->normal_law
-              : s->surface_energy > 0.0 ? ADEM_NORMAL_JKR : ADEM_NORMAL_HERTZ;
-  it.rolling = !s->dtk ? ADEM_ROLLING_NONE
-               : s->rolling_law >= 0 ? (adem_rolling_model)s->rolling_law : ADEM_ROLLING_DTK;
+  it.normal = s->normal_law >= 0        ? (adem_normal_model)s->normal_law
+              : s->surface_energy > 0.0 ? ADEM_NORMAL_JKR
+                                        : ADEM_NORMAL_HERTZ;
+  it.rolling = !s->dtk               ? ADEM_ROLLING_NONE
+               : s->rolling_law >= 0 ? (adem_rolling_model)s->rolling_law
+                                     : ADEM_ROLLING_DTK;
   it.tangential = s->tangential;
   it.dtk_rolling_modification = s->dtk_modification ? 1 : 0;
   if ((st = adem_world_set_interaction(w, &it, err))) return st;
@@ -404,7 +406,8 @@ adem_collide_result adem_collide(const adem_collide_spec *s) {
   adem_collide_params p = adem_collide_derive(s);
   bool adhesive = p.gamma_mod > 0.0;
   /* at rest only the oscillation about the equilibrium sets the step */
-  double t_ref = s->at_rest ? 0.5 * p.t_osc : adhesive ? fmin(p.t_c, 0.5 * p.t_osc) : p.t_c;
+  double t_ref = s->at_rest ? 0.5 * p.t_osc : adhesive ? fmin(p.t_c, 0.5 * p.t_osc)
+                                                       : p.t_c;
   double dt = s->dt > 0.0 ? s->dt : t_ref / s->steps_per_tc;
   r.t_c = p.t_c;
   r.dt = dt;
@@ -697,7 +700,8 @@ adem_status adem_collide_threshold_split(const adem_collide_spec *base,
     const char *what = split == ADEM_SPLIT_REST ? (side_lo ? "come to rest" : "do not come to rest")
                                                 : (side_lo ? "stick" : "rebound");
     return adem_error_set(err, ADEM_ERR_INPUT, "no threshold in [%g, %g]: the spheres %s at both "
-                          "ends", lo, hi, what);
+                                               "ends",
+                          lo, hi, what);
   }
   double a = log(lo), b = log(hi);
   while (b - a > rel_tol) {
@@ -743,4 +747,3 @@ size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double
   *c = exp((sy - *k * sx) / (double)m);
   return m;
 }
-

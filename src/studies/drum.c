@@ -48,7 +48,8 @@ static adem_status list_frames(const char *outdir, char ***names, size_t *n, ade
   if (!d) {
     free(fdir);
     return adem_error_set(err, ADEM_ERR_INPUT, "%s has no frames/ folder: is it the output "
-                          "folder of a run with output.frame_interval > 0?", outdir);
+                                               "folder of a run with output.frame_interval > 0?",
+                          outdir);
   }
   adem_status st = ADEM_OK;
   size_t cap = 0;
@@ -81,9 +82,9 @@ typedef struct drum_setup {
   adem_vec3 point, axis, up, h; /* a point of the axis, the axis, e_up, e_h */
   double radius, omega, g;
   char name[ADEM_NAME_MAX];
-  double *mass;                 /* by particle id */
+  double *mass; /* by particle id */
   size_t nmass;
-  double density;               /* the bed's mean, for particles without a known id */
+  double density; /* the bed's mean, for particles without a known id */
 } drum_setup;
 
 static bool orient(drum_setup *s, adem_vec3 g);
@@ -106,7 +107,8 @@ static adem_status load_setup(const char *outdir, const adem_drum_options *opt, 
   if (found < 0) {
     st = opt->wall[0] ? adem_error_set(err, ADEM_ERR_INPUT, "%s: no cylinder wall named '%s'", outdir, opt->wall)
                       : adem_error_set(err, ADEM_ERR_INPUT, "%s: the run has no cylinder wall "
-                                       "(`walls[].type: cylinder`) to take as the drum", outdir);
+                                                            "(`walls[].type: cylinder`) to take as the drum",
+                                       outdir);
   }
   const adem_plane_def *d = found >= 0 ? adem_world_plane(w, found) : NULL;
   if (!st && (d->flags & ADEM_WALL_OUTSIDE))
@@ -180,7 +182,7 @@ static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, c
     p->vw = v3_dot(v, s->up);
     p->r = f->radius[i];
     bool known = f->id && f->id[i] >= 0 && (size_t)f->id[i] < s->nmass;
-    p->m = pmass ? pmass[i]
+    p->m = pmass   ? pmass[i]
            : known ? s->mass[f->id[i]]
                    : s->density * 4.0 / 3.0 * 3.14159265358979323846 * p->r * p->r * p->r;
     M += p->m;
@@ -232,7 +234,7 @@ static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, c
   out->layer_m = NAN;
   if (isfinite(slope) && f->velocity) {
     double c = 1.0 / sqrt(1.0 + slope * slope), sn = slope * c; /* t = (c, sn) */
-    double bin = 0.5 * dm, depth_max = s->radius + a * c; /* to the drum's wall below the axis */
+    double bin = 0.5 * dm, depth_max = s->radius + a * c;       /* to the drum's wall below the axis */
     size_t nbin = depth_max > 0.0 ? (size_t)(depth_max / bin) + 1 : 0;
     double *sum = calloc(nbin + 1, sizeof *sum);
     size_t *cnt = calloc(nbin + 1, sizeof *cnt);
@@ -241,7 +243,7 @@ static adem_status measure_frame(const drum_setup *s, const adem_vtu_frame *f, c
       return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
     }
     for (size_t i = 0; i < n; ++i) {
-      double along = q[i].u * c + q[i].w * sn;      /* from the axis's foot, along the surface */
+      double along = q[i].u * c + q[i].w * sn;          /* from the axis's foot, along the surface */
       double depth = (a + slope * q[i].u - q[i].w) * c; /* below the surface line */
       if (fabs(along) > 1.5 * dm || depth < -rmean) continue;
       size_t k = depth < 0.0 ? 0 : (size_t)(depth / bin);
@@ -509,7 +511,8 @@ adem_status adem_drum_analyze(const char *outdir, const adem_drum_options *opt,
     for (size_t k = 0; k < n; ++k) slow += f[k].corotation < 0.5;
     rep->slipping_frames = slow;
     snprintf(rep->regime, sizeof rep->regime, "%s",
-             10 * slow >= n ? "slipping" : rep->drops >= 2 && rep->skewness < -1.0 ? "slumping" : "rolling");
+             10 * slow >= n ? "slipping" : rep->drops >= 2 && rep->skewness < -1.0 ? "slumping"
+                                                                                   : "rolling");
     /* the drive torque over the frames' times: the torque of the particles on the drum */
     char col[2 * ADEM_NAME_MAX];
     snprintf(col, sizeof col, "%s_t_axis_Nm", s.name);

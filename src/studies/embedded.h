@@ -12,7 +12,7 @@ extern const char adem_case_irazabal_meshes_repose_hopper_stl[];
 /* cases/irazabal/ballast/: the packing, the push and their meshes (full size and quick/) */
 extern const char adem_case_irazabal_ballast_pack_yaml[];
 extern const char adem_case_irazabal_ballast_push_yaml[];
-#define ADEM_BALLAST_MESH(m)                                  \
+#define ADEM_BALLAST_MESH(m)                                       \
   extern const char adem_case_irazabal_ballast_meshes_##m##_stl[]; \
   extern const char adem_case_irazabal_ballast_meshes_quick_##m##_stl[];
 ADEM_BALLAST_MESH(container)

@@ -16,17 +16,17 @@
 #include "adem/studies.h"
 
 typedef struct adem_normal_ode {
-  double mstar, R;   /* effective mass and radius */
-  double E, gamma;   /* effective modulus and surface energy of the law (modified); gamma 0: Hertz */
-  double beta;       /* ln e / sqrt(ln^2 e + pi^2) (H12) */
+  double mstar, R; /* effective mass and radius */
+  double E, gamma; /* effective modulus and surface energy of the law (modified); gamma 0: Hertz */
+  double beta;     /* ln e / sqrt(ln^2 e + pi^2) (H12) */
 } adem_normal_ode;
 
 typedef struct adem_normal_ode_result {
-  bool stuck;        /* the contact's energy fell below zero: it can never break */
-  double e_eff;      /* separation / approach speed (0 when stuck) */
-  double v_out;      /* separation speed, m/s */
-  double duration;   /* touch to separation, s (to the capture when stuck) */
-  size_t steps;      /* accepted steps */
+  bool stuck;      /* the contact's energy fell below zero: it can never break */
+  double e_eff;    /* separation / approach speed (0 when stuck) */
+  double v_out;    /* separation speed, m/s */
+  double duration; /* touch to separation, s (to the capture when stuck) */
+  size_t steps;    /* accepted steps */
 } adem_normal_ode_result;
 
 /* Called after every accepted step: time since the touch, overlap, approach speed. */

@@ -62,7 +62,9 @@ void adem_pile_result_free(adem_pile_result *res) {
  * slices, whose heights are exact. FIT_Z_ON_RHO: ordinary least squares of z on rho, for the ring
  * tops, whose radii are the rings' (exact). r2 is the squared correlation of rho and z. Centred
  * sums, so that offsets of metres cost no digits. */
-enum { FIT_ORTHO = 0, FIT_RHO_ON_Z = 1, FIT_Z_ON_RHO = 2 };
+enum { FIT_ORTHO = 0,
+       FIT_RHO_ON_Z = 1,
+       FIT_Z_ON_RHO = 2 };
 static adem_pile_fit fit_line(const adem_pile_point *p, size_t n, int mode) {
   const int swap = mode == FIT_RHO_ON_Z;
   adem_pile_fit f = {0, 0.0, 0.0, 0.0};
@@ -101,7 +103,7 @@ static adem_pile_fit fit_line(const adem_pile_point *p, size_t n, int mode) {
 typedef struct pp {
   double dx, dy, z, r; /* z: centre height above the floor */
   double rho;
-  uint64_t key;        /* radial bin * 2^12 + sector, method (a) */
+  uint64_t key; /* radial bin * 2^12 + sector, method (a) */
 } pp;
 
 static int cmp_key(const void *a, const void *b) {
@@ -130,7 +132,8 @@ static adem_status check_options(const adem_pile_options *o, adem_error *err) {
       !(o->lab_sectors >= 1 && o->lab_sectors <= 360) || !isfinite(o->skirt_level))
     return fail(err, ADEM_ERR_INPUT,
                 "pile: the ring-top band [%g, %g] must satisfy 0 <= lo < hi <= 1, lab_sectors %d "
-                "must be in 1..360 and the skirt level finite", o->ring_lo, o->ring_hi,
+                "must be in 1..360 and the skirt level finite",
+                o->ring_lo, o->ring_hi,
                 o->lab_sectors);
   return ADEM_OK;
 }
@@ -197,7 +200,8 @@ static adem_status ring_measures(const pp *q, size_t m, const adem_pile_options 
   res->skirt_level = he;
   if (rho_max / w > 1e6)
     return fail(err, ADEM_ERR_INPUT, "pile: a sphere %g m from the axis is more than a million "
-                "rings out: give rmax", rho_max);
+                                     "rings out: give rmax",
+                rho_max);
   const size_t nring = (size_t)floor(rho_max / w) + 1;
   double *top = malloc(nring * sizeof *top);
   const int ns = o->lab_sectors;
@@ -297,7 +301,8 @@ adem_status adem_pile_measure(const adem_vec3 *pos, const double *radius, size_t
   if (m == 0) {
     free(q);
     return fail(err, ADEM_ERR_INPUT, "pile: no particle centre between the floor (z = %g) and "
-                "zmax", o.floor_z);
+                                     "zmax",
+                o.floor_z);
   }
   res->axis_x = o.axis_given ? o.axis_x : vx / vol;
   res->axis_y = o.axis_given ? o.axis_y : vy / vol;

@@ -19,7 +19,8 @@ adem_status adem_frames_last(const char *outdir, char **path, adem_error *err) {
   if (!d) {
     adem_status st = adem_error_set(err, ADEM_ERR_INPUT,
                                     "%s has no frames/ folder: is it the output folder of a run "
-                                    "with output.frame_interval > 0?", outdir);
+                                    "with output.frame_interval > 0?",
+                                    outdir);
     free(fdir);
     return st;
   }

@@ -14,7 +14,7 @@ char *adem_validation_path(const adem_validation_context *ctx, const char *name,
 /* DIR/NAME.png drawn by gnuplot from `body`, in which the gnuplot variable f holds the path of
  * DIR/NAME.csv. */
 adem_status adem_validation_plot(const adem_validation_context *ctx, const char *name, int width,
-                               int height, const char *body, adem_error *err);
+                                 int height, const char *body, adem_error *err);
 
 /* A table written to CSV atomically: header names quantity and unit ("v_impact_m_s,e_eff"). */
 typedef struct adem_table {

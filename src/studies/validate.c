@@ -42,7 +42,7 @@ char *adem_validation_path(const adem_validation_context *ctx, const char *name,
 }
 
 adem_status adem_validation_plot(const adem_validation_context *ctx, const char *name, int width,
-                               int height, const char *body, adem_error *err) {
+                                 int height, const char *body, adem_error *err) {
   char *csv = adem_validation_path(ctx, name, "csv");
   char *png = adem_validation_path(ctx, name, "png");
   size_t qn = csv ? 2 * strlen(csv) + 3 : 0, n = strlen(body) + qn + 16;
@@ -186,7 +186,8 @@ static adem_status write_summaries(const adem_validation_context *ctx, const res
       md_cell(af.f, rep->claim);
       fprintf(af.f, " | ");
       md_cell(af.f, r[k].status ? r[k].error : rep->measured);
-      fprintf(af.f, " | %s |\n", r[k].status ? "error" : rep->pass ? "pass" : "FAIL");
+      fprintf(af.f, " | %s |\n", r[k].status ? "error" : rep->pass ? "pass"
+                                                                   : "FAIL");
     }
     fprintf(af.f, "\nNotes:\n\n");
     for (size_t k = 0; k < n; ++k)
@@ -209,7 +210,7 @@ static double seconds_now(void) {
 }
 
 adem_status adem_validation_run(const char *const *names, int n, const adem_validation_context *ctx,
-                              int *failed, adem_error *err) {
+                                int *failed, adem_error *err) {
   *failed = 0;
   size_t count = n > 0 ? (size_t)n : adem_validation_count();
   for (size_t k = 0; k < (size_t)n; ++k)
@@ -237,7 +238,9 @@ adem_status adem_validation_run(const char *const *names, int n, const adem_vali
     bool pass = !r[k].status && r[k].report.pass;
     if (!pass) ++*failed;
     adem_log(pass ? ADEM_LOG_INFO : ADEM_LOG_WARN, "validate %s: %s in %.1f s: %s", r[k].v->name,
-             r[k].status ? "ERROR" : pass ? "pass" : "FAIL", r[k].seconds,
+             r[k].status ? "ERROR" : pass ? "pass"
+                                          : "FAIL",
+             r[k].seconds,
              r[k].status ? r[k].error : r[k].report.measured);
   }
   st = write_summaries(ctx, r, count, err);

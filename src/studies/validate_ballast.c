@@ -31,7 +31,10 @@ static const push_config full_pushes[] = {
     {"E23.6", 23.6e9, 4e-6, 0.02, 0.50},
     {"E17.7-half-speed", 17.7e9, 5e-6, 0.01, 0.50}, /* 3 mm: the first loading stage */
 };
-enum { NFULL = sizeof full_pushes / sizeof full_pushes[0], NE = 4, SLOW = 4, FIG17 = 2 };
+enum { NFULL = sizeof full_pushes / sizeof full_pushes[0],
+       NE = 4,
+       SLOW = 4,
+       FIG17 = 2 };
 
 /* Quick: spheres twice as large (2,700 poured), E a tenth and a thirtieth of 17.7 GPa with the
  * steps that keep Table 2's ratio of step to collision time. */
@@ -67,7 +70,10 @@ static adem_status write_file(const char *dir, const char *name, const char *tex
 
 /* The case files and meshes beside the runs (the cases name meshes/ and meshes/quick/). */
 static adem_status write_inputs(const char *base, adem_error *err) {
-  static const struct { const char *name; const char *text; } mesh[] = {
+  static const struct {
+    const char *name;
+    const char *text;
+  } mesh[] = {
       {"container.stl", adem_case_irazabal_ballast_meshes_container_stl},
       {"sides.stl", adem_case_irazabal_ballast_meshes_sides_stl},
       {"aux_slopes.stl", adem_case_irazabal_ballast_meshes_aux_slopes_stl},
@@ -75,7 +81,10 @@ static adem_status write_inputs(const char *base, adem_error *err) {
       {"fill_region.stl", adem_case_irazabal_ballast_meshes_fill_region_stl},
       {"sleeper.stl", adem_case_irazabal_ballast_meshes_sleeper_stl},
   };
-  static const struct { const char *name; const char *text; } quick[] = {
+  static const struct {
+    const char *name;
+    const char *text;
+  } quick[] = {
       {"container.stl", adem_case_irazabal_ballast_meshes_quick_container_stl},
       {"sides.stl", adem_case_irazabal_ballast_meshes_quick_sides_stl},
       {"aux_slopes.stl", adem_case_irazabal_ballast_meshes_quick_aux_slopes_stl},
@@ -277,23 +286,23 @@ static adem_status run_push(const adem_validation_context *ctx, const char *base
 
 /* ---------------------------------------------------------------- measures */
 
-enum { NBIN = 70 };              /* 0.1 mm bins of the sleeper's displacement, 0 .. 7 mm */
+enum { NBIN = 70 }; /* 0.1 mm bins of the sleeper's displacement, 0 .. 7 mm */
 static const double bin_m = 1e-4;
 
 /* What one push gives: binned means against the displacement u. */
 typedef struct push_result {
-  double R[NBIN];                 /* lateral resistance -F_x of the particles on the sleeper, N */
-  double share[NBIN][4];          /* base, cribs, shoulder end, far end: their share of R */
-  double imbalance[NBIN];         /* (F_x sleeper + F_x every other wall) / R */
+  double R[NBIN];         /* lateral resistance -F_x of the particles on the sleeper, N */
+  double share[NBIN][4];  /* base, cribs, shoulder end, far end: their share of R */
+  double imbalance[NBIN]; /* (F_x sleeper + F_x every other wall) / R */
   int count[NBIN];
-  double slope;                   /* N/m: least squares of R on u over 0 < u <= 0.5 mm */
-  double peak, u_peak;            /* largest binned R, N, and where, m */
-  double group_sum_err;           /* max |sum of the six groups - file| / max R */
-  double fz_mean, fz_sd;          /* the sleeper's vertical load during the push, N */
-  double ke_settled;              /* kinetic energy of the bed at the push's start, J */
-  double u_end;                   /* m */
+  double slope;          /* N/m: least squares of R on u over 0 < u <= 0.5 mm */
+  double peak, u_peak;   /* largest binned R, N, and where, m */
+  double group_sum_err;  /* max |sum of the six groups - file| / max R */
+  double fz_mean, fz_sd; /* the sleeper's vertical load during the push, N */
+  double ke_settled;     /* kinetic energy of the bed at the push's start, J */
+  double u_end;          /* m */
   size_t particles;
-  double uplift;                  /* the sleeper's rise during the push, m */
+  double uplift; /* the sleeper's rise during the push, m */
 } push_result;
 
 static const char *const groups[] = {"base", "top", "crib_front", "crib_back", "shoulder_end", "far_end"};
@@ -495,7 +504,8 @@ static adem_status fig16(const adem_validation_context *ctx, const char *name,
   if (!ctx->quick)
     m += snprintf(rep->measured + m, sizeof rep->measured - (size_t)m,
                   "; 17.7 vs 23.6 GPa slopes differ by %.1f%% (criterion 10%%); half speed vs full "
-                  "at 0.5-3 mm: largest difference %.1f%% (5%%)", 100 * alike, 100 * qs);
+                  "at 0.5-3 mm: largest difference %.1f%% (5%%)",
+                  100 * alike, 100 * qs);
   m += snprintf(rep->measured + m, sizeof rep->measured - (size_t)m,
                 ". Sleeper = sum of its 6 groups to %.1e of the peak; walls' x reaction balances the "
                 "push from 2 to 6 mm to %.2f%% (0.5 mm means; 1%%, %s); the sleeper's vertical load %.0f +- %.0f N "
@@ -618,7 +628,8 @@ static adem_status fig17(const adem_validation_context *ctx, const char *name,
            "     f skip 1 using 1:(100*$4) with lines lw 2 title 'cribs', \\\n"
            "     f skip 1 using 1:(100*$5) with lines lw 2 title 'shoulder', \\\n"
            "     '-' using 1:2 with points pt 7 ps 1.5 lc rgb 'black' title 'paper: base ~50%% at 0, ~20%% at 3 mm'\n"
-           "0 50\n3 20\ne\n", p->label);
+           "0 50\n3 20\ne\n",
+           p->label);
   (void)adem_validation_plot(ctx, name, 1000, 650, body, err);
   free(r);
   return ADEM_OK;

@@ -30,7 +30,7 @@ static int normal_law_id(const adem_validation_context *ctx) {
  * gives it: the wall is rigid and the effective modulus is 271 MPa. */
 static adem_collide_spec psl_on_quartz(double f, bool keep_gamma, double speed) {
   adem_collide_spec s = adem_default_collide_spec();
-  s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
+  s.tangential = ADEM_TANGENTIAL_TOTAL;           /* H14 */
   if (adem_collide_psl_quartz(&s, NULL)) abort(); /* the embedded case file is tested to load */
   s.stiffness_factor = f;
   s.keep_gamma = keep_gamma;
@@ -115,7 +115,8 @@ static adem_status fig3_area(const fig3_law *l, double hi, int n, double *d_eq, 
   *d_eq = 0.5 * (lo + hi);
   double sum = 0.0, sum_ref = 0.0, h = *d_eq / n;
   for (int k = 0; k <= n && !st; ++k) {
-    double w = k == 0 || k == n ? 1.0 : k % 2 ? 4.0 : 2.0;
+    double w = k == 0 || k == n ? 1.0 : k % 2 ? 4.0
+                                              : 2.0;
     st = fig3_force(l, k * h, &f, err);
     sum -= w * f;
     sum_ref -= w * adem_normal_ode_force(&l->ref, k * h); /* its a(0) is the contact's root */
@@ -257,7 +258,7 @@ enum { FIG5_COLS = 5 }; /* H24 at f = 1, 0.1, 0.01; gamma kept at f = 0.1, 0.01 
 static double e_eff_tol(const adem_validation_context *ctx) { return ctx->quick ? 1e-3 : 2e-4; }
 
 static adem_collide_spec fig5_spec(const adem_validation_context *ctx, int col, double v,
-                                     double steps) {
+                                   double steps) {
   static const double f[FIG5_COLS] = {1.0, 0.1, 0.01, 0.1, 0.01};
   adem_collide_spec s = psl_on_quartz(f[col], col >= NF, v);
   s.steps_per_tc = steps;
@@ -480,7 +481,7 @@ static adem_status ehat_table(const adem_validation_context *ctx, bool h24, size
     for (int a = 0; a < NAD; ++a) {
       double lambda = log_point(1e2, 1e7, k, nl);
       sp[k * NAD + a] = h24 ? pair_spec_h24(lambda, fig7_ad[a], steps_per_tc(ctx))
-                             : pair_spec(lambda, fig7_ad[a], steps_per_tc(ctx));
+                            : pair_spec(lambda, fig7_ad[a], steps_per_tc(ctx));
       sp[k * NAD + a].normal_law = normal_law_id(ctx);
     }
   if (h24) {
@@ -814,7 +815,7 @@ static adem_status fig13(const adem_validation_context *ctx, const char *name,
  * F_yield parallel to the wall (H Fig. 9): r = 1 um, rho = 1000 kg/m^3, v = 1 m/s, nu = 0.3,
  * mu = 0.3; E and gamma from lambda and Ad (with sin^2 psi, notes section 7). */
 static adem_collide_spec deposition_spec(double lambda, double ad, double e, double fhat,
-                                           double steps) {
+                                         double steps) {
   adem_collide_spec s = adem_default_collide_spec();
   s.tangential = ADEM_TANGENTIAL_TOTAL; /* H14 */
   s.kind = ADEM_COLLIDE_WALL;
@@ -974,7 +975,8 @@ static adem_status fig4(const adem_validation_context *ctx, const char *name,
 
 /* ------------------------------------------------------------------ Fig. 10 */
 
-enum { MAP_E = 2, MAP_F = 2 };
+enum { MAP_E = 2,
+       MAP_F = 2 };
 static const double map_e[MAP_E] = {0.3, 0.7};
 static const double map_f[MAP_F] = {0.5, 2.0};
 

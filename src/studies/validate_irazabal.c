@@ -24,21 +24,21 @@
 #undef I /* complex.h's; the moment of inertia is spelled out below */
 
 /* I Table 1 (test cases 1 and 2). */
-#define T1_DENSITY 1056.0     /* kg/m^3 */
-#define T1_YOUNG 4.0e7        /* Pa */
+#define T1_DENSITY 1056.0 /* kg/m^3 */
+#define T1_YOUNG 4.0e7    /* Pa */
 #define T1_POISSON 0.49
 #define T1_RESTITUTION 0.2
 #define T1_FRICTION 0.8
-#define T1_ETA 0.2            /* rolling friction coefficient eta_r */
-#define T1_GRAVITY 9.8        /* m/s^2 */
-#define T1_DT 5.0e-5          /* s */
+#define T1_ETA 0.2     /* rolling friction coefficient eta_r */
+#define T1_GRAVITY 9.8 /* m/s^2 */
+#define T1_DT 5.0e-5   /* s */
 /* Not in I: Ai et al. 2011 chose the sphere, I does not say which. A 10 mm radius is used here;
  * the rolling results scale with it in a known way (torque ~ r^4, distances independent of r). */
-#define SPHERE_RADIUS 0.01    /* m */
-#define LAUNCH_SPEED 1.0      /* v0, m/s (I section 3.1) */
-#define SLOPE_DEG 10.0        /* I section 3.2 */
-#define MODEL_C_DAMPING 0.3   /* delta_r of I Figs. 6 and 9 */
-#define SETTLE_TIME 0.1       /* s on the plane before the launch */
+#define SPHERE_RADIUS 0.01  /* m */
+#define LAUNCH_SPEED 1.0    /* v0, m/s (I section 3.1) */
+#define SLOPE_DEG 10.0      /* I section 3.2 */
+#define MODEL_C_DAMPING 0.3 /* delta_r of I Figs. 6 and 9 */
+#define SETTLE_TIME 0.1     /* s on the plane before the launch */
 
 /* ------------------------------------------------------------------ one sphere on a plane */
 
@@ -54,7 +54,7 @@ typedef struct sphere_setup {
 typedef struct sphere_trace {
   size_t n;
   double *t, *torque, *omega, *x, *v, *slip;
-  double mass, fn;  /* mass and normal load m g cos(beta) */
+  double mass, fn; /* mass and normal load m g cos(beta) */
 } sphere_trace;
 
 static void trace_free(sphere_trace *tr) {
@@ -170,17 +170,17 @@ static adem_status sphere_run(const sphere_setup *s, double duration, sphere_tra
  * eta_r r F_n): it slides until v = omega r, then rolls with a constant deceleration (rigid
  * sphere, Coulomb friction, solid-sphere inertia 2/5 m r^2). */
 typedef struct rolling_closed_form {
-  double t_slip, v_roll;  /* end of sliding and the speed then */
-  double a_roll;          /* deceleration while rolling up: (5/7) g (sin b + eta cos b) */
-  double t_stop, x_stop;  /* when and where the sphere stops */
-  double a_back;          /* acceleration rolling back down, (5/7) g (sin b - eta cos b), if > 0 */
+  double t_slip, v_roll; /* end of sliding and the speed then */
+  double a_roll;         /* deceleration while rolling up: (5/7) g (sin b + eta cos b) */
+  double t_stop, x_stop; /* when and where the sphere stops */
+  double a_back;         /* acceleration rolling back down, (5/7) g (sin b - eta cos b), if > 0 */
 } rolling_closed_form;
 
 static rolling_closed_form closed_form(double eta, double beta) {
   rolling_closed_form c;
   double g = T1_GRAVITY, mu = T1_FRICTION, v0 = LAUNCH_SPEED, sb = sin(beta), cb = cos(beta);
-  double a_slide = g * (sb + mu * cb);                 /* centre deceleration while sliding */
-  double alpha_r = 2.5 * g * cb * (mu - eta);          /* r d(omega)/dt while sliding */
+  double a_slide = g * (sb + mu * cb);        /* centre deceleration while sliding */
+  double alpha_r = 2.5 * g * cb * (mu - eta); /* r d(omega)/dt while sliding */
   c.t_slip = v0 / (a_slide + alpha_r);
   c.v_roll = v0 - a_slide * c.t_slip;
   double x_slip = v0 * c.t_slip - 0.5 * a_slide * c.t_slip * c.t_slip;
@@ -229,16 +229,16 @@ static phases find_phases(const sphere_trace *tr) {
 /* The flat-plane run of one model (test case 1). */
 typedef struct flat_stats {
   phases ph;
-  double decel;            /* fitted over the middle 80 % of the rolling phase, m/s^2 */
-  double torque;           /* mean T_y over the same samples */
-  double t_stop, x_stop;   /* s after the launch, m */
+  double decel;          /* fitted over the middle 80 % of the rolling phase, m/s^2 */
+  double torque;         /* mean T_y over the same samples */
+  double t_stop, x_stop; /* s after the launch, m */
   /* at rest: from 0.05 s after the stop to the end */
   double rest_tmin, rest_tmax; /* extreme T_y */
-  double rest_flips;       /* fraction of steps at which T_y changes sign */
-  double rest_omega;       /* largest |omega_y| */
-  double rest_speed;       /* largest |v| */
+  double rest_flips;           /* fraction of steps at which T_y changes sign */
+  double rest_omega;           /* largest |omega_y| */
+  double rest_speed;           /* largest |v| */
   size_t rest_from;
-  int rest_reversals;      /* sign changes of T_y with |T_y| above 1e-3 e_c F_n */
+  int rest_reversals; /* sign changes of T_y with |T_y| above 1e-3 e_c F_n */
 } flat_stats;
 
 static flat_stats flat_measure(const sphere_trace *tr, double ecfn) {
@@ -458,7 +458,8 @@ static rocking_theory rocking_theory_of(double m, double eta, double zeta) {
   for (int it = 0; it < 60; ++it) {
     double h = 1e-7 * cabs(l);
     double complex dp = (rocking_poly(&t, m, inertia, r, c_r, l + h) -
-                         rocking_poly(&t, m, inertia, r, c_r, l - h)) / (2.0 * h);
+                         rocking_poly(&t, m, inertia, r, c_r, l - h)) /
+                        (2.0 * h);
     double complex step = rocking_poly(&t, m, inertia, r, c_r, l) / dp;
     l -= step;
     if (cabs(step) < 1e-14 * cabs(l)) break;
@@ -587,11 +588,11 @@ static adem_status fig6(const adem_validation_context *ctx, const char *name,
 /* ------------------------------------------------------------------ irazabal-fig8, fig9 */
 
 typedef struct slope_stats {
-  double x_top, t_top;   /* highest point up the slope and when */
-  double x_end, v_end;   /* at the end of the run */
-  double a_back;         /* fitted acceleration rolling back (last half of the run) */
-  double hold_torque;    /* mean T_y over the last 0.2 s */
-  double drift;          /* |x_end - x_top| */
+  double x_top, t_top; /* highest point up the slope and when */
+  double x_end, v_end; /* at the end of the run */
+  double a_back;       /* fitted acceleration rolling back (last half of the run) */
+  double hold_torque;  /* mean T_y over the last 0.2 s */
+  double drift;        /* |x_end - x_top| */
   bool rolled_back, held;
 } slope_stats;
 
@@ -721,7 +722,8 @@ static adem_status slope_validation(const adem_validation_context *ctx, const ch
              "the sooner it stops.%s",
              brof ? 8 : 9, brof ? "BROF" : "model C with delta_r = 0.3, Ai et al.'s result",
              brof ? " At rest the BROF torque is the one that stops the spin, the same for 0.2 "
-                    "and 0.4 (Fig. 8a)." : "");
+                    "and 0.4 (Fig. 8a)."
+                  : "");
     size_t len = 0;
     rep->measured[0] = '\0';
     for (int k = 0; k < 3; ++k) {
@@ -730,7 +732,8 @@ static adem_status slope_validation(const adem_validation_context *ctx, const ch
                "eta_r %.1f: top x = %.5f m at t = %.4f s (closed form %.5f m, %.4f s), %s, end "
                "torque %.4g N m%s. ",
                etas[k], s[k].x_top, s[k].t_top, cf[k].x_stop, cf[k].t_stop,
-               s[k].rolled_back ? "rolled back" : s[k].held ? "held" : "neither",
+               s[k].rolled_back ? "rolled back" : s[k].held ? "held"
+                                                            : "neither",
                s[k].hold_torque, brof ? "" : "");
     }
     len = strlen(rep->measured);
@@ -743,7 +746,8 @@ static adem_status slope_validation(const adem_validation_context *ctx, const ch
                " Largest |torque|/(eta_r r F_n): model C %.2f, %.2f, %.2f; capped %.4f, %.4f, "
                "%.4f, whose tops are %.5f, %.5f, %.5f m (%s, %s, %s).",
                peak[0], peak[1], peak[2], peak[3], peak[4], peak[5], s[3].x_top, s[4].x_top,
-               s[5].x_top, s[3].rolled_back ? "rolled back" : s[3].held ? "held" : "neither",
+               s[5].x_top, s[3].rolled_back ? "rolled back" : s[3].held ? "held"
+                                                                        : "neither",
                s[4].held ? "held" : "NOT held", s[5].held ? "held" : "NOT held");
     }
     snprintf(rep->notes, sizeof rep->notes,
@@ -846,7 +850,8 @@ static adem_status pile_run(const adem_validation_context *ctx, const char *mode
       double spin = 0.0;
       for (size_t i = 0; i < np; ++i)
         spin += sqrt(omega[3 * i] * omega[3 * i] + omega[3 * i + 1] * omega[3 * i + 1] +
-                     omega[3 * i + 2] * omega[3 * i + 2]) / inv_i[i];
+                     omega[3 * i + 2] * omega[3 * i + 2]) /
+                inv_i[i];
       out->spin_peak = fmax(out->spin_peak, spin);
     }
   }

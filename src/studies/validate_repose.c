@@ -21,9 +21,9 @@
 /* One point of Fig. 11 and its companions. */
 typedef struct repose_config {
   const char *label;
-  double eta;       /* rolling friction eta_r */
-  double young;     /* E, Pa (Table 2) */
-  double dt;        /* s (Table 2's step for that E) */
+  double eta;   /* rolling friction eta_r */
+  double young; /* E, Pa (Table 2) */
+  double dt;    /* s (Table 2's step for that E) */
   const char *rolling;
 } repose_config;
 
@@ -176,7 +176,8 @@ static adem_status repose_point_run(const adem_validation_context *ctx, const ch
   p->wall_s = now_s() - t0;
   adem_repose_report_free(&rep);
   adem_log(ADEM_LOG_INFO, "irazabal-fig11: %s seed %u: %.2f deg (laboratory), %.2f (surface), "
-           "%.2f (slices), %.2f (ring tops), %.0f s", cf->label, seed, p->lab, p->surface,
+                          "%.2f (slices), %.2f (ring tops), %.0f s",
+           cf->label, seed, p->lab, p->surface,
            p->slices, p->ringtop, p->wall_s);
   return write_row(dir, p, err);
 }
@@ -207,7 +208,7 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   if (!st) st = adem_file_mkdir_p(mdir, err);
   if (!st)
     st = adem_file_write_all(stl, adem_case_irazabal_meshes_repose_hopper_stl,
-                               strlen(adem_case_irazabal_meshes_repose_hopper_stl), err);
+                             strlen(adem_case_irazabal_meshes_repose_hopper_stl), err);
   free(mdir);
   free(stl);
 
@@ -240,7 +241,8 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
       v[2][s] = p->slices;
       v[3][s] = p->ringtop;
       double row[] = {c, configs[c].eta, configs[c].young, configs[c].dt,
-                      !strcmp(configs[c].rolling, "brof") ? 0 : !strcmp(configs[c].rolling, "model_a") ? 1 : 2,
+                      !strcmp(configs[c].rolling, "brof") ? 0 : !strcmp(configs[c].rolling, "model_a") ? 1
+                                                                                                       : 2,
                       full_seeds[s], p->lab, p->surface, p->r2_surface, p->slices, p->r2_slices,
                       p->ringtop, p->foot_angle, p->height, p->lab_base, p->base_radius,
                       p->footprint, (double)p->n_pile, p->wall_s};
@@ -280,7 +282,8 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
   int m = snprintf(rep->measured, sizeof rep->measured,
                    "Primary (laboratory) measure, mean (sd) over %d seed%s: eta_r 0.2: %.1f (%.1f), "
                    "0.25: %.1f (%.1f), 0.3: %.1f (%.1f) deg; surface fit %.1f, %.1f, %.1f; slices "
-                   "%.1f, %.1f, %.1f; ring tops %.1f, %.1f, %.1f", nseed, nseed == 1 ? "" : "s",
+                   "%.1f, %.1f, %.1f; ring tops %.1f, %.1f, %.1f",
+                   nseed, nseed == 1 ? "" : "s",
                    L0, sd[0][0], L1, sd[1][0], L2, sd[2][0], mean[0][1], mean[1][1], mean[2][1],
                    mean[0][2], mean[1][2], mean[2][2], mean[0][3], mean[1][3], mean[2][3]);
   if (!ctx->quick)
@@ -288,7 +291,8 @@ static adem_status fig11(const adem_validation_context *ctx, const char *name,
              "; at 0.25 with E = 5.9, 11.8 and 23.6 GPa: %.1f, %.1f and %.1f deg (laboratory); "
              "model A %.1f, no rolling resistance %.1f deg (nan: no pile, a sphere rolled out of "
              "the domain). Rises: %s; 40 +- 3 at 0.25: %s (off by %+.1f deg); E within 2 deg: %s "
-             "(largest difference %.1f deg).", mean[3][0], mean[7][0], mean[4][0], mean[5][0],
+             "(largest difference %.1f deg).",
+             mean[3][0], mean[7][0], mean[4][0], mean[5][0],
              mean[6][0], rises ? "yes" : "no", forty ? "yes" : "no", L1 - 40.0,
              e_free ? "yes" : "no", e_off);
   else

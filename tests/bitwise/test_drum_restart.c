@@ -70,7 +70,8 @@ static void test_run_interrupted_everywhere(void **state) {
   size_t drum, plate, loaded;
   drum_activity(a->world, &drum, &plate, &loaded);
   printf("# stopped and resumed %d times; at the end %zu contacts on the drum (%zu with a "
-         "loaded spring), %zu on the plate\n", stops, drum, loaded, plate);
+         "loaded spring), %zu on the plate\n",
+         stops, drum, loaded, plate);
   assert_true(stops >= 20);
   assert_true(drum >= 20 && loaded >= 10 && plate >= 1);
   const char *what = "";

@@ -166,9 +166,9 @@ static void test_resume_sets_refused(void **state) {
 }
 
 /* The settle case with BROF, so that the bed comes to rest exactly. */
-#define BROF_SETS                                                                                  \
-  "materials.glass.rolling_friction=0.1",                                                          \
-      "interactions=[{materials: [glass, glass], rolling: brof}, {materials: [glass, steel], "    \
+#define BROF_SETS                                                                              \
+  "materials.glass.rolling_friction=0.1",                                                      \
+      "interactions=[{materials: [glass, glass], rolling: brof}, {materials: [glass, steel], " \
       "rolling: brof}]"
 
 /* The run of A again in DIR: ended on the step halfway between `since` and `met` (the streak of

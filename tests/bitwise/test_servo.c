@@ -89,7 +89,7 @@ static void assert_servo_worked(const adem_world *w) {
   printf("# plate: servo u = %.6g m in the last stage, F_z = %.6g N (filtered %.6g), x = %.6g m\n",
          m->servo_u, f[g].z, m->servo_force, w->walls.mesh_ref[g].x);
   assert_true(m->servo.on && m->servo_started);
-  assert_true(fabs(m->servo_u) > 1e-5);           /* it moved in the slide stage too */
+  assert_true(fabs(m->servo_u) > 1e-5); /* it moved in the slide stage too */
   /* it holds the load to within a factor 2: sliding at 0.2 m/s dilates the bed faster than the
    * servo (time constant 1/(gain K) of a few collision times) follows; this is a bitwise test */
   assert_true(f[g].z > 0.01 && f[g].z < 0.04);

@@ -61,7 +61,8 @@ static void test_friction_stages(void **state) {
   assert_int_equal(adem_stages_current(c), 1);
   it = adem_world_interaction(w, 0, 1);
   printf("# deceleration %.3g m/s^2 with friction 0, %.5g m/s^2 with 0.5 (mu g = 4.905); pair "
-         "friction now %g\n", a_pack, a_test, it->pp.friction);
+         "friction now %g\n",
+         a_pack, a_test, it->pp.friction);
   assert_true(it->pp.friction == 0.5);
   assert_float_equal(a_pack, 0.0, 1e-9);
   assert_float_equal(a_test, 0.5 * 9.81, 0.02 * 0.5 * 9.81);
@@ -124,7 +125,8 @@ static void test_walls_in_stages(void **state) {
   char mesh[600];
   snprintf(mesh, sizeof mesh,
            "walls=[{type: mesh, name: block, material: steel, file: %s/tests/data/cube_ascii.stl, "
-           "scale: 0.1, translate: [-0.05, -0.05, -0.1]}]", ADEM_SOURCE_DIR);
+           "scale: 0.1, translate: [-0.05, -0.05, -0.1]}]",
+           ADEM_SOURCE_DIR);
   const char *sets4[] = {mesh, "particles.0.spheres.0.velocity=[0, 0, 0]",
                          "stages.1.set={walls.block.active: false}"};
   adem_case *e = load_slide(sets4, 3);
@@ -289,8 +291,10 @@ static void test_bad_stages(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_friction_stages), cmocka_unit_test(test_walls_in_stages),
-      cmocka_unit_test(test_staged_restart),  cmocka_unit_test(test_run_interrupted),
+      cmocka_unit_test(test_friction_stages),
+      cmocka_unit_test(test_walls_in_stages),
+      cmocka_unit_test(test_staged_restart),
+      cmocka_unit_test(test_run_interrupted),
       cmocka_unit_test(test_bad_stages),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);

@@ -54,7 +54,8 @@ static void test_recovers_density(void **state) {
   char *path = write_case("load.yaml", load_case);
   char *out;
   assert_int_equal(adem(&out, "run '%s' --quiet --set materials.glass.density=2345 --out '%s/ref'",
-                        path, tmpdir), 0);
+                        path, tmpdir),
+                   0);
   char *csv = path_in_tmp("ref/timeseries.csv");
   double load = csv_mean(csv, "floor_fz_N", 0.15, 0.2);
   double weight = 8 * 2345 * 4.0 / 3.0 * 3.14159265358979 * 0.005 * 0.005 * 0.005 * 9.81;
@@ -64,7 +65,8 @@ static void test_recovers_density(void **state) {
   free(csv);
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
                               "load:floor.z=%.9g+-%.9g --jobs 2 --out '%s/cal'",
-                        path, load, -0.002 * load, tmpdir), 0);
+                        path, load, -0.002 * load, tmpdir),
+                   0);
   assert_true(mentions(out, "found"));
   char *runs = path_in_tmp("cal/runs.csv");
   int nrun = 0;
@@ -102,13 +104,15 @@ static void test_recovers_density(void **state) {
   /* resume: every run read back, none run again, the same answer */
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
                               "load:floor.z=%.9g+-%.9g --jobs 2 --out '%s/cal' --resume",
-                        path, load, -0.002 * load, tmpdir), 0);
+                        path, load, -0.002 * load, tmpdir),
+                   0);
   assert_true(mentions(out, "measured before"));
   assert_false(mentions(out, "calibrate: run 1: "));
   /* without --resume the folder is refused */
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
                               "load:floor.z=%.9g+-%.9g --out '%s/cal'",
-                        path, load, -0.002 * load, tmpdir), 2);
+                        path, load, -0.002 * load, tmpdir),
+                   2);
   assert_true(mentions(out, "--resume"));
   free(runs);
   free(png);
@@ -126,8 +130,10 @@ static void test_density_target(void **state) {
   double frac = 8 * 4.0 / 3.0 * 3.14159265358979 * 0.005 * 0.005 * 0.005 / (0.08 * 0.04 * 0.01);
   double target = frac * 2345.0;
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
-                              "density:bed=%.9g+-%.9g --out '%s/dens'", path, target,
-                        0.001 * target, tmpdir), 0);
+                              "density:bed=%.9g+-%.9g --out '%s/dens'",
+                        path, target,
+                        0.001 * target, tmpdir),
+                   0);
   char *runs = path_in_tmp("dens/runs.csv");
   double best = NAN;
   for (int row = 1; row < 20; ++row) {
@@ -152,24 +158,38 @@ static void test_bad_options(void **state) {
   char *path = write_case("load2.yaml", load_case);
   char *out;
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.densty=1000:4000 --target "
-                              "load:floor.z=1+-0.1 --out '%s/bad1'", path, tmpdir), 2);
+                              "load:floor.z=1+-0.1 --out '%s/bad1'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "densty") && mentions(out, "--vary"));
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.sand.density=1000:4000 --target "
-                              "load:floor.z=1+-0.1 --out '%s/bad2'", path, tmpdir), 2);
+                              "load:floor.z=1+-0.1 --out '%s/bad2'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "sand"));
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=-5:4000 --target "
-                              "load:floor.z=1+-0.1 --out '%s/bad3'", path, tmpdir), 2);
+                              "load:floor.z=1+-0.1 --out '%s/bad3'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "density"));
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
-                              "angle:floor=1+-0.1 --out '%s/bad4'", path, tmpdir), 2);
+                              "angle:floor=1+-0.1 --out '%s/bad4'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "angle"));
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
-                              "repose:steepest=40+-1 --out '%s/bad5'", path, tmpdir), 2);
+                              "repose:steepest=40+-1 --out '%s/bad5'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "steepest"));
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=4000:1000 --target "
-                              "load:floor=1+-0.1 --out '%s/bad6'", path, tmpdir), 2);
+                              "load:floor=1+-0.1 --out '%s/bad6'",
+                        path, tmpdir),
+                   2);
   assert_int_equal(adem(&out, "calibrate '%s' --vary materials.glass.density=1000:4000 --target "
-                              "density:nowhere=1+-0.1 --out '%s/bad7'", path, tmpdir), 2);
+                              "density:nowhere=1+-0.1 --out '%s/bad7'",
+                        path, tmpdir),
+                   2);
   assert_true(mentions(out, "nowhere"));
   free(path);
 }

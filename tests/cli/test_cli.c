@@ -74,8 +74,9 @@ static void test_valid_case(void **state) {
   assert_mentions(out, "later end");
   /* a run that may end early on its condition says so in its ETA and in its last line */
   assert_int_equal(adem(&out, "run '%s' --out '%s/out_until' --set time.end=0.5 "
-                        "--set 'time.until={kinetic_energy_per_particle: 1.0e-3, for: 0.001}'",
-                        path, tmpdir), 0);
+                              "--set 'time.until={kinetic_energy_per_particle: 1.0e-3, for: 0.001}'",
+                        path, tmpdir),
+                   0);
   assert_mentions(out, "fewer if time.until is met");
   assert_mentions(out, "until: E_k "); /* the last progress line: the value against the threshold */
   assert_mentions(out, "J/particle");
@@ -218,10 +219,10 @@ static void test_runtime_failure(void **state) {
   const char *path = case_file_path("cli-two-spheres");
   char *out;
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_boom' --set 'particles.0.spheres=["
-                        "{position: [0, 0, 0.01], radius: 0.001, velocity: [20, 0, 0]}, "
-                        "{position: [0.005, 0, 0.01], radius: 0.001, velocity: [-20, 0, 0]}]' "
-                        "--set 'gravity=[0, 0, 0]' --set limits.max_overlap_ratio=0.001 "
-                        "--set output.checkpoint_interval=0.00002 --set output.frame_interval=0.00002",
+                              "{position: [0, 0, 0.01], radius: 0.001, velocity: [20, 0, 0]}, "
+                              "{position: [0.005, 0, 0.01], radius: 0.001, velocity: [-20, 0, 0]}]' "
+                              "--set 'gravity=[0, 0, 0]' --set limits.max_overlap_ratio=0.001 "
+                              "--set output.checkpoint_interval=0.00002 --set output.frame_interval=0.00002",
                         path, tmpdir),
                    3);
   assert_mentions(out, "error");

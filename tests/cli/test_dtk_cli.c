@@ -24,7 +24,9 @@ static void test_collide_at_rest(void **state) {
   (void)state;
   char *out, *csv = path_in_tmp("rest.csv");
   assert_int_equal(adem(&out, "collide --at-rest --dtk --hysteresis 0.5 --force-hat 0.9,1.1 "
-                              "--stiffness-factor 1,0.01 --threads 2 --out '%s'", csv), 0);
+                              "--stiffness-factor 1,0.01 --threads 2 --out '%s'",
+                        csv),
+                   0);
   assert_mentions(out, "2 rolling, 2 at rest");
   /* rows: (0.9, f 1), (0.9, f 0.01), (1.1, f 1), (1.1, f 0.01) */
   const char *expect[4] = {"stuck", "stuck", "rolling", "rolling"};
@@ -49,7 +51,8 @@ static void test_critical_lambda(void **state) {
   char *out, *csv = path_in_tmp("crit.csv");
   assert_int_equal(adem(&out, "collide --radius 1e-6 --density 1000 --ad 100,1000 --restitution "
                               "0.3,0.7 --critical-lambda 1e3:1e13:1e-4 --threads 2 --out '%s'",
-                        csv), 0);
+                        csv),
+                   0);
   assert_mentions(out, "4 critical lambdas");
   assert_mentions(out, "e = 0.3: lambda_crit = 147.4");
   assert_mentions(out, "Ad^2.5000");
@@ -91,7 +94,8 @@ static void test_validate_quick(void **state) {
   char *out;
   assert_int_equal(adem(&out, "validate haervig-fig4 haervig-fig10 haervig-fig11 haervig-fig12 "
                               "haervig-rolling-invariance --quick --threads 2 --out '%s/v'",
-                        tmpdir), 0);
+                        tmpdir),
+                   0);
   assert_mentions(out, "5 of 5 validations passed");
   const char *names[5] = {"haervig-fig4", "haervig-fig10", "haervig-fig11", "haervig-fig12",
                           "haervig-rolling-invariance"};

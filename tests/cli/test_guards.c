@@ -94,8 +94,10 @@ static void test_step_limit(void **state) {
   assert_true(fabs(e2 - 0.9) > 0.05 * 0.9);
   /* a stage that makes the pair 100 times stiffer (t_c 6.3 times shorter) under the same step */
   assert_int_equal(adem(&out, "check '%s' --set time.step=3e-5 --set 'stages=[{name: soft, "
-                        "duration: 0.001}, {name: stiff, set: {materials.glass.youngs_modulus: "
-                        "1.0e9}}]'", path), 2);
+                              "duration: 0.001}, {name: stiff, set: {materials.glass.youngs_modulus: "
+                              "1.0e9}}]'",
+                        path),
+                   2);
   assert_mentions(out, "stages[1] (`stiff`)");
   assert_mentions(out, "5.33x the limit t_collision/5");
   /* strict validation of the key */
@@ -132,15 +134,18 @@ static void test_memory_limit(void **state) {
   assert_mentions(out, "limits.max_memory");
   /* a random fill is refused before it is filled: 10^6 spheres asked in a box, 1 MB allowed */
   assert_int_equal(adem(&out, "check '%s' --set limits.max_memory=1e6 --set "
-                        "'particles=[{type: random, material: glass, count: 1000000, radius: "
-                        "{distribution: constant, value: 0.0001}, min: [0, 0, 0], max: [1, 1, 1]}]'",
-                        path), 2);
+                              "'particles=[{type: random, material: glass, count: 1000000, radius: "
+                              "{distribution: constant, value: 0.0001}, min: [0, 0, 0], max: [1, 1, 1]}]'",
+                        path),
+                   2);
   assert_mentions(out, "particles[0]");
   assert_mentions(out, "1e+06 particles");
   /* a pour of 10^12 particles against what the machine has */
   assert_int_equal(adem(&out, "check '%s' --set 'pours=[{material: glass, rate: 1.0e12, end: 1, "
-                        "radius: {distribution: constant, value: 0.0001}, region: {shape: box, "
-                        "min: [0, 0, 0], max: [0.01, 0.01, 0.01]}}]'", path), 2);
+                              "radius: {distribution: constant, value: 0.0001}, region: {shape: box, "
+                              "min: [0, 0, 0], max: [0.01, 0.01, 0.01]}}]'",
+                        path),
+                   2);
   assert_mentions(out, "pours[0]");
   assert_mentions(out, "MemAvailable");
   /* strict validation */
@@ -166,8 +171,10 @@ static void test_tunnelling(void **state) {
   assert_mentions(out, "next to a mesh wall at t = 0.00026 s");
   assert_mentions(out, "tunnelling: 2 times");
   assert_int_equal(adem(&out, "run '%s' --quiet --out '%s/out_slow' --set time.end=0.004 --set "
-                        "'particles.0.spheres=[{position: [0.05, 0.05, 0.05], radius: 0.002, "
-                        "velocity: [20, 0, 0]}]'", path, tmpdir), 0);
+                              "'particles.0.spheres=[{position: [0.05, 0.05, 0.05], radius: 0.002, "
+                              "velocity: [20, 0, 0]}]'",
+                        path, tmpdir),
+                   0);
   assert_null(strstr(out, "tunnelling"));
   assert_null(strstr(out, "moved"));
   /* it did hit the wall (t = 2.5 ms), losing energy in the contact */

@@ -110,7 +110,8 @@ static void test_collide_command(void **state) {
   char *out;
   char *csv = path_in_tmp("c.csv");
   assert_int_equal(adem(&out, "collide --speed 1,5 --stiffness-factor 1,0.1 --out '%s' --threads 2",
-                        csv), 0);
+                        csv),
+                   0);
   assert_mentions(out, "4 collisions");
   /* rows: (f=1, 1 m/s), (f=1, 5 m/s), (f=0.1, 1 m/s), (f=0.1, 5 m/s) */
   assert_true(csv_value(csv, 1, "stuck") == 1.0);
@@ -125,7 +126,9 @@ static void test_collide_command(void **state) {
 
   /* lambda and Ad of head-on pairs: Ad = 3 gamma/(rho v^2 r) */
   assert_int_equal(adem(&out, "collide --kind pair --radius 1e-6 --density 1000 --restitution 0.3 "
-                              "--lambda log:1e2:1e6:3 --ad 10 --out '%s'", csv), 0);
+                              "--lambda log:1e2:1e6:3 --ad 10 --out '%s'",
+                        csv),
+                   0);
   assert_true(fabs(csv_value(csv, 1, "gamma_J_m2") - 10.0 * 1000.0 * 1e-6 / 3.0) < 1e-12);
   assert_true(fabs(csv_value(csv, 3, "E_Pa") - 1e9) < 1e-3);
   assert_true(csv_value(csv, 1, "stuck") == 1.0); /* lambda 1e2 << lambda_crit ~ 3.4e4 */

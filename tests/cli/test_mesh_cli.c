@@ -190,8 +190,8 @@ static void test_check_mesh_pairs_rates_domain(void **state) {
   char *t2 = replaced(t1, "motion: {table: [[0, 0, 0, 0], [0.002, 0, 0, -1]]}",
                       "motion: {rotation: {axis: [0, 0, 1], center: [0.05, 0.05, 0.09], speed: 1}}");
   char *t3 = replaced(t2, "time:\n", "stages:\n  - {name: slow, duration: 0.002}\n"
-                      "  - {name: fast, set: {walls.lid.motion: {rotation: {axis: [0, 0, 1], "
-                      "center: [0.05, 0.05, 0.09], speed: 2}}}}\ntime:\n");
+                                     "  - {name: fast, set: {walls.lid.motion: {rotation: {axis: [0, 0, 1], "
+                                     "center: [0.05, 0.05, 0.09], speed: 2}}}}\ntime:\n");
   char *path = write_case("pairs.yaml", t3);
   char *out;
   assert_int_equal(adem(&out, "check '%s'", path), 0);
@@ -242,8 +242,8 @@ static void test_check_geometry(void **state) {
     snprintf(add, sizeof add, "%s%swalls:\n", fill, cases[k].region);
     char *t1 = replaced(base_case, "walls:\n", add);
     char *t2 = replaced(t1, "time:\n", "  - {type: plane, name: shelf, material: steel, point: [0, 0, 0.03],\n"
-                                        "     normal: [0, 0, 1], active: true}\n"
-                                        "time:\n");
+                                       "     normal: [0, 0, 1], active: true}\n"
+                                       "time:\n");
     /* the shelf is in the way of the first sphere only for the plane case */
     char *t3 = k == 3 ? t2 : replaced(t2, "point: [0, 0, 0.03]", "point: [0, 0, -1]");
     path = write_case("geom.yaml", t3);
@@ -298,17 +298,22 @@ static void test_particle_in_mesh(void **state) {
   assert_mentions(out, "particle id 0");
   assert_mentions(out, "mesh group 'box'");
   assert_mentions(out, "allowed 0 by limits.initial_overlap"); /* the key that allows it */
-  assert_mentions(out, "back at its file placement"); /* why a state import may overlap */
+  assert_mentions(out, "back at its file placement");          /* why a state import may overlap */
   free(path);
   free(text);
 }
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_valid_mesh_case),  cmocka_unit_test(test_bad_ascii_stl),
-      cmocka_unit_test(test_bad_binary_stl),   cmocka_unit_test(test_group_name_twice),
-      cmocka_unit_test(test_bad_motion),      cmocka_unit_test(test_positions_motion),
-      cmocka_unit_test(test_check_geometry),       cmocka_unit_test(test_check_mesh_pairs_rates_domain),       cmocka_unit_test(test_particle_in_mesh),
+      cmocka_unit_test(test_valid_mesh_case),
+      cmocka_unit_test(test_bad_ascii_stl),
+      cmocka_unit_test(test_bad_binary_stl),
+      cmocka_unit_test(test_group_name_twice),
+      cmocka_unit_test(test_bad_motion),
+      cmocka_unit_test(test_positions_motion),
+      cmocka_unit_test(test_check_geometry),
+      cmocka_unit_test(test_check_mesh_pairs_rates_domain),
+      cmocka_unit_test(test_particle_in_mesh),
   };
   return cmocka_run_group_tests(tests, setup, tmpdir_teardown);
 }

@@ -100,7 +100,8 @@ static void test_collision_time_is_jkr(void **state) {
   double like = t_collision("test_jkr_like"), jkr = t_collision("jkr"),
          hertz = t_collision("hertz");
   printf("# t_collision at v_ref = 1 m/s: test_jkr_like %.9g s, jkr %.9g s, hertz %.9g s; "
-         "ratio to hertz %.3f\n", like, jkr, hertz, like / hertz);
+         "ratio to hertz %.3f\n",
+         like, jkr, hertz, like / hertz);
   assert_true(like == jkr); /* the same hook, the same bits */
   /* the adhesion shortens it well below Hertz's (0.647 here; Hertz's own would be 1) */
   assert_true(like < 0.9 * hertz);

@@ -39,9 +39,12 @@ static int run(const char *name, bool quick, const char *normal, const char *rol
   assert_int_equal(adem_file_read_all(path, &text, &n, &err), ADEM_OK);
   const char *row = strstr(text, "| [");
   const char *end = row ? strchr(row, '\n') : NULL;
-  int verdict = failed == 0 ? 0 : row && end && strstr(row, "| FAIL |") && strstr(row, "| FAIL |") < end ? 1 : 2;
-  printf("# %s (%s, %s): %s\n", name, normal ? normal : rolling ? rolling : "paper's law",
-         quick ? "quick" : "full", verdict == 0 ? "pass" : verdict == 1 ? "FAIL" : "ERROR");
+  int verdict = failed == 0 ? 0 : row && end && strstr(row, "| FAIL |") && strstr(row, "| FAIL |") < end ? 1
+                                                                                                         : 2;
+  printf("# %s (%s, %s): %s\n", name, normal ? normal : rolling ? rolling
+                                                                : "paper's law",
+         quick ? "quick" : "full", verdict == 0 ? "pass" : verdict == 1 ? "FAIL"
+                                                                        : "ERROR");
   if (row && end && end - row > 300) printf("#   ...%.*s\n", 300, end - 300);
   free(text);
   return verdict;

@@ -84,7 +84,8 @@ static void runs_equal(const char *name, const char *text, const char *extra) {
   snprintf(serial, sizeof serial, "%s-serial", name);
   char *yaml = write_case(file, text);
   assert_int_equal(adem_np(0, &out, "run '%s' --out '%s/%s' --threads 1 --quiet %s", yaml, tmpdir,
-                           serial, extra), 0);
+                           serial, extra),
+                   0);
   adem_case *a = checkpoint(serial);
   char csv[512];
   snprintf(csv, sizeof csv, "%s/%s/timeseries.csv", tmpdir, serial);
@@ -97,7 +98,8 @@ static void runs_equal(const char *name, const char *text, const char *extra) {
     char dir[64];
     snprintf(dir, sizeof dir, "%s-np%dx%d", name, procs, threads);
     assert_int_equal(adem_np(procs, &out, "run '%s' --out '%s/%s' --threads %d --quiet %s", yaml,
-                             tmpdir, dir, threads, extra), 0);
+                             tmpdir, dir, threads, extra),
+                     0);
     adem_case *b = checkpoint(dir);
     const char *why = split_compare(a->world, b->world);
     if (why)
@@ -107,7 +109,8 @@ static void runs_equal(const char *name, const char *text, const char *extra) {
     char *tb = slurp(csv);
     assert_string_equal(ta, tb);
     printf("# %s, %d processes x %d threads: the checkpoint's %zu particles and contacts and the "
-           "CSV (%zu bytes) are the serial run's\n", name, procs, threads, b->world->p.n, strlen(tb));
+           "CSV (%zu bytes) are the serial run's\n",
+           name, procs, threads, b->world->p.n, strlen(tb));
     free(tb);
     adem_case_free(b);
   }
@@ -136,9 +139,11 @@ static void test_resume_other_count(void **state) {
   char *yaml = write_case("settle.yaml", settle_case);
   assert_int_equal(adem_np(0, &out, "run '%s' --out '%s/whole' --threads 1 --quiet", yaml, tmpdir), 0);
   assert_int_equal(adem_np(3, &out, "run '%s' --out '%s/half' --set time.end=0.007 --threads 1 --quiet",
-                           yaml, tmpdir), 0);
+                           yaml, tmpdir),
+                   0);
   assert_int_equal(adem_np(2, &out, "run --resume '%s/half' --set time.end=0.014 --threads 1 --quiet",
-                           tmpdir), 0);
+                           tmpdir),
+                   0);
   adem_case *a = checkpoint("whole"), *b = checkpoint("half");
   const char *why = split_compare(a->world, b->world);
   if (why) fail_msg("resumed on another process count: %s differs", why);

@@ -205,7 +205,8 @@ static void runs_equal(const char *yaml, const char *name) {
     const char *why = differs(dir, d);
     if (why) fail_msg("%s, %d processes: %s differs from the serial run's", name, np, why);
     printf("# %s, %d process%s: checkpoint, walls, stages, pours and the CSV (%zu bytes) are the "
-           "serial run's\n", name, np, np > 1 ? "es" : "", strlen(csv));
+           "serial run's\n",
+           name, np, np > 1 ? "es" : "", strlen(csv));
   }
   free(csv);
 }
@@ -343,9 +344,11 @@ static void resumed(const char *yaml, const char *name, const char *half, const 
   snprintf(part, sizeof part, "%s_half", name);
   assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, whole), 0);
   assert_int_equal(adem_np(3, NULL, "run '%s' --out '%s/%s' --set time.end=%s --threads 1 --quiet",
-                           yaml, tmpdir, part, half), 0);
+                           yaml, tmpdir, part, half),
+                   0);
   assert_int_equal(adem_np(2, NULL, "run --resume '%s/%s' --set time.end=%s --threads 1 --quiet",
-                           tmpdir, part, end), 0);
+                           tmpdir, part, end),
+                   0);
   const char *why = differs(whole, part);
   if (why) fail_msg("%s: resumed on 2 processes from 3's checkpoint at t = %s s: %s differs", name,
                     half, why);
@@ -480,7 +483,8 @@ static const char *pieces_differ(const char *yaml, const char *name, int np, con
   else
     assert_int_equal(adem_np(0, NULL, "run '%s' --out '%s/%s' --threads 1 --quiet", yaml, tmpdir, serial), 0);
   assert_int_equal(adem_np(np, brk, "run '%s' --out '%s/%s' --set output.pieces=true --threads 1 --quiet",
-                           yaml, tmpdir, d), 0);
+                           yaml, tmpdir, d),
+                   0);
   snprintf(path, sizeof path, "%s/%s/particles.pvd", tmpdir, d);
   char *pvd = slurp(path);
   assert_non_null(pvd);
@@ -556,13 +560,18 @@ static int setup(void **state) {
 
 int main(int argc, char **argv) {
   const struct CMUnitTest all[] = {
-      cmocka_unit_test(test_press),   cmocka_unit_test(test_pour),
-      cmocka_unit_test(test_hopper),  cmocka_unit_test(test_silo),  cmocka_unit_test(test_mesh_servo),
-      cmocka_unit_test(test_restart), cmocka_unit_test(test_controls),
-      cmocka_unit_test(test_pieces), cmocka_unit_test(test_periodic),
+      cmocka_unit_test(test_press),
+      cmocka_unit_test(test_pour),
+      cmocka_unit_test(test_hopper),
+      cmocka_unit_test(test_silo),
+      cmocka_unit_test(test_mesh_servo),
+      cmocka_unit_test(test_restart),
+      cmocka_unit_test(test_controls),
+      cmocka_unit_test(test_pieces),
+      cmocka_unit_test(test_periodic),
   };
   /* one name per entry of all[], in its order (ctest runs each group by its name) */
-  const char *names[] = {"press",   "pour",     "hopper", "silo",    "mesh_servo",
+  const char *names[] = {"press", "pour", "hopper", "silo", "mesh_servo",
                          "restart", "controls", "pieces", "periodic"};
   int n = (int)(sizeof all / sizeof all[0]);
   _Static_assert(sizeof names / sizeof names[0] == sizeof all / sizeof all[0],

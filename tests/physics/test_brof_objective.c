@@ -102,9 +102,11 @@ static void test_turntable_pair(void **state) {
   (void)state;
   turn_result obj = turn(ADEM_ROLLING_BROF_OBJECTIVE, 0.5), abs_ = turn(ADEM_ROLLING_BROF, 0.5);
   printf("# brof_objective: spins %.6f, %.6f Omega after 0.5 s; dissipated %.3g J of kinetic "
-         "%.3g J\n", obj.spin[0] / TABLE, obj.spin[1] / TABLE, obj.dissipated, obj.kinetic);
+         "%.3g J\n",
+         obj.spin[0] / TABLE, obj.spin[1] / TABLE, obj.dissipated, obj.kinetic);
   printf("# brof:           spins %.6f, %.6f Omega after 0.5 s; dissipated %.3g J of kinetic "
-         "%.3g J\n", abs_.spin[0] / TABLE, abs_.spin[1] / TABLE, abs_.dissipated, abs_.kinetic);
+         "%.3g J\n",
+         abs_.spin[0] / TABLE, abs_.spin[1] / TABLE, abs_.dissipated, abs_.kinetic);
   for (int s = 0; s < 2; ++s) assert_true(fabs(obj.spin[s] / TABLE - 1.0) < 1e-3);
   for (int s = 0; s < 2; ++s) assert_true(abs_.spin[s] < 0.9 * TABLE);
   assert_true(abs_.dissipated > 0.1 * abs_.kinetic);

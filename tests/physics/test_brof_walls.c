@@ -90,7 +90,8 @@ static void test_turntable(void **state) {
   double early = turntable(table, 0.0, 0.5 * t_up, &d);
   double late = turntable(table, 0.0, 3.0 * t_up, &d);
   printf("# from rest: spin %.6f at t_up/2 (closed form %.6f), %.9f at 3 t_up; wall work %.4g J, "
-         "kinetic %.4g J, dissipated %.4g J, balance error %.2e J\n", early, 0.5 * table, late,
+         "kinetic %.4g J, dissipated %.4g J, balance error %.2e J\n",
+         early, 0.5 * table, late,
          d.wall_work, d.kinetic + d.rotational, d.dissipated, d.balance_error);
   assert_true(fabs(early / (0.5 * table) - 1.0) < 0.02);
   assert_true(fabs(late / table - 1.0) < 1e-9);

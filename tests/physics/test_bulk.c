@@ -87,7 +87,8 @@ static void test_energy_conserved_gas(void **state) {
   }
   double drift = (last - first) / first;
   printf("# dt = %.3e s (t_c/200 at 1 m/s), relative energy drift over 1e5 steps = %.3e, "
-         "contacts sampled = %zu, rebuilds = %llu\n", dt, drift, contacts,
+         "contacts sampled = %zu, rebuilds = %llu\n",
+         dt, drift, contacts,
          (unsigned long long)w->nb.rebuilds);
   assert_true(contacts > 50);
   assert_true(fabs(drift) < 1e-6);

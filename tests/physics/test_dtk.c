@@ -171,7 +171,8 @@ static void test_pure_sliding_pair(void **state) {
   double slide = fabs(w->p.pos[0].z - w->p.pos[1].z);
   double spin = v3_norm(w->p.omega[0]);
   printf("# sliding pair: relative travel %.3e m = %.0f xi_crit, spin %.3g rad/s, largest "
-         "|xi| %.3e m\n", slide, slide / xi_crit, spin, worst);
+         "|xi| %.3e m\n",
+         slide, slide / xi_crit, spin, worst);
   assert_true(slide > 100.0 * xi_crit);
   assert_true(spin > 0.0);
   assert_true(worst <= 1e-12 * xi_crit);

@@ -94,11 +94,13 @@ static void test_proposal_includes_rolling_mode(void **state) {
   double old = rock(fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh), omega0, 4000, &e2);
   double old_dt = fmin(est.t_collision / 50.0, 0.2 * est.t_rayleigh);
   printf("# R %g m, f = %g: t_c %.4g s, 0.2 t_R %.4g s, stability limit %.4g s = t_c/%.1f, "
-         "proposed %.4g s = t_c/%.0f (min(t_c/50, 0.2 t_R) = %.4g s)\n", R, F, est.t_collision,
+         "proposed %.4g s = t_c/%.0f (min(t_c/50, 0.2 t_R) = %.4g s)\n",
+         R, F, est.t_collision,
          0.2 * est.t_rayleigh, est.dt_stable, est.t_collision / est.dt_stable, est.dt,
          est.t_collision / est.dt, old_dt);
   printf("# largest spin / initial over 4000 steps: %.6f at the proposal, %.6f at "
-         "min(t_c/50, 0.2 t_R)\n", with / omega0, old / omega0);
+         "min(t_c/50, 0.2 t_R)\n",
+         with / omega0, old / omega0);
   assert_true(est.dt <= 0.2 * est.dt_stable * (1.0 + 1e-12));
   assert_true(est.dt < 0.4 * old_dt); /* the rolling mode sets the proposal here */
   assert_true(with < 1.0 * omega0);

@@ -24,14 +24,14 @@
 typedef struct scene {
   double e, mu;
   adem_tangential_model tangential;
-  adem_vec3 velocity, spin;     /* of the sphere */
+  adem_vec3 velocity, spin; /* of the sphere */
   adem_vec3 gravity;
-  adem_vec3 plane_velocity;     /* piston */
-  double plane_spin;            /* turntable, rad/s about +z */
-  double start_height;          /* centre above the plane, in radii */
-  double offset;                /* centre from the turntable axis, m */
+  adem_vec3 plane_velocity; /* piston */
+  double plane_spin;        /* turntable, rad/s about +z */
+  double start_height;      /* centre above the plane, in radii */
+  double offset;            /* centre from the turntable axis, m */
   double steps_per_tc;
-  double duration;              /* in t_c */
+  double duration; /* in t_c */
 } scene;
 
 typedef struct balance {
@@ -117,7 +117,8 @@ static void test_rubbing_impact_converges(void **state) {
     balance b = run(&s);
     err[k] = b.error / b.initial;
     printf("# %4.0f steps per t_c: initial %.6g J, dissipated %.6g J, balance error %.3e of the "
-           "initial energy\n", s.steps_per_tc, b.initial, b.dissipated, err[k]);
+           "initial energy\n",
+           s.steps_per_tc, b.initial, b.dissipated, err[k]);
     assert_true(b.dissipated > 0.3 * b.initial);
   }
   assert_true(fabs(err[0]) < 2e-3);
@@ -156,7 +157,8 @@ static void test_turntable(void **state) {
   s.duration = 2000.0;
   balance b = run(&s);
   printf("# turntable: wall work %.6g J, kinetic energy gained %.6g J, dissipated %.6g J, balance "
-         "error %.2e\n", b.wall_work, b.ke_end, b.dissipated, b.error);
+         "error %.2e\n",
+         b.wall_work, b.ke_end, b.dissipated, b.error);
   assert_true(b.wall_work > 0.0 && b.ke_end > 0.0);
   assert_true(fabs(b.error) < 1e-3 * b.wall_work);
 }
@@ -173,7 +175,8 @@ static void test_total_law_shows_in_balance(void **state) {
   s.tangential = ADEM_TANGENTIAL_TOTAL;
   balance tot = run(&s);
   printf("# sticking impact, e = 1, mu = 10: balance error / initial: incremental %.2e (dissipated "
-         "%.4f of it), total %.2e (dissipated %.4f)\n", inc.error / inc.initial,
+         "%.4f of it), total %.2e (dissipated %.4f)\n",
+         inc.error / inc.initial,
          inc.dissipated / inc.initial, tot.error / tot.initial, tot.dissipated / tot.initial);
   assert_true(fabs(inc.error) < 1e-4 * inc.initial);
   assert_true(fabs(tot.error) > 10.0 * fabs(inc.error));

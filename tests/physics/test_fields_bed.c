@@ -93,7 +93,8 @@ static void test_bed_balances_its_weight(void **state) {
     used++;
   }
   printf("sigma_zz against the weight above: %zu nodes from z = %.4g to %.4g m, largest error "
-         "%.3f%% at z = %.4g m\n", used, 3.0 * d, ztop - 3.0 * d, 100.0 * worst, zworst);
+         "%.3f%% at z = %.4g m\n",
+         used, 3.0 * d, ztop - 3.0 * d, 100.0 * worst, zworst);
 
   /* the floor: sigma_zz where the floor contacts (reaching 1 radius + 3 widths) no longer reach,
    * plus the weight per area below it */
@@ -127,7 +128,8 @@ static void test_bed_balances_its_weight(void **state) {
   double floor_load = fabs(fsum / rows) / (LXY * LXY);
   double ef = fabs(floor_sigma - floor_load) / floor_load;
   printf("floor: sigma_zz %.5g Pa (at z = %.4g m plus the weight below), force / area from the "
-         "time series %.5g Pa: %.3f%%; weight per area %.5g Pa\n", floor_sigma,
+         "time series %.5g Pa: %.3f%%; weight per area %.5g Pa\n",
+         floor_sigma,
          origin[2] + (double)ks * h, floor_load, 100.0 * ef, total);
   assert_true(used > 20);
   assert_true(worst < 0.02);
@@ -139,7 +141,9 @@ static void test_bed_balances_its_weight(void **state) {
 
   /* the command: writes its files and reports the mass */
   assert_int_equal(adem(&out, "analyze fields %s --average x,y --width 0.5d --cell 0.0002 "
-                              "--time 0.25:0.31", outdir), 0);
+                              "--time 0.25:0.31",
+                        outdir),
+                   0);
   assert_non_null(strstr(out, "frames           6"));
   char *vti = path_in_tmp("bed/fields.vti");
   FILE *vf = fopen(vti, "r");

@@ -73,7 +73,8 @@ static void test_frozen_follow_wall(void **state) {
     assert_memory_equal(&o, &w->p.omega[i], sizeof o);
   }
   printf("# %d frozen spheres on their vertices after %llu steps (t = %g s), up to %.4g m from "
-         "where they began\n", on_vertex, (unsigned long long)w->step, w->time, travelled);
+         "where they began\n",
+         on_vertex, (unsigned long long)w->step, w->time, travelled);
   assert_int_equal(on_vertex, 3);
   assert_true(travelled > 0.001);
   adem_case_free(c);

@@ -13,10 +13,10 @@ enum { E_MOD = 100000000 };
 static const double RADIUS = 1e-3, NU = 0.3, RHO = 2500.0;
 
 typedef struct collision {
-  double rebound_speed; /* relative speed after separation */
-  double duration;      /* contact time, interpolated at the zero crossings of the gap */
+  double rebound_speed;  /* relative speed after separation */
+  double duration;       /* contact time, interpolated at the zero crossings of the gap */
   double momentum_error; /* |sum m v (after) - sum m v (before)| / sum m |v| */
-  double pull;          /* largest attractive normal force / largest repulsive one */
+  double pull;           /* largest attractive normal force / largest repulsive one */
 } collision;
 
 static double effective_modulus(void) { return E_MOD / (2.0 * (1.0 - NU * NU)); }

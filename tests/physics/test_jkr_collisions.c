@@ -53,7 +53,8 @@ static double capture_speed(double f, bool keep_gamma) {
  * 1%. With E reduced and gamma kept it is not. */
 static void test_h24_keeps_restitution(void **state) {
   (void)state;
-  enum { NV = 24, NC = 5 };
+  enum { NV = 24,
+         NC = 5 };
   static const double f[NC] = {1.0, 0.1, 0.01, 0.1, 0.01};
   adem_collide_spec sp[NV * NC];
   adem_collide_result res[NV * NC];
@@ -74,9 +75,11 @@ static void test_h24_keeps_restitution(void **state) {
   double vc[NC];
   for (int c = 0; c < 4; ++c) vc[c] = capture_speed(f[c], c >= 3);
   printf("# H24: largest |e_eff(f) - e_eff(1)| = %.2e over %d speeds; capture speed %.5f %.5f "
-         "%.5f m/s\n", worst, NV, vc[0], vc[1], vc[2]);
+         "%.5f m/s\n",
+         worst, NV, vc[0], vc[1], vc[2]);
   printf("# gamma kept, f = 0.1: largest |e_eff - e_eff(1)| = %.3f, capture speed %.4f m/s "
-         "(%.2fx)\n", worst_kept, vc[3], vc[3] / vc[0]);
+         "(%.2fx)\n",
+         worst_kept, vc[3], vc[3] / vc[0]);
   assert_true(fabs(vc[1] / vc[0] - 1.0) < 0.01);
   assert_true(fabs(vc[2] / vc[0] - 1.0) < 0.01);
   /* Without H24 the separation energy grows as f^(-2/3): the capture speed must move a lot. */
@@ -197,12 +200,12 @@ static void test_lambda_crit_exponent(void **state) {
 static double ode_e_eff(const adem_collide_params *p, double beta) {
   const double h = p->t_c / 20000.0;
   double d = 0.0, u = p->v_n;
-#define ACC(dd, uu)                                                                               \
-  ((-adem_jkr_force(p->gamma_mod, p->R, p->E_mod,                                                 \
-                    adem_jkr_contact_radius(p->gamma_mod, p->R, p->E_mod, (dd))) -                \
-    adem_damping_coefficient(                                                                     \
-        beta, adem_hertz_normal_stiffness(p->E_mod, sqrt(p->R * fmax((dd), 0.0))), p->mstar) *   \
-        (uu)) /                                                                                   \
+#define ACC(dd, uu)                                                                            \
+  ((-adem_jkr_force(p->gamma_mod, p->R, p->E_mod,                                              \
+                    adem_jkr_contact_radius(p->gamma_mod, p->R, p->E_mod, (dd))) -             \
+    adem_damping_coefficient(                                                                  \
+        beta, adem_hertz_normal_stiffness(p->E_mod, sqrt(p->R * fmax((dd), 0.0))), p->mstar) * \
+        (uu)) /                                                                                \
    p->mstar)
   for (long k = 0; k < 100000000L; ++k) {
     double k1d = u, k1u = ACC(d, u);

@@ -84,7 +84,7 @@ static void test_e_eff_order(void **state) {
 
 /* lambda_crit of a normal wall impact at Ad = 100, e = 0.3 (r = 1 um, rho = 1000, v = 1 m/s). */
 typedef struct lambda_ctx {
-  double steps;         /* > 0: steps per collide's t_ref; 0: the old proposal below */
+  double steps; /* > 0: steps per collide's t_ref; 0: the old proposal below */
 } lambda_ctx;
 
 static void set_lambda(adem_collide_spec *s, double x, void *user) {
@@ -136,10 +136,11 @@ static void test_lambda_crit_order(void **state) {
   double old = lambda_crit(ADEM_CONTACTS_FIRST_ORDER, 0.0) / ref - 1.0;
   double old_new = lambda_crit(ADEM_CONTACTS_SECOND_ORDER, 0.0) / ref - 1.0;
   printf("# the step proposed before (t_c/50 at v, no adhesive speed-up): off by %+.3e first "
-         "order, %+.3e second order; proposed now (t_ref/50, second order): %+.3e\n", old,
+         "order, %+.3e second order; proposed now (t_ref/50, second order): %+.3e\n",
+         old,
          old_new, rel[1][1]);
-  assert_true(old > 0.05);                 /* the review's 7.3% */
-  assert_true(fabs(rel[1][1]) < 0.005);    /* now: within 0.5% */
+  assert_true(old > 0.05);              /* the review's 7.3% */
+  assert_true(fabs(rel[1][1]) < 0.005); /* now: within 0.5% */
   /* orders over 25 -> 200 (first) and 25 -> 100 (second: at 200 it reaches the ~5e-4 floor of
    * the outcome's sampling, whether the creeping sphere is past delta = 0 at a pass) */
   double first = order(rel[0][0], rel[0][3]) / 3.0, second = order(rel[1][0], rel[1][2]) / 2.0;

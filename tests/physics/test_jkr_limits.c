@@ -78,7 +78,8 @@ static void test_clamped_small_gamma(void **state) {
   double ej = wall_rebound(ADEM_NORMAL_JKR, ADEM_DAMPING_CLAMPED, 1e-9);
   double ejv = wall_rebound(ADEM_NORMAL_JKR, ADEM_DAMPING_VISCOELASTIC, 1e-9);
   printf("# e = 0.2 at 1 m/s: hertz clamped %.5f, jkr (gamma 1e-9) clamped %.5f, jkr "
-         "viscoelastic %.5f\n", eh, ej, ejv);
+         "viscoelastic %.5f\n",
+         eh, ej, ejv);
   assert_true(fabs(eh - 0.2) < 0.002);
   assert_true(fabs(ej - 0.2) < 0.002);
   assert_true(fabs(ejv - 0.2) < 0.002);
@@ -227,7 +228,7 @@ static double ridge_impulse(double fold, int k0, int k1, int *crossing) {
   it.normal = ADEM_NORMAL_JKR;
   assert_int_equal(adem_world_set_interaction(w, &it, &err), ADEM_OK);
   const double L = 0.01, c = cos(fold * PI / 180.0), s = sin(fold * PI / 180.0);
-  adem_vec3 corners[6] = {v3(-L, -L, 0), v3(0, -L, 0), v3(0, L, 0), /* face A */
+  adem_vec3 corners[6] = {v3(-L, -L, 0), v3(0, -L, 0), v3(0, L, 0),         /* face A */
                           v3(0, -L, 0), v3(L * c, 0, -L * s), v3(0, L, 0)}; /* face B */
   adem_mesh_transform tf = adem_default_mesh_transform();
   tf.material = mat;
@@ -267,7 +268,8 @@ static void test_ridge_no_onset_impulse(void **state) {
   double flat = ridge_impulse(0.0, 15, 25, &kf);
   double ridge = ridge_impulse(2.0, 15, 25, &kr);
   printf("# centre past the edge at step %d; normal impulse over steps 15-24: flat %.12e, ridge "
-         "%.12e N s, relative difference %.2e\n", kr, flat, ridge, fabs(ridge / flat - 1.0));
+         "%.12e N s, relative difference %.2e\n",
+         kr, flat, ridge, fabs(ridge / flat - 1.0));
   assert_int_equal(kr, 20);
   assert_true(fabs(ridge / flat - 1.0) < 1e-6);
 }

@@ -117,7 +117,7 @@ static void test_mesh_threads(void **state) {
     tf.material = glass;
     adem_error err;
     assert_int_equal(adem_world_add_stl(w, ADEM_SOURCE_DIR "/tests/data/cube_ascii.stl", &tf, "box",
-                                         v3_zero(), &err),
+                                        v3_zero(), &err),
                      ADEM_OK);
     for (int k = 0; k < 400; ++k) {
       adem_vec3 x = v3(0.005 + 0.005 * (k % 8), 0.005 + 0.005 * ((k / 8) % 8), 0.0025 + 0.0045 * (k / 64));

@@ -74,7 +74,8 @@ static adem_world *shell_world(bool periodic, bool mesh, double x0, double x1) {
   }
   if (periodic)
     assert_int_equal(adem_world_set_periodic(w, v3(0, -0.1, -0.1), v3(BOX, 0.1, 0.1),
-                                             ADEM_PERIODIC_X, &err), ADEM_OK);
+                                             ADEM_PERIODIC_X, &err),
+                     ADEM_OK);
   adem_particle_def p = adem_default_particle_def();
   p.material = glass;
   p.radius = SR;

@@ -90,7 +90,8 @@ static void test_pour_mass_rate(void **state) {
   adem_case *c = load(sets, 1);
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   assert_int_equal(staged_advance(c, adem_schedule_total_steps(c->end_time, c->world->dt), 1000,
-                                  &err), ADEM_OK);
+                                  &err),
+                   ADEM_OK);
   double mass = 0.0;
   for (size_t i = 0; i < c->world->p.n; ++i) mass += 1.0 / c->world->p.inv_mass[i];
   double m_max = 2500 * 4.0 / 3.0 * ADEM_PI * pow(0.0015, 3);
@@ -112,7 +113,8 @@ static void test_pour_falls_short(void **state) {
   adem_case *c = load(sets, 2);
   assert_int_equal(staged_start(c, &err), ADEM_OK);
   assert_int_equal(staged_advance(c, adem_schedule_total_steps(c->end_time, c->world->dt), 1000,
-                                  &err), ADEM_OK);
+                                  &err),
+                   ADEM_OK);
   adem_log_set_hook(NULL, NULL);
   char expect[128];
   snprintf(expect, sizeof expect, "inserted %zu of 120 particles", c->world->p.n);
@@ -169,8 +171,10 @@ static void test_pour_step(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_pour_count),      cmocka_unit_test(test_pour_mass_rate),
-      cmocka_unit_test(test_pour_falls_short), cmocka_unit_test(test_pour_bad_input),
+      cmocka_unit_test(test_pour_count),
+      cmocka_unit_test(test_pour_mass_rate),
+      cmocka_unit_test(test_pour_falls_short),
+      cmocka_unit_test(test_pour_bad_input),
       cmocka_unit_test(test_pour_step),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

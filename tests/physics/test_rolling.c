@@ -108,7 +108,8 @@ static void check_flat(adem_rolling_model model, const char *label) {
   double a_ref = 5.0 / 7.0 * eta * GRAV, x_ref = 7.0 * v0 * v0 / (10.0 * eta * GRAV);
   double x = w->p.pos[0].x - x0;
   printf("# %s: deceleration %.6f m/s^2 (closed form %.6f), stopping distance %.6f m (closed form "
-         "%.6f) after %.4f s\n", label, decel, a_ref, x, x_ref, adem_world_time(w));
+         "%.6f) after %.4f s\n",
+         label, decel, a_ref, x, x_ref, adem_world_time(w));
   assert_true(fabs(decel / a_ref - 1.0) < 0.01);
   assert_true(fabs(x / x_ref - 1.0) < 0.02);
   adem_world_free(w);
@@ -198,10 +199,14 @@ static adem_world *spinning_pair(adem_rolling_model model, int count, adem_vec3 
     adem_particle_def p = adem_default_particle_def();
     p.material = g;
     p.radius = RADIUS * (1.0 + 0.1 * k); /* unequal sizes: R_r and the DTK size term matter */
-    double x = k == 0 ? -RADIUS : k == 1 ? 1.1 * RADIUS + 1e-6 : 3.4 * RADIUS + 2e-6;
+    double x = k == 0 ? -RADIUS : k == 1 ? 1.1 * RADIUS + 1e-6
+                                         : 3.4 * RADIUS + 2e-6;
     p.position = v3(x, 0, 0);
-    p.velocity = v3(k == 0 ? 0.05 : k == 1 ? -0.05 : -0.15, 0, 0);
-    p.angular_velocity = k == 0 ? omega_a : k == 1 ? omega_b : v3(0, -omega_a.y, 2.0);
+    p.velocity = v3(k == 0 ? 0.05 : k == 1 ? -0.05
+                                           : -0.15,
+                    0, 0);
+    p.angular_velocity = k == 0 ? omega_a : k == 1 ? omega_b
+                                                   : v3(0, -omega_a.y, 2.0);
     assert_int_equal(adem_world_add_particle(w, &p, NULL, &err), ADEM_OK);
   }
   adem_world_set_dt(w, 1e-6);

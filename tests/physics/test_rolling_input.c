@@ -65,8 +65,7 @@ static void test_bad_input(void **state) {
 /* Claim: output.track names existing particles only, each once, as integers. */
 static void test_track_input(void **state) {
   (void)state;
-  const char *cases[4][2] = {{"track: [1, 0]", "track: [1, 2]"}, {"track: [1, 0]", "track: [0, 0]"},
-                             {"track: [1, 0]", "track: [-1]"}, {"track: [1, 0]", "track: 3"}};
+  const char *cases[4][2] = {{"track: [1, 0]", "track: [1, 2]"}, {"track: [1, 0]", "track: [0, 0]"}, {"track: [1, 0]", "track: [-1]"}, {"track: [1, 0]", "track: 3"}};
   const char *words[4] = {"there is no particle 2: the case creates 2 (ids 0 to 1)",
                           "particle 0 is listed twice", "expected a particle id (an integer >= 0)",
                           "output.track: expected a list [id, ...] of particle ids"};
@@ -152,7 +151,7 @@ static void test_pair_rolling_friction(void **state) {
   char *t2 = replaced(t1, "{materials: [ballast, floor], rolling: brof}",
                       "{materials: [ballast, floor], rolling: brof, rolling_friction: 0.4}");
   char *t3 = replaced(t2, "interactions:\n", "interactions:\n"
-                      "  - {materials: [ballast, ballast], rolling: brof}\n");
+                                             "  - {materials: [ballast, ballast], rolling: brof}\n");
   adem_case *c = NULL;
   adem_error err;
   if (adem_case_load_string(t3, "rolling.yaml", NULL, 0, &c, &err)) fail_msg("%s", err.message);

@@ -87,7 +87,8 @@ static void test_rest(void **state) {
       if (nonzero)
         fail_msg("BROF left a spin of up to %.3g rad/s on %ld of 1e5 steps at rest: two half "
                  "kicks towards zero leave a round-off residue that never dies out (a held "
-                 "particle's spin must be set to zero)", largest, nonzero);
+                 "particle's spin must be set to zero)",
+                 largest, nonzero);
     } else {
       assert_true(nonzero == 100000);
       assert_true(flips > 90000);
@@ -101,11 +102,11 @@ static void test_rest(void **state) {
 /* The pile: tests/cases/rolling-rest-pile.yaml. */
 
 typedef struct energy_record {
-  double max_rise;      /* largest rise of E = kinetic + rotational + potential + elastic between
-                           samples, J */
+  double max_rise; /* largest rise of E = kinetic + rotational + potential + elastic between
+                      samples, J */
   double e_final;
-  double kin_final;     /* kinetic + rotational at the end, J */
-  double kin_made;      /* sum of the rises of kinetic + rotational energy over the last 0.5 s */
+  double kin_final; /* kinetic + rotational at the end, J */
+  double kin_made;  /* sum of the rises of kinetic + rotational energy over the last 0.5 s */
 } energy_record;
 
 static void void_log(adem_log_level l, const char *m, void *u) {
@@ -169,7 +170,8 @@ static void test_energy(void **state) {
              brof.max_rise);
   if (c.max_rise > 1e-8 * c.e_final)
     fail_msg("model C raised E by %.3g J: is the energy of its rolling spring |M|^2/(2 k_r) in "
-             "the elastic energy?", c.max_rise);
+             "the elastic energy?",
+             c.max_rise);
   assert_true(brof.kin_final < 1e-20);
   assert_true(a.kin_final > 1e6 * brof.kin_final && a.kin_made > 1e6 * brof.kin_made);
 }

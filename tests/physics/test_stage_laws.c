@@ -88,7 +88,8 @@ static void test_tangential_switch_converts(void **state) {
   adem_vec3 f2 = tangential_force(w), r2 = tangential_force(ref);
   double d1 = v3_norm(v3_sub(f1, r1)) / v3_norm(r1), d2 = v3_norm(v3_sub(f2, r2)) / v3_norm(r2);
   printf("# tangential force %.9e N; after the switch to total %.9e N (%.2e from the run that "
-         "did not switch), back to incremental %.9e N (%.2e)\n", f0, v3_norm(f1), d1,
+         "did not switch), back to incremental %.9e N (%.2e)\n",
+         f0, v3_norm(f1), d1,
          v3_norm(f2), d2);
   assert_true(d1 < 1e-9);
   assert_true(d2 < 1e-9);
@@ -128,7 +129,8 @@ static void test_rolling_switch_clears(void **state) {
   adem_diagnostics d1 = adem_world_diagnostics(w);
   double moved = d1.balance_error - d0.balance_error;
   printf("# model C torque %.4e N m, spring energy %.4e J; balance error %.3e -> %.3e J (moved "
-         "%.2e of the spring energy)\n", m_c, elastic_rolling, d0.balance_error, d1.balance_error,
+         "%.2e of the spring energy)\n",
+         m_c, elastic_rolling, d0.balance_error, d1.balance_error,
          fabs(moved) / elastic_rolling);
   assert_true(fabs(moved) < 1e-3 * elastic_rolling);
   adem_world_free(w);

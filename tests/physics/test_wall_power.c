@@ -84,7 +84,8 @@ static void test_turntable_drive_columns(void **state) {
   double work = v[4 * (rows - 1) + 1] - v[1];
   free(v);
   printf("# %d rows: integral of the drive power %.9g J, wall work %.9g J (ratio %.6f); integral "
-         "of the axis torque %.6g N m s; |P + omega T_axis| at most %.2e of the largest |P|\n", rows, integral, work,
+         "of the axis torque %.6g N m s; |P + omega T_axis| at most %.2e of the largest |P|\n",
+         rows, integral, work,
          integral / work, torque_integral, worst / pmax);
   assert_true(work > 0.0);
   /* the balance adds each contact's F . v_wall dt at the kicks: the same forces and velocities
@@ -145,7 +146,8 @@ static void test_brof_torque_balance(void **state) {
   double brof = v[3 * (rows - 1) + 2];
   free(v);
   printf("# %d rows: L_z %.6e, from the table %.6e, from BROF %.6e: balance %.2e of L_z (without "
-         "BROF %.2e)\n", rows, lz, wall, brof, (wall + brof - lz) / lz, (wall - lz) / lz);
+         "BROF %.2e)\n",
+         rows, lz, wall, brof, (wall + brof - lz) / lz, (wall - lz) / lz);
   assert_true(lz > 0.0);
   assert_true(fabs(wall + brof - lz) < 1e-4 * lz);
   assert_true(fabs(wall - lz) > 10.0 * fabs(wall + brof - lz)); /* BROF's share is not negligible */

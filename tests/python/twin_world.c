@@ -7,12 +7,12 @@
 
 #include "adem/adem.h"
 
-#define CHECK(call)                                                 \
-  do {                                                              \
-    if ((call) != ADEM_OK) {                                        \
-      fprintf(stderr, "twin_world: %s: %s\n", #call, err.message);  \
-      return 1;                                                     \
-    }                                                               \
+#define CHECK(call)                                                \
+  do {                                                             \
+    if ((call) != ADEM_OK) {                                       \
+      fprintf(stderr, "twin_world: %s: %s\n", #call, err.message); \
+      return 1;                                                    \
+    }                                                              \
   } while (0)
 
 int main(int argc, char **argv) {
@@ -56,8 +56,7 @@ int main(int argc, char **argv) {
   md.velocity = v;
   md.axis = (adem_vec3){0, 0, 1};
   CHECK(adem_world_set_plane_motion(w, first + 5, &md, &err)); /* box.zmax comes down */
-  adem_vec3 ramp[6] = {{0, 0, 0.002}, {0.04, 0, 0.012}, {0.04, 0.04, 0.012},
-                       {0, 0, 0.002}, {0.04, 0.04, 0.012}, {0, 0.04, 0.002}};
+  adem_vec3 ramp[6] = {{0, 0, 0.002}, {0.04, 0, 0.012}, {0.04, 0.04, 0.012}, {0, 0, 0.002}, {0.04, 0.04, 0.012}, {0, 0.04, 0.002}};
   adem_mesh_transform tf = adem_default_mesh_transform();
   tf.material = ms;
   CHECK(adem_world_add_mesh(w, ramp, 2, "ramp", &tf, &err));

@@ -20,7 +20,7 @@
 
 /* Two glass spheres above a steel floor (tests/cases/loader-two-spheres.yaml); the messages
  * below name its lines and columns. */
-#define BASE case_file_text("loader-two-spheres")                                          /* 22 */
+#define BASE case_file_text("loader-two-spheres") /* 22 */
 
 static adem_case *load_ok(const char *text, const char *const *sets, int nsets) {
   adem_case *c = NULL;
@@ -220,7 +220,8 @@ static void test_wrong_type(void **state) {
              WORDS("test.yaml:16:11: ", "walls[0].type", "one of: plane, box"));
   expect_bad("materials:\n", "seed: -3\nmaterials:\n", WORDS("test.yaml:1:7: ", "seed", "integer >= 0"));
   expect_bad("walls:\n  - type: plane\n    name: floor\n    material: steel\n    point: [0, 0, 0]\n"
-             "    normal: [0, 0, 2]\n", "walls: floor\n",
+             "    normal: [0, 0, 2]\n",
+             "walls: floor\n",
              WORDS("test.yaml:15:8: ", "walls: expected a list of mappings, got `floor`"));
   expect_bad("name: glass", "name: 9glass", WORDS("test.yaml:2:11: ", "materials[0].name", "a name"));
 }
@@ -400,7 +401,7 @@ static void test_interaction_names(void **state) {
   (void)state;
   char text[2048];
   snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: glass-glass, materials: [glass, glass]}\n"
-           "  - {name: glass-floor, materials: [glass, steel], friction: 0.2}\ntime:\n  end: 0.5\n",
+                              "  - {name: glass-floor, materials: [glass, steel], friction: 0.2}\ntime:\n  end: 0.5\n",
            (int)(strstr(BASE, "time:") - BASE), BASE);
   const char *sets[] = {"interactions.glass-floor.friction=0.35"};
   adem_case *c = load_ok(text, sets, 1);
@@ -412,7 +413,7 @@ static void test_interaction_names(void **state) {
   expect_error_sets(text, WORDS("interactions.glass-flor.friction=0.35"), 1,
                     WORDS("`glass-flor`", "glass-glass, glass-floor"));
   snprintf(text, sizeof text, "%.*sinteractions:\n  - {name: a, materials: [glass, glass]}\n"
-           "  - {name: a, materials: [glass, steel]}\ntime:\n  end: 0.5\n",
+                              "  - {name: a, materials: [glass, steel]}\ntime:\n  end: 0.5\n",
            (int)(strstr(BASE, "time:") - BASE), BASE);
   expect_error_sets(text, NULL, 0, WORDS("interactions[1].name", "duplicate interaction name `a`", "first at line 22:12"));
 }
@@ -468,7 +469,8 @@ static void test_brof_turning_wall_warned(void **state) {
       {"brof", "", "", false},
       {"model_a", "    motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}\n", "", false},
       {"brof", "", "stages:\n  - {name: a, duration: 0.1}\n  - {name: b, set: {walls.floor.motion: "
-       "{rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}}}\n", true},
+                   "{rotation: {axis: [0, 0, 1], center: [0, 0, 0], speed: 1}}}}\n",
+       true},
   };
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
     snprintf(text, sizeof text, "%.*s%sinteractions:\n  - {materials: [glass, steel], rolling: %s}\n%s%s",
@@ -577,7 +579,7 @@ static void test_radius_distributions(void **state) {
     char radius[128];
     snprintf(radius, sizeof radius, "particles.1.radius=%s", dists[k]);
     adem_case *c = case_file_load(RANDOM_FILL,
-                             WORDS(radius, "particles.1.count=4000", "particles.1.max=[0.1, 0.1, 0.1]"), 3);
+                                  WORDS(radius, "particles.1.count=4000", "particles.1.max=[0.1, 0.1, 0.1]"), 3);
     const adem_particles *p = &c->world->p;
     assert_int_equal(p->n, 4001);
     double s = 0, s2 = 0;

@@ -17,7 +17,8 @@ static double rate_at(double t) {
   if (t < 120.0) return 4000.0 - 1700.0 * (t - 60.0) / 60.0;
   return 2300.0;
 }
-static double contacts_at(double t) { return t < 60.0 ? 0.0 : t < 120.0 ? 8000.0 * (t - 60.0) / 60.0 : 8000.0; }
+static double contacts_at(double t) { return t < 60.0 ? 0.0 : t < 120.0 ? 8000.0 * (t - 60.0) / 60.0
+                                                                        : 8000.0; }
 
 /* Claim: once the rate has been steady for a window, the ETA is the steps left over the recent
  * rate (within 0.5 %), where the average since the start would be 25 % short; while the

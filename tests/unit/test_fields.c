@@ -23,7 +23,8 @@
 
 #include "adem/fields.h"
 
-enum { NP = 300, NC = 500 };
+enum { NP = 300,
+       NC = 500 };
 
 static double rnd(uint64_t *s) { /* xorshift64*, uniform in [0, 1) */
   *s ^= *s >> 12;
@@ -47,7 +48,9 @@ static void make_sample(sample *s, uint64_t seed, int moving) {
   for (int i = 0; i < NP; ++i) {
     for (int a = 0; a < 3; ++a) {
       s->pos[3 * i + a] = 0.02 + 0.96 * rnd(&r);
-      s->vel[3 * i + a] = moving ? (a == 0 ? 0.3 : a == 1 ? -0.2 : 0.1) : rnd(&r) - 0.5;
+      s->vel[3 * i + a] = moving ? (a == 0 ? 0.3 : a == 1 ? -0.2
+                                                          : 0.1)
+                                 : rnd(&r) - 0.5;
     }
     s->mass[i] = 0.5 + rnd(&r);
     s->radius[i] = 0.01 + 0.02 * rnd(&r);

@@ -28,9 +28,10 @@ static void write_l_prism(const char *path) {
   FILE *f = fopen(path, "w");
   assert_non_null(f);
   fprintf(f, "solid l\n");
-#define TRI(ax, ay, az, bx, by, bz, cx, cy, cz)                                                   \
+#define TRI(ax, ay, az, bx, by, bz, cx, cy, cz)                                                    \
   fprintf(f, "facet normal 0 0 0\nouter loop\nvertex %g %g %g\nvertex %g %g %g\nvertex %g %g %g\n" \
-             "endloop\nendfacet\n", ax, ay, az, bx, by, bz, cx, cy, cz)
+             "endloop\nendfacet\n",                                                                \
+          ax, ay, az, bx, by, bz, cx, cy, cz)
   for (int k = 0; k < 5; ++k) {
     const double *a = poly[cap[k][0]], *b = poly[cap[k][1]], *c = poly[cap[k][2]];
     TRI(a[0], a[1], 1.0, b[0], b[1], 1.0, c[0], c[1], 1.0); /* top, counter-clockwise */
@@ -196,7 +197,7 @@ static void test_cylinder_fill(void **state) {
 /* Distance from x to the boundary of the L prism (scaled by 0.01) when inside, else -1. */
 static double l_clearance(adem_vec3 x) {
   double u = x.x / 0.01, v = x.y / 0.01, w = x.z / 0.01;
-  bool in_a = u > 0 && u < 2 && v > 0 && v < 1, in_b = u > 0 && u < 1 && v > 0 && v < 2;
+  bool in_a = u > 0 && u < 2 && v > 0 && v<1, in_b = u> 0 && u < 1 && v > 0 && v < 2;
   if (!(in_a || in_b) || w <= 0 || w >= 1) return -1.0;
   static const double poly[7][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 1}};
   double d = fmin(w, 1 - w);
@@ -204,7 +205,8 @@ static double l_clearance(adem_vec3 x) {
     double ax = poly[k][0], ay = poly[k][1], bx = poly[(k + 1) % 7][0], by = poly[(k + 1) % 7][1];
     double ex = bx - ax, ey = by - ay;
     double t = ((u - ax) * ex + (v - ay) * ey) / (ex * ex + ey * ey);
-    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    t = t < 0 ? 0 : t > 1 ? 1
+                          : t;
     d = fmin(d, hypot(u - ax - t * ex, v - ay - t * ey));
   }
   return 0.01 * d;
@@ -360,10 +362,13 @@ static void test_fill_falls_short(void **state) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(test_box_fill),         cmocka_unit_test(test_fill_clears_mesh),
+      cmocka_unit_test(test_box_fill),
+      cmocka_unit_test(test_fill_clears_mesh),
       cmocka_unit_test(test_cylinder_fill),
-      cmocka_unit_test(test_mesh_fill),        cmocka_unit_test(test_solid_fraction),
-      cmocka_unit_test(test_distributions),    cmocka_unit_test(test_bad_input),
+      cmocka_unit_test(test_mesh_fill),
+      cmocka_unit_test(test_solid_fraction),
+      cmocka_unit_test(test_distributions),
+      cmocka_unit_test(test_bad_input),
       cmocka_unit_test(test_fill_falls_short),
   };
   return cmocka_run_group_tests(tests, setup, teardown);

@@ -40,7 +40,9 @@ static void test_quartic_residual(void **state) {
 static void test_reference_values(void **state) {
   (void)state;
   double FC = adem_jkr_critical_force(GAMMA, R);
-  struct { double x, a, f; } ref[] = {
+  struct {
+    double x, a, f;
+  } ref[] = {
       {0.5, 0.871809568224, -0.605578135774},
       {2.0, 1.120755458652, 0.885107268187},
       {10.0, 1.916931954819, 17.559825151134},
@@ -130,7 +132,8 @@ static void test_zero_surface_energy(void **state) {
     worst_f = fmax(worst_f, fabs(f - fh) / fh);
   }
   printf("# gamma = 0: largest |a - sqrt(R delta)|/sqrt(R delta) = %.2e, |F - F_hertz|/F_hertz = "
-         "%.2e\n", worst, worst_f);
+         "%.2e\n",
+         worst, worst_f);
   assert_true(worst <= 4e-16);
   assert_true(worst_f <= 1e-15);
 }

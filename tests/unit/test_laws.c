@@ -96,18 +96,18 @@ static void test_normal_laws(void **state) {
   adem_pair_params pi = params(false), pj = params(true);
   double ai = adem_hertz_radius(gi.R, gi.delta), aj = adem_hertz_radius(gj.R, gj.delta);
   int checked = 0;
-#define ADEM_X(ID, kernel, hist, ...)                                                              \
-  {                                                                                                \
-    const char *name = adem_law_get(ADEM_SLOT_NORMAL, ID)->name;                                   \
-    char w_[64];                                                                                   \
-    adem_normal_result ri = kernel(&pi, &gi, ai), rj = kernel(&pj, &gj, aj);       \
+#define ADEM_X(ID, kernel, hist, ...)                                                \
+  {                                                                                  \
+    const char *name = adem_law_get(ADEM_SLOT_NORMAL, ID)->name;                     \
+    char w_[64];                                                                     \
+    adem_normal_result ri = kernel(&pi, &gi, ai), rj = kernel(&pj, &gj, aj);         \
     printf("# normal %-8s F = %.6g N, U = %.6g J, a = %.6g m\n", name, ri.f_elastic, \
-           ri.e_elastic, ri.a);                                                    \
-    assert_same(ri.f_elastic, rj.f_elastic, label(w_, name, " force"));                            \
-    assert_same(ri.e_elastic, rj.e_elastic, label(w_, name, " energy"));                           \
-    assert_same(ri.a, rj.a, label(w_, name, " contact radius"));                                   \
-    assert_true(ri.f_elastic != 0.0);                                              \
-    ++checked;                                                                     \
+           ri.e_elastic, ri.a);                                                      \
+    assert_same(ri.f_elastic, rj.f_elastic, label(w_, name, " force"));              \
+    assert_same(ri.e_elastic, rj.e_elastic, label(w_, name, " energy"));             \
+    assert_same(ri.a, rj.a, label(w_, name, " contact radius"));                     \
+    assert_true(ri.f_elastic != 0.0);                                                \
+    ++checked;                                                                       \
   }
   ADEM_NORMAL_LAWS(ADEM_X)
 #undef ADEM_X
@@ -119,23 +119,23 @@ static void test_damping_laws(void **state) {
   adem_contact_geometry gi = geometry(&A, &B), gj = geometry(&B, &A);
   adem_pair_params pi = params(false), pj = params(true);
   double S = adem_hertz_normal_stiffness(pi.E, adem_hertz_radius(gi.R, gi.delta));
-#define ADEM_X(ID, kernel, hist, ...)                                                              \
-  {                                                                                                \
-    const char *name = adem_law_get(ADEM_SLOT_DAMPING, ID)->name;                                  \
-    char w_[64];                                                                                   \
-    double St = adem_hertz_tangential_stiffness(pi.G, adem_hertz_radius(gi.R, gi.delta)); \
-    double vni = v3_dot(gi.w, gi.n), vnj = v3_dot(gj.w, gj.n);                   \
-    adem_damping_input ini = {S, St, gi.mstar, vni, 1.0, 0.0};                \
-    adem_damping_input inj = {S, St, gj.mstar, vnj, 1.0, 0.0};                \
-    adem_damping_output oi, oj;                                                  \
-    kernel(&pi, &ini, &oi);                                                      \
-    kernel(&pj, &inj, &oj);                                                      \
-    double ci = (oi.f_normal - 1.0) / vni;                                       \
-    printf("# damping %-12s c_n = %.6g N s/m, c_t = %.6g N s/m\n", name, ci, oi.ct); \
-    assert_same(oi.f_normal, oj.f_normal, name);                                 \
-    assert_same(oi.ct, oj.ct, label(w_, name, " tangential"));                                     \
-    assert_true(ci > 0.0 && oi.ct > 0.0); /* e = 0.4 < 1 dissipates */           \
-    /* the normal force F_N n on i is the opposite of j's */                    \
+#define ADEM_X(ID, kernel, hist, ...)                                                                     \
+  {                                                                                                       \
+    const char *name = adem_law_get(ADEM_SLOT_DAMPING, ID)->name;                                         \
+    char w_[64];                                                                                          \
+    double St = adem_hertz_tangential_stiffness(pi.G, adem_hertz_radius(gi.R, gi.delta));                 \
+    double vni = v3_dot(gi.w, gi.n), vnj = v3_dot(gj.w, gj.n);                                            \
+    adem_damping_input ini = {S, St, gi.mstar, vni, 1.0, 0.0};                                            \
+    adem_damping_input inj = {S, St, gj.mstar, vnj, 1.0, 0.0};                                            \
+    adem_damping_output oi, oj;                                                                           \
+    kernel(&pi, &ini, &oi);                                                                               \
+    kernel(&pj, &inj, &oj);                                                                               \
+    double ci = (oi.f_normal - 1.0) / vni;                                                                \
+    printf("# damping %-12s c_n = %.6g N s/m, c_t = %.6g N s/m\n", name, ci, oi.ct);                      \
+    assert_same(oi.f_normal, oj.f_normal, name);                                                          \
+    assert_same(oi.ct, oj.ct, label(w_, name, " tangential"));                                            \
+    assert_true(ci > 0.0 && oi.ct > 0.0); /* e = 0.4 < 1 dissipates */                                    \
+    /* the normal force F_N n on i is the opposite of j's */                                              \
     assert_opposite(v3_scale(gi.n, -oi.f_normal), v3_scale(gj.n, -oj.f_normal), fabs(oi.f_normal), name); \
   }
   ADEM_DAMPING_LAWS(ADEM_X)
@@ -152,33 +152,33 @@ static void test_tangential_laws(void **state) {
   double St = adem_hertz_tangential_stiffness(pi.G, a);
   double ct = adem_damping_coefficient(pi.beta, St, gi.mstar);
   double limit = 0.5 * adem_hertz_force(pi.E, a, gi.delta);
-#define ADEM_X(ID, kernel, hist, ...)                                                              \
-  {                                                                                                \
-    const char *name = adem_law_get(ADEM_SLOT_TANGENTIAL, ID)->name;                               \
-    char w_[64];                                                                                   \
-    adem_vec3 hi = v3_zero(), hj = v3_zero();                                             \
-    double ai_ = 0.0, aj_ = 0.0;                                                          \
-    int slid = 0;                                                                         \
-    for (int s = 0; s < 40; ++s) {                                                        \
-      adem_vec3 vti = v3_axpy(gi.w, -v3_dot(gi.w, gi.n), gi.n);                           \
-      adem_vec3 vtj = v3_axpy(gj.w, -v3_dot(gj.w, gj.n), gj.n);                           \
-      adem_tangential_input ini = {gi.n, vti, vti, 1e-5, St, ct, limit, 0.0};               \
-      adem_tangential_input inj = {gj.n, vtj, vtj, 1e-5, St, ct, limit, 0.0};               \
-      adem_tangential_output oi, oj;                                                      \
-      kernel(&ini, &hi, &ai_, &oi);                                                       \
-      kernel(&inj, &hj, &aj_, &oj);                                                       \
-      assert_opposite(oi.force, oj.force, limit, name);                                   \
-      assert_opposite(oi.dashpot, oj.dashpot, limit, label(w_, name, " dashpot"));                 \
-      assert_same(oi.elastic, oj.elastic, label(w_, name, " energy"));                             \
-      assert_same(oi.dissipated, oj.dissipated, label(w_, name, " dissipated"));                   \
-      /* the incremental law never gives energy out; the total law may (H14) */         \
-      if (ID != ADEM_TANGENTIAL_TOTAL) /* up to round-off while it sticks */             \
-        assert_true(oi.dissipated >= -1e-12 * oi.elastic);                                 \
-      assert_int_equal(oi.sliding, oj.sliding);                                           \
-      slid += oi.sliding;                                                                 \
-    }                                                                                     \
-    printf("# tangential %-11s sliding in %d of 40 steps\n", name, slid);                \
-    assert_true(slid > 0 && slid < 40); /* both regimes were visited */                   \
+#define ADEM_X(ID, kernel, hist, ...)                                              \
+  {                                                                                \
+    const char *name = adem_law_get(ADEM_SLOT_TANGENTIAL, ID)->name;               \
+    char w_[64];                                                                   \
+    adem_vec3 hi = v3_zero(), hj = v3_zero();                                      \
+    double ai_ = 0.0, aj_ = 0.0;                                                   \
+    int slid = 0;                                                                  \
+    for (int s = 0; s < 40; ++s) {                                                 \
+      adem_vec3 vti = v3_axpy(gi.w, -v3_dot(gi.w, gi.n), gi.n);                    \
+      adem_vec3 vtj = v3_axpy(gj.w, -v3_dot(gj.w, gj.n), gj.n);                    \
+      adem_tangential_input ini = {gi.n, vti, vti, 1e-5, St, ct, limit, 0.0};      \
+      adem_tangential_input inj = {gj.n, vtj, vtj, 1e-5, St, ct, limit, 0.0};      \
+      adem_tangential_output oi, oj;                                               \
+      kernel(&ini, &hi, &ai_, &oi);                                                \
+      kernel(&inj, &hj, &aj_, &oj);                                                \
+      assert_opposite(oi.force, oj.force, limit, name);                            \
+      assert_opposite(oi.dashpot, oj.dashpot, limit, label(w_, name, " dashpot")); \
+      assert_same(oi.elastic, oj.elastic, label(w_, name, " energy"));             \
+      assert_same(oi.dissipated, oj.dissipated, label(w_, name, " dissipated"));   \
+      /* the incremental law never gives energy out; the total law may (H14) */    \
+      if (ID != ADEM_TANGENTIAL_TOTAL) /* up to round-off while it sticks */       \
+        assert_true(oi.dissipated >= -1e-12 * oi.elastic);                         \
+      assert_int_equal(oi.sliding, oj.sliding);                                    \
+      slid += oi.sliding;                                                          \
+    }                                                                              \
+    printf("# tangential %-11s sliding in %d of 40 steps\n", name, slid);          \
+    assert_true(slid > 0 && slid < 40); /* both regimes were visited */            \
   }
   ADEM_TANGENTIAL_LAWS(ADEM_X)
 #undef ADEM_X
@@ -195,28 +195,28 @@ static void test_rolling_laws(void **state) {
   double load = fabs(adem_jkr_force(pi.gamma, gi.R, pi.E, a) + 2.0 * adem_jkr_critical_force(pi.gamma, gi.R));
   adem_rolling_input ini = {&gi, &pi, 1e-6, load, a, Sn}, inj = {&gj, &pj, 1e-6, load, a, Sn};
   int acting = 0;
-#define ADEM_X(ID, kernel, hist, ...)                                                              \
-  {                                                                                                \
-    const char *name = adem_law_get(ADEM_SLOT_ROLLING, ID)->name;                                  \
-    char w_[64];                                                                                   \
-    adem_vec3 hi = v3_zero(), hj = v3_zero();                                                \
-    double auxi = 0.0, auxj = 0.0;                                                           \
-    double most = 0.0;                                                                       \
-    for (int s = 0; s < 40; ++s) {                                                           \
-      adem_rolling_output oi = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
-      adem_rolling_output oj = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                        \
-      kernel(&ini, &hi, &auxi, &oi);                                                         \
-      kernel(&inj, &hj, &auxj, &oj);                                                         \
-      double scale = fmax(v3_norm(oi.torque), 1e-30);                                        \
-      assert_opposite(oi.torque, oj.torque, scale, name);                                    \
-      assert_same(oi.capacity, oj.capacity, label(w_, name, " capacity"));                         \
-      assert_same(oi.elastic, oj.elastic, label(w_, name, " energy"));                             \
-      assert_same(oi.dissipated, oj.dissipated, label(w_, name, " dissipated"));                   \
-      assert_opposite(oi.dashpot, oj.dashpot, scale, label(w_, name, " dissipative couple"));      \
-      most = fmax(most, fmax(v3_norm(oi.torque), oi.capacity));                             \
-    }                                                                                        \
-    printf("# rolling %-8s largest couple or capacity %.4g N m\n", name, most);              \
-    acting += most > 0.0;                                                                    \
+#define ADEM_X(ID, kernel, hist, ...)                                                         \
+  {                                                                                           \
+    const char *name = adem_law_get(ADEM_SLOT_ROLLING, ID)->name;                             \
+    char w_[64];                                                                              \
+    adem_vec3 hi = v3_zero(), hj = v3_zero();                                                 \
+    double auxi = 0.0, auxj = 0.0;                                                            \
+    double most = 0.0;                                                                        \
+    for (int s = 0; s < 40; ++s) {                                                            \
+      adem_rolling_output oi = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                         \
+      adem_rolling_output oj = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};                         \
+      kernel(&ini, &hi, &auxi, &oi);                                                          \
+      kernel(&inj, &hj, &auxj, &oj);                                                          \
+      double scale = fmax(v3_norm(oi.torque), 1e-30);                                         \
+      assert_opposite(oi.torque, oj.torque, scale, name);                                     \
+      assert_same(oi.capacity, oj.capacity, label(w_, name, " capacity"));                    \
+      assert_same(oi.elastic, oj.elastic, label(w_, name, " energy"));                        \
+      assert_same(oi.dissipated, oj.dissipated, label(w_, name, " dissipated"));              \
+      assert_opposite(oi.dashpot, oj.dashpot, scale, label(w_, name, " dissipative couple")); \
+      most = fmax(most, fmax(v3_norm(oi.torque), oi.capacity));                               \
+    }                                                                                         \
+    printf("# rolling %-8s largest couple or capacity %.4g N m\n", name, most);               \
+    acting += most > 0.0;                                                                     \
   }
   ADEM_ROLLING_LAWS(ADEM_X)
 #undef ADEM_X

@@ -133,9 +133,9 @@ static void test_transform(void **state) {
   adem_mesh m = {0};
   assert_int_equal(adem_mesh_load_stl(DATA "cube_binary.stl", &tf, "box", &m, &err), ADEM_OK);
   assert_int_equal(m.groups[0].material, 3);
-  assert_true(has_vertex(&m, (adem_vec3){1.0, 4.0, 3.0}));   /* (1,0,0) */
-  assert_true(has_vertex(&m, (adem_vec3){1.0, 2.0, 3.0}));   /* (0,0,0) */
-  assert_true(has_vertex(&m, (adem_vec3){-1.0, 4.0, 5.0}));  /* (1,1,1) */
+  assert_true(has_vertex(&m, (adem_vec3){1.0, 4.0, 3.0}));  /* (1,0,0) */
+  assert_true(has_vertex(&m, (adem_vec3){1.0, 2.0, 3.0}));  /* (0,0,0) */
+  assert_true(has_vertex(&m, (adem_vec3){-1.0, 4.0, 5.0})); /* (1,1,1) */
   for (int c = 0; c < 8; ++c) {
     double x = c & 1, y = (c >> 1) & 1, z = (c >> 2) & 1;
     assert_true(has_vertex(&m, (adem_vec3){1.0 - 2.0 * y, 2.0 + 2.0 * x, 3.0 + 2.0 * z}));
@@ -377,8 +377,10 @@ static void test_stored_normals(void **state) {
  * share a flat region rooted at the smallest index. */
 static void test_edge_kinds(void **state) {
   (void)state;
-  adem_vec3 l[6] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},   /* floor, normal +z */
-                    {0, 0, 0}, {0, 1, 0}, {0, 0, 1}};  /* wall x = 0, normal +x */
+  adem_vec3 l[6] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, /* floor, normal +z */
+                    {0, 0, 0},
+                    {0, 1, 0},
+                    {0, 0, 1}}; /* wall x = 0, normal +x */
   adem_mesh m = {0};
   adem_error err;
   assert_int_equal(adem_mesh_add_triangles(&m, l, NULL, 2, "corner", 0, 0, &err), ADEM_OK);

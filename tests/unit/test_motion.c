@@ -29,7 +29,8 @@ static void test_piecewise_linear(void **state) {
   for (double t = 0.05; t < 4.0; t += 0.1) {
     double h = 1e-6;
     adem_vec3 fd = v3_scale(v3_sub(adem_motion_displacement(&m, t + h),
-                                   adem_motion_displacement(&m, t - h)), 0.5 / h);
+                                   adem_motion_displacement(&m, t - h)),
+                            0.5 / h);
     assert_true(v3_norm(v3_sub(fd, adem_motion_velocity(&m, t))) < 1e-8);
   }
   adem_motion_free(&m);
@@ -41,8 +42,7 @@ static void test_rotation(void **state) {
   (void)state;
   adem_vec3 v = {0.5, 0.0, 0.0};
   double t0 = 0.0;
-  adem_motion_def d = {.n = 1, .time = &t0, .velocity = &v, .axis = {0, 0, 2},
-                       .angular_speed = 3.14159265358979323846, .center = {1, 0, 0}};
+  adem_motion_def d = {.n = 1, .time = &t0, .velocity = &v, .axis = {0, 0, 2}, .angular_speed = 3.14159265358979323846, .center = {1, 0, 0}};
   adem_motion m;
   adem_error err;
   assert_int_equal(adem_motion_init(&m, &d, &err), ADEM_OK);
@@ -50,7 +50,8 @@ static void test_rotation(void **state) {
   assert_true(fabs(x.x - 1.25) < 1e-15 && fabs(x.y - 1.0) < 1e-15 && fabs(x.z) < 1e-15);
   double h = 1e-6;
   adem_vec3 fd = v3_scale(v3_sub(adem_motion_place(&m, 0.5 + h, v3(2, 0, 0)),
-                                 adem_motion_place(&m, 0.5 - h, v3(2, 0, 0))), 0.5 / h);
+                                 adem_motion_place(&m, 0.5 - h, v3(2, 0, 0))),
+                          0.5 / h);
   assert_true(v3_norm(v3_sub(fd, adem_motion_point_velocity(&m, 0.5, x))) < 1e-8);
   adem_vec3 n = adem_motion_turn(&m, 0.5, v3(1, 0, 0));
   assert_true(fabs(n.x) < 1e-15 && fabs(n.y - 1.0) < 1e-15);
@@ -85,7 +86,8 @@ static void test_positions(void **state) {
   for (double s = 0.205; s < 0.5; s += 0.02) { /* away from the knots: the derivative */
     double h = 1e-7;
     adem_vec3 fd = v3_scale(v3_sub(adem_motion_displacement(&m, s + h),
-                                   adem_motion_displacement(&m, s - h)), 0.5 / h);
+                                   adem_motion_displacement(&m, s - h)),
+                            0.5 / h);
     assert_true(v3_norm(v3_sub(fd, adem_motion_velocity(&m, s))) < 1e-7);
   }
   /* a copy (as a stage makes) keeps the kind; a velocity table of the same numbers differs */

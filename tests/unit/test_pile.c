@@ -106,7 +106,8 @@ static adem_pile_result measure(const cone *c, const adem_pile_options *o) {
   adem_status st = adem_pile_measure(c->pos, c->radius, c->n, o, &r, &err);
   if (st) fail_msg("adem_pile_measure: %s", err.message);
   printf("# %zu spheres: H %.3f m, base %.3f m, surface %.2f deg (R2 %.4f, %zu), slices %.2f deg "
-         "(R2 %.4f, %zu)\n", c->n, r.height, r.base_radius, r.angle_surface_deg, r.surface.r2,
+         "(R2 %.4f, %zu)\n",
+         c->n, r.height, r.base_radius, r.angle_surface_deg, r.surface.r2,
          r.surface.n, r.angle_slices_deg, r.slices.r2, r.slices.n);
   return r;
 }
@@ -272,7 +273,8 @@ static void test_lab_and_ringtop_cones(void **state) {
       adem_pile_options o = adem_pile_default_options();
       adem_pile_result r = measure(&c, &o);
       printf("#   lab %.2f (plain %.2f, h_e %.4f, R_base %.4f sd %.4f, %zu rings), ring-top %.2f "
-             "(R2 %.3f, %zu), footprint %.2f\n", r.angle_lab_deg, r.angle_lab_plain_deg,
+             "(R2 %.3f, %zu), footprint %.2f\n",
+             r.angle_lab_deg, r.angle_lab_plain_deg,
              r.skirt_level, r.lab_base_radius, r.lab_base_sd, r.base_rings, r.angle_ringtop_deg,
              r.ringtop.r2, r.ringtop.n, r.angle_footprint_deg);
       assert_true(r.angle_lab_deg - angles[a] > LAB_LO_BIG && r.angle_lab_deg - angles[a] < LAB_HI_BIG);
@@ -345,7 +347,8 @@ static void test_lab_survey(void **state) {
         free_cone(&c);
       }
       printf("# survey %g deg base %.2f m, %d seeds: bias/sd/worst lab %+.2f %.2f %.2f, ring-top "
-             "%+.2f %.2f %.2f, surface %+.2f %.2f %.2f, slices %+.2f %.2f %.2f\n", angles[a],
+             "%+.2f %.2f %.2f, surface %+.2f %.2f %.2f, slices %+.2f %.2f %.2f\n",
+             angles[a],
              bases[b], ns, s[0] / ns, sqrt(s2[0] / ns - (s[0] / ns) * (s[0] / ns)), worst[0],
              s[1] / ns, sqrt(s2[1] / ns - (s[1] / ns) * (s[1] / ns)), worst[1], s[2] / ns,
              sqrt(s2[2] / ns - (s[2] / ns) * (s[2] / ns)), worst[2], s[3] / ns,

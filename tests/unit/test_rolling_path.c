@@ -45,7 +45,8 @@ static adem_pair_params pair_params(double eta, double hysteresis) {
   pp.gamma = pp.gamma_real = 0.05;
   pp.dtk_rolling_modification = true;
   for (int s = 0; s < 3; ++s) {
-    double *v = s == 0 ? pp.param : s == 1 ? pp.param_a : pp.param_b;
+    double *v = s == 0 ? pp.param : s == 1 ? pp.param_a
+                                           : pp.param_b;
     v[ADEM_PARAM_ROLLING_FRICTION] = eta;
     v[ADEM_PARAM_ADHESION_HYSTERESIS] = hysteresis;
   }
@@ -145,7 +146,8 @@ static void test_at_the_limits(void **state) {
       path_result p = run_path(dtk ? adem_rolling_dtk_law : adem_rolling_model_c_law, dtk, &pp,
                                order == 0 ? hi : lo, order == 0 ? lo : hi, theta0);
       printf("# %s at its limit, load %s: W = %.6g J (first stored %.6g), dissipated %.6g, left "
-             "%.3g\n", dtk ? "DTK" : "model C", order == 0 ? "falls" : "rises", p.work, p.first,
+             "%.3g\n",
+             dtk ? "DTK" : "model C", order == 0 ? "falls" : "rises", p.work, p.first,
              p.dissipated, p.elastic);
       assert_true(p.work > 0.0);
       assert_true(fabs(p.dissipated + p.elastic - p.work) < 1e-9 * p.first);

@@ -87,9 +87,11 @@ static void test_sticking_path(void **state) {
          s0, scale);
   printf("# normal work over the path (trapezoid) %.3g J\n", inc.normal);
   printf("# incremental: W = %.6g J (theory (S2-S1) s0^2/2 = %.6g), dissipated %.6g J, left "
-         "%.3g J, slid %d\n", inc.work, theory_inc, inc.dissipated, inc.elastic, inc.slid);
+         "%.3g J, slid %d\n",
+         inc.work, theory_inc, inc.dissipated, inc.elastic, inc.slid);
   printf("# total:       W = %.6g J (theory (S1-S2) s0^2/2 = %.6g), dissipated %.6g J, left "
-         "%.3g J, slid %d\n", tot.work, theory_tot, tot.dissipated, tot.elastic, tot.slid);
+         "%.3g J, slid %d\n",
+         tot.work, theory_tot, tot.dissipated, tot.elastic, tot.slid);
   assert_int_equal(inc.slid, 0);
   assert_int_equal(tot.slid, 0);
   assert_true(inc.work >= 0.0);
@@ -111,7 +113,8 @@ static void test_slipping_path(void **state) {
     path_result tot = run_path(adem_tangential_total_law, d1, d2, s0, mu);
     double scale = 0.5 * inc.s1 * s0 * s0;
     printf("# mu %.1f: incremental W = %.6g J (slid %d steps, dissipated %.6g, left %.3g); "
-           "total W = %.6g J (slid %d)\n", mu, inc.work, inc.slid, inc.dissipated, inc.elastic,
+           "total W = %.6g J (slid %d)\n",
+           mu, inc.work, inc.slid, inc.dissipated, inc.elastic,
            tot.work, tot.slid);
     assert_true(inc.slid > 0);
     assert_true(inc.work > 0.0);

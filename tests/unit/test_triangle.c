@@ -308,8 +308,7 @@ static void test_face_next_to_convex_edge(void **state) {
  * (0.02 and 0.01) to 1e-12. */
 static void test_concave_corner(void **state) {
   (void)state;
-  adem_vec3 c[12] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                     {0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 0}, {0, 1, 1}, {0, 0, 1}};
+  adem_vec3 c[12] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 0}, {0, 1, 1}, {0, 0, 1}};
   adem_mesh m = {0};
   adem_error err;
   assert_int_equal(adem_mesh_add_triangles(&m, c, NULL, 4, "corner", 0, 0, &err), ADEM_OK);
@@ -321,7 +320,8 @@ static void test_concave_corner(void **state) {
   adem_mesh_contact out[4];
   const double r = 0.1;
   for (int s = 0; s < 3; ++s) {
-    double y = s == 0 ? 0.5 : s == 1 ? 0.25 : 0.0001; /* face interior, diagonal's end, near the border */
+    double y = s == 0 ? 0.5 : s == 1 ? 0.25
+                                     : 0.0001; /* face interior, diagonal's end, near the border */
     adem_vec3 x = {0.09, y + 0.3 * (s == 1), 0.08};
     size_t n = adem_triangle_sphere_contacts(&m, x, r, cand, 4, out);
     assert_int_equal(n, 2);
@@ -404,7 +404,8 @@ static void test_boundary_ties(void **state) {
       for (uint32_t t = 0; t < 12; ++t) {
         adem_vec3 q;
         adem_triangle_feature f;
-        if (adem_triangle_distance2(&m, t, x, &q, &f) < r * r) kinds |= 1 << (f == ADEM_TRIANGLE_FACE ? 0 : adem_triangle_feature_is_edge(f) ? 1 : 2);
+        if (adem_triangle_distance2(&m, t, x, &q, &f) < r * r) kinds |= 1 << (f == ADEM_TRIANGLE_FACE ? 0 : adem_triangle_feature_is_edge(f) ? 1
+                                                                                                                                             : 2);
       }
       mixed += kinds != 1 << (s + 1);
     }
@@ -420,8 +421,7 @@ static void test_boundary_ties(void **state) {
 static void test_nearly_flat_fold(void **state) {
   (void)state;
   const double eps = 5e-6;
-  adem_vec3 c[12] = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, 1, 0}, {-1, 1, 0},
-                     {0, 0, 0}, {1, 0, eps}, {1, 1, eps}, {0, 0, 0}, {1, 1, eps}, {0, 1, 0}};
+  adem_vec3 c[12] = {{-1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {0, 0, 0}, {1, 0, eps}, {1, 1, eps}, {0, 0, 0}, {1, 1, eps}, {0, 1, 0}};
   adem_mesh m = {0};
   adem_error err;
   assert_int_equal(adem_mesh_add_triangles(&m, c, NULL, 4, "fold", 0, 0, &err), ADEM_OK);

@@ -17,12 +17,16 @@
 #include "adem/frames.h"
 
 enum { NS = 7 };
-static const double X[NS][4] = { /* x, y, z, radius */
-    {0.00, 0.0, 0.05, 0.010},   {0.03, 0.01, 0.05, 0.012}, {-0.03, 0.0, 0.06, 0.011},
-    {0.0, 0.04, 0.05, 0.0105},  {0.0, -0.04, 0.07, 0.009}, {0.05, 0.05, 0.02, 0.0101},
-    {-0.05, -0.05, 0.03, 0.008}};
+static const double X[NS][4] = {/* x, y, z, radius */
+                                {0.00, 0.0, 0.05, 0.010},
+                                {0.03, 0.01, 0.05, 0.012},
+                                {-0.03, 0.0, 0.06, 0.011},
+                                {0.0, 0.04, 0.05, 0.0105},
+                                {0.0, -0.04, 0.07, 0.009},
+                                {0.05, 0.05, 0.02, 0.0101},
+                                {-0.05, -0.05, 0.03, 0.008}};
 
-static unsigned char *frame0;    /* the bytes of frames/particles_000000.vtu */
+static unsigned char *frame0; /* the bytes of frames/particles_000000.vtu */
 static size_t frame0_len;
 
 static int setup(void **state) {
@@ -126,20 +130,24 @@ static void test_header_errors(void **state) {
   assert_int_equal(read_edited("NumberOfPoints=\"7\"", "NumberOfPoints=\"8\"", &err),
                    ADEM_ERR_INPUT);
   assert_int_equal(read_edited("NumberOfPoints=\"7\"", "NumberOfPoints=\"99999999999999999999\"",
-                               &err), ADEM_ERR_INPUT);
+                               &err),
+                   ADEM_ERR_INPUT);
   assert_int_equal(read_edited("NumberOfPoints=\"7\"", "NumberOfPoints=\"-7\"", &err),
                    ADEM_ERR_INPUT);
   assert_int_equal(read_edited("Name=\"radius\"", "Name=\"radiux\"", &err), ADEM_ERR_INPUT);
   assert_int_equal(read_edited("Name=\"position\" NumberOfComponents=\"3\"",
-                               "Name=\"position\" NumberOfComponents=\"2\"", &err), ADEM_ERR_INPUT);
+                               "Name=\"position\" NumberOfComponents=\"2\"", &err),
+                   ADEM_ERR_INPUT);
   assert_int_equal(read_edited("type=\"Float64\" Name=\"radius\"", "type=\"Float32\" Name=\"radius\"",
-                               &err), ADEM_ERR_INPUT);
+                               &err),
+                   ADEM_ERR_INPUT);
   assert_int_equal(read_edited("Name=\"radius\" format=\"appended\" offset=\"0\"",
                                "Name=\"radius\" format=\"appended\" offset=\"9\"", &err),
                    ADEM_ERR_INPUT); /* a block size read from the middle of the data */
   assert_int_equal(read_edited("Name=\"radius\" format=\"appended\" offset=\"0\"",
                                "Name=\"radius\" format=\"appended\" offset=\"18446744073709551615\"",
-                               &err), ADEM_ERR_INPUT);
+                               &err),
+                   ADEM_ERR_INPUT);
   assert_int_equal(read_edited("Name=\"radius\" format=\"appended\" offset=\"0\"",
                                "Name=\"radius\" format=\"appended\" offset=0", &err),
                    ADEM_ERR_INPUT); /* unquoted attribute */
