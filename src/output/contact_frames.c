@@ -386,9 +386,7 @@ adem_status adem_world_contact_frame(const adem_world *w, adem_contact_frame *fr
   frame->id_b = malloc(cap * sizeof *frame->id_b);
   if (!frame->p0 || !frame->p1 || !frame->force || !frame->kind || !frame->id_a || !frame->id_b) {
     free(rec);
-    free(frame->p0), free(frame->p1), free(frame->force); /* the studies' free is above this layer */
-    free(frame->kind), free(frame->id_a), free(frame->id_b);
-    memset(frame, 0, sizeof *frame);
+    adem_contact_frame_free(frame);
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %zu contacts", n);
   }
   for (size_t k = 0; k < n; ++k) {
