@@ -214,9 +214,20 @@ class Solid:
         self.tri(a, c, d)
 
     def polygon(self, pts):
-        """Convex planar polygon (counter-clockwise seen from the normal side), fanned from pts[0]."""
-        for i in range(1, len(pts) - 1):
-            self.tri(pts[0], pts[i], pts[i + 1])
+        """Convex planar polygon (counter-clockwise seen from the normal side), fanned from pts[0],
+        or from the first vertex whose fan has no triangle of area 0: a polygon with a straight
+        corner (three points on a line, as a prismatic sleeper's fill region has) keeps every
+        vertex, so that the faces meeting it there still close the surface."""
+        k = len(pts)
+
+        def flat(a, b, c):
+            n = cross(sub(b, a), sub(c, a))
+            return dot(n, n) == 0.0
+
+        s = next((s for s in range(k)
+                  if not any(flat(pts[s], pts[(s + i) % k], pts[(s + i + 1) % k]) for i in range(1, k - 1))), 0)
+        for i in range(1, k - 1):
+            self.tri(pts[s], pts[(s + i) % k], pts[(s + i + 1) % k])
 
 
 def face(solid, pts, outward):

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 30, item 5 (not run yet): does Fig. 17's shoulder take the most load from about 1 mm
+# Issue 30, item 5 (started 2026-11-28, packing; see docs/validation.md): does Fig. 17's shoulder take the most load from about 1 mm
 # when the sleeper's crib faces are vertical? The shared packing was made around the trapezoidal
 # sleeper (0.30 m base, 0.22 m top), so a sleeper of another section needs its own packing:
 # the geometry is made again with a prismatic sleeper 0.30 m wide (make_geometry.py --set
