@@ -32,7 +32,7 @@ step() { # dir end args...
   touch "$dir/finished"
 }
 step "$out/pack" 2.5 "$out/pack.yaml"
-E=17.7e9
+E=17700000000  # Pa (bc reads no exponent)
 step "$out/push-E17.7" 0.5 "$out/push.yaml" \
   --set particles.0.file=pack/checkpoint \
   --set materials.ballast.youngs_modulus=$(echo "$E / 27" | bc -l) \
