@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Issue 30, item 5 (started 2026-11-28, packing; see docs/validation.md): does Fig. 17's shoulder take the most load from about 1 mm
+# Issue 30, item 5 (see docs/validation.md): does Fig. 17's shoulder take the most load from about 1 mm
 # when the sleeper's crib faces are vertical? The shared packing was made around the trapezoidal
 # sleeper (0.30 m base, 0.22 m top), so a sleeper of another section needs its own packing:
 # the geometry is made again with a prismatic sleeper 0.30 m wide (make_geometry.py --set
-# sleeper_top_width=0.30; the auxiliary sleeper follows it), packed (pack.yaml, about 40 min on
-# one free core) and pushed once at 17.7 GPa with the settings irazabal-fig17 uses for that
+# sleeper_top_width=0.30; the auxiliary sleeper follows it), packed (pack.yaml, 1,269 s on
+# one core) and pushed once at 17.7 GPa with the settings irazabal-fig17 uses for that
 # modulus (src/studies/validate_ballast.c: E raised in steps of 3, dt 5 us, servo gain
 # 1e-6 (1.77e9 / E)^(2/3) 6 = 1.29266e-6, to 0.50 s = 6.1 mm). Resumable: run it again and an
 # interrupted step continues from its checkpoint, a finished one is skipped.
