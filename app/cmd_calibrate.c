@@ -27,7 +27,11 @@ const char *const calibrate_help =
     "  OUT/runs.csv      every run: value, measured, within the tolerance, wall time, folder\n"
     "  OUT/response.png  measured against value, with the target band (gnuplot)\n"
     "  OUT/best.yaml     the case with the value of the run nearest the target written in\n"
-    "  OUT/summary.md    the outcome: found or not and why, the bracket, every run\n"
+    "  OUT/summary.md    the outcome: found or not and why, the bracket, every run, and the\n"
+    "                    response fit: the least-squares line through the runs of the first\n"
+    "                    scan's bracket, where it meets the target +- its standard error (a\n"
+    "                    noisy response, such as a pile's angle, is better read off the fit\n"
+    "                    than off the one run that happened to fall within the tolerance)\n"
     "\n"
     "Targets:\n"
     "  repose:lab=40+-1         angle of repose of the pile in the last frame, deg, by the\n"
@@ -256,6 +260,13 @@ int cmd_calibrate(int argc, char **argv) {
   if (res.bracketed)
     printf("bracket          [%.10g, %.10g]; the line meets the target at %.10g\n", res.x_lo,
            res.x_hi, res.x_interp);
+  if (res.fit.n >= 3 && isfinite(res.fit.x))
+    printf("response fit     %.6g +- %.3g (standard error; %d runs in [%.6g, %.6g], scatter %.3g "
+           "about the line)\n",
+           res.fit.x, res.fit.x_se, res.fit.n, res.fit.lo, res.fit.hi, res.fit.noise);
+  else if (res.fit.n == 2 && isfinite(res.fit.x))
+    printf("response fit     %.6g (2 runs in [%.6g, %.6g]: no scatter estimate)\n", res.fit.x,
+           res.fit.lo, res.fit.hi);
   printf("written          %s/runs.csv, response.png, best.yaml, summary.md\n", o.out_dir);
   int found = res.found;
   adem_calib_result_free(&res);

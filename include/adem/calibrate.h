@@ -103,6 +103,24 @@ typedef struct adem_calib_run {
   char dir[4200];
 } adem_calib_run;
 
+/* A noisy response (a pile's angle changes by degrees between neighbouring values, as a
+ * different seed changes it) cannot be read off one run: the least-squares line through the runs
+ * of a window [lo, hi] of the value, where it meets the target, and how well the runs place it. */
+typedef struct adem_calib_fit {
+  int n;            /* runs in the window (0: no fit) */
+  double lo, hi;    /* the window of values */
+  double slope;     /* response per unit of value */
+  double intercept; /* response at value 0 */
+  double x;         /* where the line meets the target (NaN: slope 0) */
+  double noise;     /* sd of the responses about the line, n - 2 degrees of freedom (NaN: n < 3) */
+  double x_scatter; /* noise / |slope|: one run's scatter expressed as a value */
+  double x_se;      /* standard error of x: x_scatter sqrt(1/n + (x - mean)^2 / Sxx) */
+} adem_calib_fit;
+
+/* The fit of the n points (x[k], y[k]) whose x lies in [lo, hi], against target. */
+adem_calib_fit adem_calib_fit_line(const double *x, const double *y, size_t n, double lo, double hi,
+                                   double target);
+
 typedef struct adem_calib_result {
   bool found;                  /* a run's response is within the target's tolerance */
   bool bracketed;              /* two runs' responses lie on either side of the target */
@@ -111,6 +129,8 @@ typedef struct adem_calib_result {
   double x_interp;             /* the value where the line through the bracket's ends meets the
                                   target (NaN when not bracketed) */
   double x_band_lo, x_band_hi; /* where that line is within the tolerance */
+  adem_calib_fit fit;          /* the least-squares line through the runs of the first scan's
+                                  bracket (adem_calib_fit_line) */
   size_t nruns;
   adem_calib_run *runs; /* in the order they were asked for */
 } adem_calib_result;

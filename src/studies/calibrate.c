@@ -518,6 +518,59 @@ static void assess(calib *cb) {
   free(p);
 }
 
+adem_calib_fit adem_calib_fit_line(const double *x, const double *y, size_t n, double lo, double hi,
+                                   double target) {
+  adem_calib_fit f = {0, lo, hi, NAN, NAN, NAN, NAN, NAN, NAN};
+  double sx = 0.0, sy = 0.0;
+  for (size_t k = 0; k < n; ++k)
+    if (x[k] >= lo && x[k] <= hi && isfinite(y[k])) sx += x[k], sy += y[k], ++f.n;
+  if (f.n < 2) return f;
+  double mx = sx / f.n, my = sy / f.n, sxx = 0.0, sxy = 0.0;
+  for (size_t k = 0; k < n; ++k)
+    if (x[k] >= lo && x[k] <= hi && isfinite(y[k]))
+      sxx += (x[k] - mx) * (x[k] - mx), sxy += (x[k] - mx) * (y[k] - my);
+  if (!(sxx > 0.0)) return f;
+  f.slope = sxy / sxx;
+  f.intercept = my - f.slope * mx;
+  if (f.slope != 0.0) f.x = (target - f.intercept) / f.slope;
+  if (f.n < 3) return f; /* a line through two points says nothing of the scatter */
+  double ssr = 0.0;
+  for (size_t k = 0; k < n; ++k)
+    if (x[k] >= lo && x[k] <= hi && isfinite(y[k])) {
+      double r = y[k] - (f.intercept + f.slope * x[k]);
+      ssr += r * r;
+    }
+  f.noise = sqrt(ssr / (f.n - 2));
+  f.x_scatter = f.noise / fabs(f.slope);
+  f.x_se = f.x_scatter * sqrt(1.0 / f.n + (f.x - mx) * (f.x - mx) / sxx);
+  return f;
+}
+
+/* The line through the runs of the first scan's bracket that holds the final bracket: every
+ * narrowing run lies in it, so the fit uses them all, and no run of a far, curved part of the
+ * range. */
+static void fit_response(calib *cb) {
+  adem_calib_result *res = cb->res;
+  res->fit = adem_calib_fit_line(NULL, NULL, 0, NAN, NAN, NAN);
+  if (!res->bracketed) return;
+  size_t scan = (size_t)cb->o->points < res->nruns ? (size_t)cb->o->points : res->nruns;
+  double lo = -INFINITY, hi = INFINITY;
+  for (size_t k = 0; k < scan; ++k) {
+    const adem_calib_run *r = &res->runs[k];
+    if (!isfinite(r->y)) continue;
+    if (r->x <= res->x_lo && r->x > lo) lo = r->x;
+    if (r->x >= res->x_hi && r->x < hi) hi = r->x;
+  }
+  if (!isfinite(lo) || !isfinite(hi)) return;
+  double *x = malloc((res->nruns + 1) * sizeof *x), *y = malloc((res->nruns + 1) * sizeof *y);
+  if (x && y) {
+    for (size_t k = 0; k < res->nruns; ++k) x[k] = res->runs[k].x, y[k] = res->runs[k].y;
+    res->fit = adem_calib_fit_line(x, y, res->nruns, lo, hi, cb->o->target.value);
+  }
+  free(x);
+  free(y);
+}
+
 /* The response of the bracket's ends, to place the next value. */
 static double y_at(const adem_calib_result *res, double x) {
   for (size_t i = 0; i < res->nruns; ++i)
@@ -618,6 +671,7 @@ adem_status adem_calibrate(const adem_calib_options *o, adem_calib_result *res, 
   }
   free(xs);
   if (st) return st;
+  fit_response(&cb);
   return write_outputs(&cb, why, err);
 }
 
@@ -663,6 +717,17 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
              t->kind == ADEM_CALIB_LOAD && t->component < 3 ? "." : "",
              t->kind == ADEM_CALIB_LOAD && t->component < 3 ? (const char *[]){"x", "y", "z"}[t->component] : "");
     double pad = 0.05 * (o->vary.hi - o->vary.lo);
+    /* the response fit's line over its window, when there is one */
+    const adem_calib_fit *f = &res->fit;
+    char fit_clause[200] = "", fit_data[200] = "";
+    if (f->n >= 2 && isfinite(f->x)) {
+      snprintf(fit_clause, sizeof fit_clause,
+               ", \\\n '-' using 1:2 with lines lw 2 lc rgb '#2ca02c' title 'least-squares line "
+               "(%d runs): %.4g'",
+               f->n, f->x);
+      snprintf(fit_data, sizeof fit_data, "%.17g,%.17g\n%.17g,%.17g\ne\n", f->lo,
+               f->intercept + f->slope * f->lo, f->hi, f->intercept + f->slope * f->hi);
+    }
     snprintf(body, sizeof body,
              "set datafile separator ','\nset title \"adem calibrate: %s against %s\" noenhanced\n"
              "set xlabel '%s' noenhanced\nset ylabel '%s (%s)' noenhanced\nset grid\n"
@@ -671,12 +736,12 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
              "fs solid 0.6 behind\n"
              "plot %s skip 1 using 2:3 with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'runs', \\\n"
              " %.17g with lines lc rgb 'black' dt 2 title 'target %.6g +- %.6g (grey band)', \\\n"
-             " '-' using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '#d62728' title 'best run'\n"
-             "%.17g,%.17g\ne\n",
+             " '-' using 1:2 with points pt 6 ps 2.5 lw 2 lc rgb '#d62728' title 'best run'%s\n"
+             "%.17g,%.17g\ne\n%s",
              t->text, o->vary.key, o->vary.key, label, unit_of(t), o->vary.lo - pad,
              o->vary.hi + pad, t->value - t->tol, t->value + t->tol,
-             adem_plot_quote(csv, q, sizeof q), t->value, t->value, t->tol, res->x_best,
-             res->y_best);
+             adem_plot_quote(csv, q, sizeof q), t->value, t->value, t->tol, fit_clause,
+             res->x_best, res->y_best, fit_data);
     /* a machine without gnuplot still gets the CSV and the summary */
     adem_error pe;
     memset(&pe, 0, sizeof pe);
@@ -744,6 +809,24 @@ static adem_status write_outputs(calib *cb, const char *why, adem_error *err) {
                       "%.10g and is within the tolerance over [%.10g, %.10g].\n",
                 res->x_lo,
                 res->x_hi, res->x_interp, res->x_band_lo, res->x_band_hi);
+      const adem_calib_fit *f = &res->fit;
+      if (f->n >= 2 && isfinite(f->x)) {
+        fprintf(af.f, "\nResponse fit: the least-squares line through the %d runs with %s in "
+                      "[%.6g, %.6g] (the first scan's bracket) meets the target at **%.6g**",
+                f->n, o->vary.key, f->lo, f->hi, f->x);
+        if (f->n >= 3)
+          fprintf(af.f, " ± %.3g (standard error); slope %.4g %s per unit, scatter of the runs "
+                        "about the line %.3g %s, that is %.3g in %s for a single run%s.\n",
+                  f->x_se, f->slope, unit_of(t), f->noise, unit_of(t), f->x_scatter, o->vary.key,
+                  f->noise > t->tol ? ": the scatter exceeds the tolerance, so the run found "
+                                      "within it owes that partly to chance, and the fit is the "
+                                      "better estimate (more runs in the window, or more seeds, "
+                                      "narrow it)"
+                                    : "");
+        else
+          fprintf(af.f, " (two runs: no estimate of the scatter; slope %.4g %s per unit).\n",
+                  f->slope, unit_of(t));
+      }
       fprintf(af.f, "\n| run | %s | measured (%s) | within | wall s |\n|---|---|---|---|---|\n",
               o->vary.key, unit_of(t));
       for (size_t i = 0; i < res->nruns; ++i) {
