@@ -90,6 +90,10 @@ points=(
   "4|full-E5.9|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=5.9e9 time.step=8e-6"
   "4|full-E11.8|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=11.8e9 time.step=6e-6"
   "4|full-E23.6|repose.yaml|rate=100 n=1600 full materials.ballast.youngs_modulus=23.6e9 time.step=4e-6"
+  # The screen's decisive points confirmed at paper scale (issue 30, item 2): no hopper, and the
+  # floor's rolling friction at 0.05.
+  "5|full-inlet|repose-study/inlet.yaml|rate=100 n=1600 full"
+  "5|full-floor-eta0.05|repose.yaml|rate=100 n=1600 full interactions.2.rolling_friction=0.05 $wide"
 )
 
 mkdir -p "$out"
@@ -109,7 +113,7 @@ measure() { # dir
   "$adem" analyze repose "$1" --zmax 0.65 > "$1/measure.txt" 2>&1 || echo "analyze failed: $1" >&2
 }
 
-for tier in 1 2 3 4; do
+for tier in 1 2 3 4 5; do
 for seed in "${seeds[@]}"; do
   for p in "${points[@]}"; do
     IFS='|' read -r ptier name case spec <<< "$p"
