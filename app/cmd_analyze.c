@@ -1,6 +1,7 @@
 /* adem analyze: measurements on a run's output folder. `adem analyze repose OUTDIR` measures the
  * pile in the last frame (angle of repose by two methods, height, base radius); `adem analyze
- * drum OUTDIR` the free surface of a rotating drum over its frames (adem/drum.h). */
+ * drum OUTDIR` the free surface of a rotating drum over its frames (adem/drum.h); `adem analyze
+ * push PUSH_DIR` a sleeper push's shares by face (adem/studies.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 
 #include "adem/pile.h"
 #include "adem/drum.h"
+#include "adem/studies.h"
 #include "cli.h"
 
 const char *const analyze_help =
@@ -46,7 +48,15 @@ const char *const analyze_help =
     "(where the velocity along the surface turns from downhill to uphill), the wall layer's\n"
     "co-rotation (its mean tangential speed over the drum's at its centres) and slip speed, and\n"
     "the drive torque (the CSV's WALL_t_axis_Nm) against the bed's gravity moment m g x_cm.\n"
-    "Writes OUTDIR/drum.csv (per frame) and OUTDIR/drum.png (docs/walls.md).\n";
+    "Writes OUTDIR/drum.csv (per frame) and OUTDIR/drum.png (docs/walls.md).\n"
+    "\n"
+    "Usage: adem analyze push PUSH_DIR\n"
+    "\n"
+    "The lateral resistance of a sleeper push of cases/irazabal/ballast (push.yaml, or a variant\n"
+    "such as ballast/vertical-crib.sh's) and its shares by face group, read from the push's\n"
+    "timeseries.csv as `adem validate irazabal-fig17` reads its own: base, cribs, shoulder end\n"
+    "and far end at 0-0.3, 1, 3 and 6 mm, and the displacement from which the shoulder carries\n"
+    "the most (Irazabal et al. 2017, Fig. 17). Writes PUSH_DIR/shares.csv and shares.png.\n";
 
 static int pair(const char *s, double *a, double *b) {
   char *end;
@@ -108,6 +118,27 @@ static int analyze_drum(int argc, char **argv) {
   return EXIT_OK;
 }
 
+static int analyze_push(int argc, char **argv) {
+  if (argc != 2) return fail(EXIT_INPUT, "adem analyze push needs a push's output folder and nothing else");
+  adem_error err;
+  memset(&err, 0, sizeof err);
+  adem_push_shares r;
+  adem_status st = adem_push_shares_analyze(argv[1], &r, &err);
+  if (st) return fail(exit_code(st), "%s", err.message);
+  static const char *const at[4] = {"0-0.3 mm", "1 mm", "3 mm", "6 mm"};
+  printf("push             %s, to u = %.2f mm\n", argv[1], r.u_end * 1e3);
+  printf("%-16s %9s %8s %8s %8s %8s\n", "share at", "R (kN)", "base", "cribs", "shoulder", "far end");
+  for (int k = 0; k < 4; ++k) {
+    printf("%-16s %9.2f", at[k], r.R[k] * 1e-3);
+    for (int q = 0; q < 4; ++q) printf(" %7.1f%%", 100.0 * r.share[k][q]);
+    printf("\n");
+  }
+  if (isfinite(r.crossing)) printf("shoulder         carries the most from u = %.1f mm\n", r.crossing * 1e3);
+  else printf("shoulder         does not carry the most at the end\n");
+  printf("written          %s%s%s\n", r.csv, r.png[0] ? ", " : "", r.png);
+  return EXIT_OK;
+}
+
 int cmd_analyze(int argc, char **argv) {
   if (argc < 1 || !strcmp(argv[0], "-h") || !strcmp(argv[0], "--help")) {
     fputs(analyze_help, argc < 1 ? stderr : stdout);
@@ -115,8 +146,9 @@ int cmd_analyze(int argc, char **argv) {
   }
   if (strcmp(argv[0], "fields") == 0) return cmd_analyze_fields(argc - 1, argv + 1);
   if (!strcmp(argv[0], "drum")) return analyze_drum(argc, argv);
+  if (!strcmp(argv[0], "push")) return analyze_push(argc, argv);
   if (strcmp(argv[0], "repose") != 0)
-    return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields, drum (see: adem "
+    return fail(EXIT_INPUT, "unknown analysis '%s'; there are: repose, fields, drum, push (see: adem "
                             "analyze --help)",
                 argv[0]);
   if (argc < 2) return fail(EXIT_INPUT, "adem analyze repose needs a run's output folder");

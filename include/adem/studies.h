@@ -212,6 +212,25 @@ size_t adem_collide_fit_power(const double *x, const double *y, size_t n, double
  * restitution and surface energy; the rest of *s is left as it is. */
 adem_status adem_collide_psl_quartz(adem_collide_spec *s, adem_error *err);
 
+/* ---------------------------------------------------------------- a sleeper push */
+
+/* The lateral resistance of one sleeper push of cases/irazabal/ballast (push.yaml: the push
+ * begins at t = 0.19 s) and its shares by face group, read from PUSH_DIR/timeseries.csv as
+ * irazabal-fig17 reads its own push: rows binned by the sleeper's displacement in 0.1 mm bins,
+ * each group's mean -F_x over the bin's mean resistance. Writes PUSH_DIR/shares.csv (every bin)
+ * and PUSH_DIR/shares.png (gnuplot; png[0] == 0 when it could not be drawn). */
+typedef struct adem_push_shares {
+  double u_end;       /* the sleeper's displacement at the last row, m */
+  double share[4][4]; /* at 0-0.3 mm, 1, 3 and 6 mm (the bins within 0.2 mm of each): base,
+                       * cribs (both faces), shoulder end, far end */
+  double R[4];        /* the lateral resistance there, N */
+  double crossing;    /* the displacement from which the shoulder carries the most of base, cribs
+                       * and shoulder in every later bin, m (NaN: not at the end) */
+  char csv[4200], png[4200];
+} adem_push_shares;
+
+adem_status adem_push_shares_analyze(const char *push_dir, adem_push_shares *out, adem_error *err);
+
 /* ---------------------------------------------------------------- validations */
 
 /* Paper reproductions (`adem validate`): each writes DIR/NAME.csv and DIR/NAME.png and reports

@@ -13,6 +13,7 @@
 
 #include "adem/case.h"
 #include "adem/files.h"
+#include "adem/internal/plot.h"
 #include "adem/run.h"
 #include "adem/studies.h"
 #include "embedded.h"
@@ -307,10 +308,9 @@ typedef struct push_result {
 
 static const char *const groups[] = {"base", "top", "crib_front", "crib_back", "shoulder_end", "far_end"};
 
-static adem_status measure_push(const char *base, const push_config *p, push_result *r, adem_error *err) {
+/* One push's time series (PATH: its timeseries.csv), binned by the displacement. */
+static adem_status measure_push_csv(const char *path, push_result *r, adem_error *err) {
   memset(r, 0, sizeof *r);
-  char path[4200];
-  snprintf(path, sizeof path, "%s/push-%s/timeseries.csv", base, p->label);
   series s;
   adem_status st = series_read(path, &s, err);
   if (st) return st;
@@ -386,6 +386,12 @@ static adem_status measure_push(const char *base, const push_config *p, push_res
   return ADEM_OK;
 }
 
+static adem_status measure_push(const char *base, const push_config *p, push_result *r, adem_error *err) {
+  char path[4200];
+  snprintf(path, sizeof path, "%s/push-%s/timeseries.csv", base, p->label);
+  return measure_push_csv(path, r, err);
+}
+
 /* The mean of a binned column over bins whose centre lies in [u0, u1] m. */
 static double mean_over(const double *v, size_t stride, double u0, double u1) {
   double s = 0.0;
@@ -395,6 +401,19 @@ static double mean_over(const double *v, size_t stride, double u0, double u1) {
     if (u >= u0 && u <= u1 && isfinite(x)) s += x, ++n;
   }
   return n ? s / n : NAN;
+}
+
+/* The displacement from which the shoulder carries the most of base, cribs and shoulder in
+ * every later bin, m (NaN: it does not at the end). */
+static double shoulder_crossing(const push_result *r) {
+  double cross = NAN;
+  for (int b = NBIN - 1; b >= 0; --b) {
+    const double *s = r->share[b];
+    if (!isfinite(s[2])) continue;
+    if (s[2] >= s[0] && s[2] >= s[1]) cross = b * bin_m;
+    else break;
+  }
+  return cross;
 }
 
 /* Runs (or reads) the packing and every push of this variant. */
@@ -583,13 +602,7 @@ static adem_status fig17(const adem_validation_context *ctx, const char *name,
   double base3 = mean_over(&r->share[0][0], 4, 2.8e-3, 3.2e-3);
   double sh0 = mean_over(&r->share[0][2], 4, 0.0, 3e-4), sh3 = mean_over(&r->share[0][2], 4, 2.8e-3, 3.2e-3);
   double crib0 = mean_over(&r->share[0][1], 4, 0.0, 3e-4), crib3 = mean_over(&r->share[0][1], 4, 2.8e-3, 3.2e-3);
-  double cross = NAN; /* the displacement from which the shoulder carries the most */
-  for (int b = NBIN - 1; b >= 0; --b) {
-    const double *s = r->share[b];
-    if (!isfinite(s[2])) continue;
-    if (s[2] >= s[0] && s[2] >= s[1]) cross = b * bin_m;
-    else break;
-  }
+  double cross = shoulder_crossing(r); /* the displacement from which the shoulder carries the most */
   bool start = base0 >= 0.40 && base0 <= 0.60, late = base3 < 0.30;
   bool shoulder = isfinite(cross) && cross <= 1.0e-3 + 1e-12;
   /* quick: the base carries the most at first (the sleeper's weight on a frictional base) and
@@ -632,6 +645,63 @@ static adem_status fig17(const adem_validation_context *ctx, const char *name,
            p->label);
   (void)adem_validation_plot(ctx, name, 1000, 650, body, err);
   free(r);
+  return ADEM_OK;
+}
+
+/* ---------------------------------------------------------------- one push, analysed */
+
+adem_status adem_push_shares_analyze(const char *push_dir, adem_push_shares *out, adem_error *err) {
+  memset(out, 0, sizeof *out);
+  char path[4200];
+  snprintf(path, sizeof path, "%s/timeseries.csv", push_dir);
+  push_result *r = calloc(1, sizeof *r);
+  if (!r) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  adem_status st = measure_push_csv(path, r, err);
+  if (!st && !(r->u_end > 0.0))
+    st = adem_error_set(err, ADEM_ERR_INPUT, "%s: the sleeper has not moved (no row of a push after "
+                                             "t = %.2f s)",
+                        path, settle_end);
+  /* Fig. 17's displacements: the start (0-0.3 mm, as irazabal-fig17), 1, 3 (2.8-3.2 mm, as
+   * irazabal-fig17) and 6 mm */
+  static const double at[4][2] = {{0.0, 3e-4}, {0.8e-3, 1.2e-3}, {2.8e-3, 3.2e-3}, {5.8e-3, 6.2e-3}};
+  for (int k = 0; k < 4 && !st; ++k) {
+    for (int q = 0; q < 4; ++q) out->share[k][q] = mean_over(&r->share[0][q], 4, at[k][0], at[k][1]);
+    out->R[k] = mean_over(r->R, 1, at[k][0], at[k][1]);
+  }
+  out->crossing = st ? NAN : shoulder_crossing(r);
+  out->u_end = r->u_end;
+  adem_table tab;
+  if (!st && adem_table_init(&tab, "u_mm,R_kN,share_base,share_cribs,share_shoulder,share_far_end")) {
+    free(r);
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  }
+  if (!st) {
+    for (int b = 0; b < NBIN && !st; ++b) {
+      if (!r->count[b]) continue;
+      double row[6] = {(b + 0.5) * bin_m * 1e3, r->R[b] * 1e-3, r->share[b][0], r->share[b][1],
+                       r->share[b][2], r->share[b][3]};
+      if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+    }
+    snprintf(out->csv, sizeof out->csv, "%s/shares.csv", push_dir);
+    snprintf(out->png, sizeof out->png, "%s/shares.png", push_dir);
+    if (!st) st = adem_table_write_csv(&tab, out->csv, err);
+    adem_table_free(&tab);
+  }
+  free(r);
+  if (st) return st;
+  char body[8192], q[4200];
+  snprintf(body, sizeof body,
+           "set datafile separator ','\nset title 'Share of the lateral resistance by face' "
+           "noenhanced\nset xlabel 'sleeper displacement (mm)'\nset ylabel 'share of the lateral "
+           "force (%%)'\nset grid\nset key top right\nset yrange [-10:100]\n"
+           "plot %s skip 1 using 1:(100*$3) with lines lw 2 title 'base', \\\n"
+           " '' skip 1 using 1:(100*$4) with lines lw 2 title 'cribs', \\\n"
+           " '' skip 1 using 1:(100*$5) with lines lw 3 title 'shoulder', \\\n"
+           " '' skip 1 using 1:(100*$6) with lines lw 1 title 'far end'\n",
+           adem_plot_quote(out->csv, q, sizeof q));
+  adem_error pe;
+  memset(&pe, 0, sizeof pe);
+  if (adem_plot_png(out->png, 900, 600, body, &pe)) out->png[0] = '\0'; /* no gnuplot: the CSV only */
   return ADEM_OK;
 }
 

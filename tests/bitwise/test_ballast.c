@@ -4,7 +4,8 @@
  * force equal to the sum of its face groups; the quick irazabal-fig17 finds the base's share
  * falling and the shoulder's rising. And the validation can fail: the same push with a
  * frictionless sleeper-ballast contact (the base can then carry no lateral force) fails
- * irazabal-fig17. */
+ * irazabal-fig17. `adem analyze push` (adem_push_shares_analyze) reads both pushes as the
+ * validation does: the same binned shares. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -43,6 +44,35 @@ static void print_measured(const char *dir, const char *key) {
   free(text);
 }
 
+/* The rows of adem_push_shares_analyze's CSV equal the validation's own CSV where its bins hold
+ * rows (both print the same binned numbers): the analysis of one push is the validation's. */
+static void check_push_analysis_matches(const char *push_dir, const char *fig17_csv) {
+  adem_push_shares r;
+  adem_error err;
+  if (adem_push_shares_analyze(push_dir, &r, &err)) fail_msg("%s", err.message);
+  FILE *a = fopen(r.csv, "r"), *b = fopen(fig17_csv, "r");
+  assert_non_null(a);
+  assert_non_null(b);
+  char la[512], lb[512];
+  int rows = 0;
+  assert_non_null(fgets(la, sizeof la, a));
+  assert_non_null(fgets(lb, sizeof lb, b));
+  assert_string_equal(la, lb); /* the same header */
+  while (fgets(la, sizeof la, a)) {
+    do
+      assert_non_null(fgets(lb, sizeof lb, b));
+    while (strstr(lb, "nan")); /* a bin without a row: the analysis leaves it out */
+    assert_string_equal(la, lb);
+    ++rows;
+  }
+  fclose(a);
+  fclose(b);
+  printf("# adem analyze push: %d bins equal to irazabal-fig17.csv; base %.0f%% at 0-0.3 mm, "
+         "shoulder %.0f%% at 3 mm\n",
+         rows, 100 * r.share[0][0], 100 * r.share[2][2]);
+  assert_true(rows > 50);
+}
+
 static void test_quick_figs_and_a_wrong_law(void **state) {
   (void)state;
   char good[512], bad[512];
@@ -56,6 +86,10 @@ static void test_quick_figs_and_a_wrong_law(void **state) {
   print_measured(good, "Initial slope");
   print_measured(good, "E1.77: base");
   assert_int_equal(failed, 0);
+  char push[600], csv[600];
+  snprintf(push, sizeof push, "%s/irazabal-ballast/push-E1.77", good);
+  snprintf(csv, sizeof csv, "%s/irazabal-fig17.csv", good);
+  check_push_analysis_matches(push, csv);
 
   /* The wrong law: no friction between sleeper and ballast. The packing and the other push are
    * shared with the run above; the validation finds them finished. */
@@ -94,6 +128,11 @@ static void test_quick_figs_and_a_wrong_law(void **state) {
   if (adem_validation_run(fig17, 1, &bctx, &failed, &err)) fail_msg("%s", err.message);
   print_measured(bad, "E1.77: base");
   assert_int_equal(failed, 1);
+  /* the analysis reads the failing push as the validation does */
+  char bad_csv[600];
+  snprintf(out, sizeof out, "%s/push-E1.77", base);
+  snprintf(bad_csv, sizeof bad_csv, "%s/irazabal-fig17.csv", bad);
+  check_push_analysis_matches(out, bad_csv);
 }
 
 int main(void) {

@@ -12,7 +12,7 @@
 #   nice -n 19 cases/irazabal/ballast/vertical-crib.sh [OUT]      # default out/vertical-crib
 #
 # The face groups' forces are the sleeper's columns of OUT/push-E17.7/timeseries.csv
-# (sleeper__base_*, sleeper__crib_front_*, ...); shares.py reads the shares at 1, 3 and 6 mm and
+# (sleeper__base_*, sleeper__crib_front_*, ...); `adem analyze push` reads the shares at 1, 3 and 6 mm and
 # the displacement where the shoulder overtakes the cribs as irazabal-fig17 reads them.
 # Measured on 2026-11-28 (docs/validation.md, "Fig. 17's shoulder with vertical crib faces"):
 # the push took about 45 min of one core (two segments); the shoulder never carries the most.
@@ -43,4 +43,4 @@ step "$out/push-E17.7" 0.5 "$out/push.yaml" \
   --set "stages.settle.set={materials.ballast.youngs_modulus: $E}" \
   --set time.step=5e-6 --set time.end=0.5 --set walls.sleeper.motion.servo.gain=1.29266e-6
 # Fig. 17's shares and the crossing, as irazabal-fig17 reads them (push-E17.7/shares.csv, .png)
-/usr/bin/python3 "$here/shares.py" "$out/push-E17.7"
+"$adem" analyze push "$out/push-E17.7"
