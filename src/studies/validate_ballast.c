@@ -661,32 +661,33 @@ adem_status adem_push_shares_analyze(const char *push_dir, adem_push_shares *out
     st = adem_error_set(err, ADEM_ERR_INPUT, "%s: the sleeper has not moved (no row of a push after "
                                              "t = %.2f s)",
                         path, settle_end);
+  if (st) {
+    free(r);
+    return st;
+  }
   /* Fig. 17's displacements: the start (0-0.3 mm, as irazabal-fig17), 1, 3 (2.8-3.2 mm, as
    * irazabal-fig17) and 6 mm */
   static const double at[4][2] = {{0.0, 3e-4}, {0.8e-3, 1.2e-3}, {2.8e-3, 3.2e-3}, {5.8e-3, 6.2e-3}};
-  for (int k = 0; k < 4 && !st; ++k) {
+  for (int k = 0; k < 4; ++k) {
     for (int q = 0; q < 4; ++q) out->share[k][q] = mean_over(&r->share[0][q], 4, at[k][0], at[k][1]);
     out->R[k] = mean_over(r->R, 1, at[k][0], at[k][1]);
   }
-  out->crossing = st ? NAN : shoulder_crossing(r);
+  out->crossing = shoulder_crossing(r);
   out->u_end = r->u_end;
+  snprintf(out->csv, sizeof out->csv, "%s/shares.csv", push_dir);
+  snprintf(out->png, sizeof out->png, "%s/shares.png", push_dir);
   adem_table tab;
-  if (!st && adem_table_init(&tab, "u_mm,R_kN,share_base,share_cribs,share_shoulder,share_far_end")) {
-    free(r);
-    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
+  st = adem_table_init(&tab, "u_mm,R_kN,share_base,share_cribs,share_shoulder,share_far_end")
+           ? adem_error_set(err, ADEM_ERR_NOMEM, "out of memory")
+           : ADEM_OK;
+  for (int b = 0; b < NBIN && !st; ++b) {
+    if (!r->count[b]) continue; /* a bin the sleeper passed between two rows */
+    double row[6] = {(b + 0.5) * bin_m * 1e3, r->R[b] * 1e-3, r->share[b][0], r->share[b][1],
+                     r->share[b][2], r->share[b][3]};
+    if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   }
-  if (!st) {
-    for (int b = 0; b < NBIN && !st; ++b) {
-      if (!r->count[b]) continue;
-      double row[6] = {(b + 0.5) * bin_m * 1e3, r->R[b] * 1e-3, r->share[b][0], r->share[b][1],
-                       r->share[b][2], r->share[b][3]};
-      if (adem_table_add(&tab, row)) st = adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
-    }
-    snprintf(out->csv, sizeof out->csv, "%s/shares.csv", push_dir);
-    snprintf(out->png, sizeof out->png, "%s/shares.png", push_dir);
-    if (!st) st = adem_table_write_csv(&tab, out->csv, err);
-    adem_table_free(&tab);
-  }
+  if (!st) st = adem_table_write_csv(&tab, out->csv, err);
+  adem_table_free(&tab);
   free(r);
   if (st) return st;
   char body[8192], q[4200];
