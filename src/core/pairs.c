@@ -6,14 +6,14 @@
 #include "log.h"
 
 static const adem_soa_field pair_fields[] = {
-#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type)},
+#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type), 0},
     ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
 };
 static const adem_soa_layout pair_layout = {pair_fields, sizeof pair_fields / sizeof pair_fields[0]};
 
 static const adem_soa_field slot_fields[] = {
-#define ADEM_X(type, name, saved, doc) {#name, offsetof(adem_mesh_pairs, name), sizeof(type)},
+#define ADEM_X(type, name, saved, doc) {#name, offsetof(adem_mesh_pairs, name), sizeof(type), 0},
     ADEM_MESH_SLOT_FIELDS(ADEM_X)
 #undef ADEM_X
 };
@@ -21,13 +21,13 @@ static const adem_soa_layout slot_layout = {slot_fields, sizeof slot_fields / si
 
 static const adem_soa_field saved_slot_fields[] = {
 #define ADEM_X(type, name, saved, doc) \
-  {saved ? #name : NULL, offsetof(adem_mesh_pairs, name), sizeof(type)},
+  {saved ? #name : NULL, offsetof(adem_mesh_pairs, name), sizeof(type), 0},
     ADEM_MESH_SLOT_FIELDS(ADEM_X)
 #undef ADEM_X
 };
 
 /* The balance records as a layout of their own, grown, reordered and saved only while kept. */
-static const adem_soa_field balance_fields[] = {{"bal", offsetof(adem_pair_list, bal), sizeof(adem_pair_balance)}};
+static const adem_soa_field balance_fields[] = {{"bal", offsetof(adem_pair_list, bal), sizeof(adem_pair_balance), 0}};
 static const adem_soa_layout balance_layout = {balance_fields, 1};
 
 size_t adem_pairs_item_bytes(bool with_balance) {

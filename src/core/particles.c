@@ -10,7 +10,7 @@
 #include "parallel.h"
 
 static const adem_soa_field particle_fields[] = {
-#define ADEM_X(type, name, doc) {#name, offsetof(adem_particles, name), sizeof(type)},
+#define ADEM_X(type, name, doc) {#name, offsetof(adem_particles, name), sizeof(type), 0},
     ADEM_PARTICLE_FIELDS(ADEM_X)
 #undef ADEM_X
 };
