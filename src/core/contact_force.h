@@ -283,7 +283,7 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
  * zero (the build clears new pairs, open_pair clears an opening one) except what open_pair left
  * for the pass in which it opened, and marked opened: its break correction, and with the balance
  * on its lost spring energy (a balance switched on starts from zeroed records: world.c,
- * sync_balance_records). Zeroing those is the same as clearing the pair; a pair apart for longer
+ * sync_optional_fields). Zeroing those is the same as clearing the pair; a pair apart for longer
  * is not written at all (its records stay out of the cache). */
 static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
   if (!l->opened[k]) return;

@@ -64,7 +64,7 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
   {
     /* body forces: (m g + the group's force) + the particle's own external force */
     adem_vec3 f = v3_add(v3_add(v3_scale(g, 1.0 / p->inv_mass[i]), w->groups[p->group[i]].external_force),
-                         p->ext_force[i]);
+                         adem_particles_ext_force(p, i));
     adem_vec3 t = v3_zero(), roll = v3_zero();
     double ri = p->radius[i]; /* the arm of its contacts' tangential forces */
     particle_energy en = {v3_zero(), v3_zero(), 0.0, 0.0, 0.0};
@@ -190,7 +190,8 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       en.P_d += p_wall;
       en.P_w += p_wall;
       /* no partner takes the share of the particle contacts back: angular momentum it adds */
-      p->brof_impulse[i] = v3_axpy(p->brof_impulse[i], dt * capacity_pp / capacity, t_brof);
+      if (p->brof_impulse) /* kept while a law is BROF (world.c); absent only when out of memory */
+        p->brof_impulse[i] = v3_axpy(p->brof_impulse[i], dt * capacity_pp / capacity, t_brof);
     }
     if (balance) account_energy(p, i, &en, f, t, held, dt);
     adem_particles_set_loads(p, i, f, t, roll, held);

@@ -12,7 +12,7 @@
 
 /* The motion of the wall particle i moves with, or NULL (fixed in space). */
 static const adem_motion *motion_of(const adem_world *w, size_t i) {
-  int32_t a = w->p.attach[i];
+  int32_t a = adem_particles_attach(&w->p, i);
   if (a > 0 && a - 1 < w->walls.mesh.ngroups) return &w->walls.mesh_motion[a - 1];
   if (a < 0 && -a - 1 < w->walls.nplanes) return &w->walls.planes[-a - 1].motion;
   return NULL;
@@ -29,6 +29,9 @@ adem_status adem_world_freeze_particle(adem_world *w, uint64_t id, int32_t attac
   while (i < p->n && p->id[i] != id) ++i;
   if (i == p->n)
     return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
+  if (adem_particles_keep(p, ADEM_PART_FROZEN))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory freezing particle id %llu",
+                          (unsigned long long)id);
   p->frozen[i] = 1;
   p->attach[i] = attach;
   w->frozen_any = true;
@@ -54,7 +57,7 @@ void adem_world_place_frozen(adem_world *w, double t) {
       p->vel[i] = p->omega[i] = v3_zero();
       continue;
     }
-    p->pos[i] = adem_motion_place(m, t, p->anchor[i]);
+    p->pos[i] = adem_motion_place(m, t, p->anchor[i]); /* attached: its kind is present */
     p->vel[i] = adem_motion_point_velocity(m, t, p->pos[i]);
     p->omega[i] = v3_scale(m->axis, m->omega);
   }
@@ -67,7 +70,7 @@ void adem_world_restart_anchors(adem_world *w, double t_s) {
     if (!p->frozen[i]) continue;
     const adem_motion *m = motion_of(w, i);
     /* a motion a stage has just begun counts from where the particle is now */
-    if (m && m->t0 == t_s) p->anchor[i] = p->pos[i];
+    if (m && m->t0 == t_s) p->anchor[i] = p->pos[i]; /* attached: its kind is present */
   }
 }
 
@@ -84,12 +87,13 @@ void adem_world_frozen_plane_forces(const adem_world *w, adem_vec3 *out) {
   uint32_t *order = NULL;
   if (!w->frozen_any) return;
   for (size_t i = 0; i < p->n && !order; ++i)
-    if (p->frozen[i] && p->attach[i] < 0) order = adem_world_id_order(w);
+    if (p->frozen[i] && adem_particles_attach(p, i) < 0) order = adem_world_id_order(w);
   if (!order) return; /* none (or out of memory: the walls' own contacts only) */
   for (size_t r = 0; r < p->n; ++r) {
     size_t i = order[r];
-    if (!p->frozen[i] || p->attach[i] >= 0 || -p->attach[i] - 1 >= w->walls.nplanes) continue;
-    int k = -p->attach[i] - 1;
+    int32_t a = adem_particles_attach(p, i);
+    if (!p->frozen[i] || a >= 0 || -a - 1 >= w->walls.nplanes) continue;
+    int k = -a - 1;
     out[k] = v3_add(out[k], contact_force(w, i));
   }
   free(order);
@@ -104,7 +108,7 @@ void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
   uint32_t *order = NULL;
   if (!w->frozen_any) return;
   for (size_t i = 0; i < p->n && !order; ++i)
-    if (p->frozen[i] && p->attach[i] > 0) order = adem_world_id_order(w);
+    if (p->frozen[i] && adem_particles_attach(p, i) > 0) order = adem_world_id_order(w);
   if (!order || ng == 0) {
     free(order);
     return;
@@ -118,8 +122,9 @@ void adem_world_frozen_mesh_loads(const adem_world *w, adem_vec3 *group_force,
   }
   for (size_t r = 0; r < p->n; ++r) {
     size_t i = order[r];
-    if (!p->frozen[i] || p->attach[i] <= 0 || p->attach[i] - 1 >= ng) continue;
-    int g = p->attach[i] - 1;
+    int32_t a = adem_particles_attach(p, i);
+    if (!p->frozen[i] || a <= 0 || a - 1 >= ng) continue;
+    int g = a - 1;
     adem_vec3 fc = contact_force(w, i);
     f[g] = v3_add(f[g], fc);
     /* about the group's point: the force at the centre and the contacts' torque about it */

@@ -314,3 +314,11 @@ void adem_materials_free(adem_materials *mt) {
   free(mt->defs);
   memset(mt, 0, sizeof *mt);
 }
+
+bool adem_materials_per_particle_rolling(const adem_materials *mt) {
+  for (int k = 0; k < mt->ndefs; ++k) {
+    const adem_law *law = adem_law_get(ADEM_SLOT_ROLLING, (int)mt->defs[k].rolling);
+    if (law && law->per_particle) return true;
+  }
+  return false;
+}

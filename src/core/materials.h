@@ -50,6 +50,9 @@ int adem_materials_find(const adem_materials *mt, const char *name);
  * must exist and fit together (a law's `requires`, e.g. DTK needs the JKR normal law). */
 int adem_materials_set_interaction(adem_materials *mt, const adem_interaction_def *def,
                                    adem_error *err);
+/* Whether an interaction entry has a rolling law that acts per particle (BROF); pairs without an
+ * entry take none. */
+bool adem_materials_per_particle_rolling(const adem_materials *mt);
 /* Derives the modified moduli and the pair table. */
 adem_status adem_materials_derive(adem_materials *mt, adem_error *err);
 void adem_materials_free(adem_materials *mt);

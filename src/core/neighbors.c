@@ -653,7 +653,8 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   if (2 * w->pp->n + 2 >= UINT32_MAX || n >= UINT32_MAX)
     return adem_error_set(err, ADEM_ERR_NOMEM, "too many particles or pairs for 32-bit indices");
   nb->periodic = scope->periodic ? *scope->periodic : (adem_periodic){0, {0}, {0}};
-  adem_particles_wrap(p, &nb->periodic, w->nthreads);
+  if (adem_particles_wrap(p, &nb->periodic, w->nthreads))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the periodic image counters");
 
   size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0, npp_old = w->pp->n;
   pair_key *saved_pp = save_pair_keys(w, w->pp, &nsaved_pp);

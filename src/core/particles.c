@@ -10,7 +10,7 @@
 #include "parallel.h"
 
 static const adem_soa_field particle_fields[] = {
-#define ADEM_X(type, name, doc) {#name, offsetof(adem_particles, name), sizeof(type), 0},
+#define ADEM_X(type, name, kind, doc) {#name, offsetof(adem_particles, name), sizeof(type), kind},
     ADEM_PARTICLE_FIELDS(ADEM_X)
 #undef ADEM_X
 };
@@ -30,6 +30,47 @@ adem_status adem_particles_reserve(adem_particles *p, size_t cap) {
 void adem_particles_free(adem_particles *p) {
   adem_soa_free(p, adem_particles_layout());
   memset(p, 0, sizeof *p);
+}
+
+adem_status adem_particles_keep(adem_particles *p, adem_particle_kind kind) {
+  if (kind == ADEM_PART_ALWAYS) return ADEM_OK; /* allocated by adem_particles_reserve */
+  adem_soa_layout L = adem_particles_layout();
+  for (size_t k = 0; k < L.count; ++k) {
+    void **a = (void **)((char *)p + L.fields[k].offset);
+    if (L.fields[k].kind != (int)kind || *a) continue;
+    *a = calloc(p->cap ? p->cap : 1, L.fields[k].elem); /* no particle yet: grown with the table */
+    if (!*a) {
+      adem_particles_drop(p, kind); /* all of a kind or none */
+      return ADEM_ERR_NOMEM;
+    }
+  }
+  return ADEM_OK;
+}
+
+void adem_particles_drop(adem_particles *p, adem_particle_kind kind) {
+  if (kind == ADEM_PART_ALWAYS) return;
+  adem_soa_layout L = adem_particles_layout();
+  for (size_t k = 0; k < L.count; ++k) {
+    void **a = (void **)((char *)p + L.fields[k].offset);
+    if (L.fields[k].kind != (int)kind) continue;
+    free(*a);
+    *a = NULL;
+  }
+}
+
+bool adem_particles_has(const adem_particles *p, adem_particle_kind kind) {
+  adem_soa_layout L = adem_particles_layout();
+  for (size_t k = 0; k < L.count; ++k)
+    if (L.fields[k].kind == (int)kind) return *(void *const *)((const char *)p + L.fields[k].offset) != NULL;
+  return false;
+}
+
+size_t adem_particles_kind_bytes(adem_particle_kind kind) {
+  adem_soa_layout L = adem_particles_layout();
+  size_t b = 0;
+  for (size_t k = 0; k < L.count; ++k)
+    if (L.fields[k].kind == (int)kind) b += L.fields[k].elem;
+  return b;
 }
 
 adem_status adem_particles_permute(adem_particles *p, const size_t *perm) {
@@ -73,8 +114,10 @@ size_t adem_particles_append(adem_particles *p, uint64_t id, adem_vec3 pos, adem
   if (p->n == p->cap && adem_particles_reserve(p, p->cap ? 2 * p->cap : 64)) return SIZE_MAX;
   size_t i = p->n++;
   adem_soa_layout L = adem_particles_layout();
-  for (size_t k = 0; k < L.count; ++k) /* every field starts at zero */
-    memset(*(char **)((char *)p + L.fields[k].offset) + i * L.fields[k].elem, 0, L.fields[k].elem);
+  for (size_t k = 0; k < L.count; ++k) { /* every field starts at zero (an absent one reads so) */
+    char *a = *(char **)((char *)p + L.fields[k].offset);
+    if (a) memset(a + i * L.fields[k].elem, 0, L.fields[k].elem);
+  }
   double mass = density * (4.0 / 3.0) * ADEM_PI * radius * radius * radius;
   p->pos[i] = pos;
   p->vel[i] = vel;
@@ -157,10 +200,13 @@ static inline void wrap_one(const wrap_args *a, size_t i) {
   p->pos[i] = x;
 }
 
-void adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads) {
-  if (!pb || !pb->axes) return;
+adem_status adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads) {
+  if (!pb || !pb->axes) return ADEM_OK;
+  adem_status st = adem_particles_keep(p, ADEM_PART_PERIODIC); /* the crossings start at zero */
+  if (st) return st;
   wrap_args a = {p, pb};
   ADEM_FOR(nthreads, p->n, wrap_one, &a);
+  return ADEM_OK;
 }
 
 void adem_particles_mark_build(adem_particles *p) {
@@ -180,6 +226,17 @@ adem_status adem_particles_load(adem_reader *rd, adem_particles *p, adem_error *
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu particles",
                           (unsigned long long)n);
   p->n = (size_t)n;
+  /* every kind present to take the bytes; one whose bytes are all zero leaves again */
+  for (int kind = 1; kind < ADEM_PART_KINDS; ++kind)
+    if (adem_particles_keep(p, (adem_particle_kind)kind))
+      return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu particles",
+                            (unsigned long long)n);
   adem_soa_load(rd, p, L, p->n);
+  for (int kind = 1; kind < ADEM_PART_KINDS; ++kind) {
+    bool zero = true;
+    for (size_t k = 0; k < L.count && zero; ++k)
+      if (L.fields[k].kind == kind) zero = adem_soa_all_zero(p, &L.fields[k], p->n);
+    if (zero) adem_particles_drop(p, (adem_particle_kind)kind);
+  }
   return ADEM_OK;
 }

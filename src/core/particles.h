@@ -12,6 +12,7 @@
 
 #include "adem/base.h"
 #include "adem/laws.h"
+#include "adem/vec3.h"
 #include "periodic.h"
 #include "soa.h"
 #include "stream.h"
@@ -22,41 +23,54 @@ typedef struct adem_group {
   adem_vec3 external_force; /* N per particle, constant (H3) */
 } adem_group;
 
-/* X(type, name, what it holds): hot fields first. */
+/* Which runs allocate a field. ADEM_PART_ALWAYS: every run. Each other kind is optional: its
+ * arrays are NULL (absent) until adem_particles_keep allocates them, and an absent field reads as
+ * all zeros (the accessors below, or a check of the pointer); a writer keeps the kind first. */
+typedef enum adem_particle_kind {
+  ADEM_PART_ALWAYS = 0,
+  ADEM_PART_BALANCE,  /* while the world keeps the energy balance (world.c, sync_optional_fields) */
+  ADEM_PART_BROF,     /* once an interaction has a per-particle rolling law (BROF) */
+  ADEM_PART_FROZEN,   /* once a particle is frozen (frozen.c); the frozen flag itself is always */
+  ADEM_PART_EXTERNAL, /* once an external force is set through the API (world_bulk.c) */
+  ADEM_PART_PERIODIC, /* once the neighbour build wraps into a periodic box */
+  ADEM_PART_KINDS
+} adem_particle_kind;
+
+/* X(type, name, kind, what it holds): hot fields first. */
 // clang-format off
 #define ADEM_PARTICLE_FIELDS(X)                                                       \
-  X(adem_vec3, pos, "centre, m")                                                      \
-  X(adem_vec3, vel, "velocity, m/s")                                                  \
-  X(adem_vec3, omega, "angular velocity, rad/s")                                      \
-  X(adem_vec3, force, "total force at the current positions, N (force pass)")         \
-  X(adem_vec3, torque, "total torque at the current positions, N m (force pass)")     \
-  X(double, radius, "radius, m")                                                      \
-  X(double, inv_mass, "1 / mass, 1/kg")                                               \
-  X(double, inv_inertia, "1 / moment of inertia, 1/(kg m^2)")                         \
-  X(uint64_t, id, "stable id: the order of creation")                                 \
-  X(uint16_t, material, "material index")                                             \
-  X(uint16_t, group, "external-force group index")                                    \
-  X(adem_vec3, pos_at_build, "centre when the neighbour list was built (skin check)") \
-  X(adem_image, image, "periodic faces crossed along x, y, z (unwrapped = pos + image len)") \
-  X(adem_vec3, rolling_torque, "rolling resistance torque of the last force pass")    \
-  X(uint8_t, held, "1: BROF holds the spin at exactly zero this step (force pass)")   \
-  X(double, path_length, "distance the centre has travelled, sum of |v| dt")                \
-  X(double, dissipated, "energy dissipated in its contacts (half of a pair's) to the last closing kick, J") \
-  X(double, dissipated_next, "of the last force pass, what the next opening kick dissipates, J") \
-  X(double, wall_work, "energy moving walls gave through its contacts to the last closing kick, J") \
-  X(double, wall_work_next, "of the last force pass, what the next opening kick receives, J") \
-  X(adem_vec3, ext_force, "external force set through the API (adem_world_set_particles), kept " \
+  X(adem_vec3, pos, ADEM_PART_ALWAYS, "centre, m")                                    \
+  X(adem_vec3, vel, ADEM_PART_ALWAYS, "velocity, m/s")                                \
+  X(adem_vec3, omega, ADEM_PART_ALWAYS, "angular velocity, rad/s")                    \
+  X(adem_vec3, force, ADEM_PART_ALWAYS, "total force at the current positions, N (force pass)") \
+  X(adem_vec3, torque, ADEM_PART_ALWAYS, "total torque at the current positions, N m (force pass)") \
+  X(double, radius, ADEM_PART_ALWAYS, "radius, m")                                    \
+  X(double, inv_mass, ADEM_PART_ALWAYS, "1 / mass, 1/kg")                             \
+  X(double, inv_inertia, ADEM_PART_ALWAYS, "1 / moment of inertia, 1/(kg m^2)")       \
+  X(uint64_t, id, ADEM_PART_ALWAYS, "stable id: the order of creation")               \
+  X(uint16_t, material, ADEM_PART_ALWAYS, "material index")                           \
+  X(uint16_t, group, ADEM_PART_ALWAYS, "external-force group index")                  \
+  X(adem_vec3, pos_at_build, ADEM_PART_ALWAYS, "centre when the neighbour list was built (skin check)") \
+  X(adem_image, image, ADEM_PART_PERIODIC, "periodic faces crossed along x, y, z (unwrapped = pos + image len)") \
+  X(adem_vec3, rolling_torque, ADEM_PART_ALWAYS, "rolling resistance torque of the last force pass") \
+  X(uint8_t, held, ADEM_PART_ALWAYS, "1: BROF holds the spin at exactly zero this step (force pass)") \
+  X(double, path_length, ADEM_PART_ALWAYS, "distance the centre has travelled, sum of |v| dt") \
+  X(double, dissipated, ADEM_PART_BALANCE, "energy dissipated in its contacts (half of a pair's) to the last closing kick, J") \
+  X(double, dissipated_next, ADEM_PART_BALANCE, "of the last force pass, what the next opening kick dissipates, J") \
+  X(double, wall_work, ADEM_PART_BALANCE, "energy moving walls gave through its contacts to the last closing kick, J") \
+  X(double, wall_work_next, ADEM_PART_BALANCE, "of the last force pass, what the next opening kick receives, J") \
+  X(adem_vec3, ext_force, ADEM_PART_EXTERNAL, "external force set through the API (adem_world_set_particles), kept " \
     "until changed, N")                                                               \
-  X(adem_vec3, brof_impulse, "angular impulse of BROF's share from particle contacts, which no "  \
+  X(adem_vec3, brof_impulse, ADEM_PART_BROF, "angular impulse of BROF's share from particle contacts, which no "  \
     "partner takes back (I9-I10 act per particle), N m s") \
-  X(uint8_t, frozen, "1: fixed to a wall (or to space): not integrated, placed by the wall's motion") \
-  X(int32_t, attach, "the wall a frozen particle moves with: 0 none, k + 1 mesh group k, -(k + 1) plane k") \
-  X(adem_vec3, anchor, "a frozen particle's centre where its wall's motion starts (at the motion's t0)")
+  X(uint8_t, frozen, ADEM_PART_ALWAYS, "1: fixed to a wall (or to space): not integrated, placed by the wall's motion") \
+  X(int32_t, attach, ADEM_PART_FROZEN, "the wall a frozen particle moves with: 0 none, k + 1 mesh group k, -(k + 1) plane k") \
+  X(adem_vec3, anchor, ADEM_PART_FROZEN, "a frozen particle's centre where its wall's motion starts (at the motion's t0)")
 // clang-format on
 
 typedef struct adem_particles {
   size_t n, cap;
-#define ADEM_X(type, name, doc) type *name;
+#define ADEM_X(type, name, kind, doc) type *name;
   ADEM_PARTICLE_FIELDS(ADEM_X)
 #undef ADEM_X
 } adem_particles;
@@ -66,6 +80,15 @@ adem_soa_layout adem_particles_layout(void);
 
 adem_status adem_particles_reserve(adem_particles *p, size_t cap);
 void adem_particles_free(adem_particles *p);
+/* Makes the arrays of an optional kind present, zero up to the capacity (absent ones only); they
+ * then grow, reorder and save with the others. */
+adem_status adem_particles_keep(adem_particles *p, adem_particle_kind kind);
+/* Frees the arrays of an optional kind: its fields read as zero from then on. */
+void adem_particles_drop(adem_particles *p, adem_particle_kind kind);
+/* Whether the arrays of a kind are present. */
+bool adem_particles_has(const adem_particles *p, adem_particle_kind kind);
+/* Bytes per particle of a kind's arrays (memory estimates). */
+size_t adem_particles_kind_bytes(adem_particle_kind kind);
 /* Reorders every per-particle array: new index k holds old particle perm[k]. */
 adem_status adem_particles_permute(adem_particles *p, const size_t *perm);
 /* The particles in increasing order of id: order[k] is the index of the k-th smallest id. Sums
@@ -87,10 +110,31 @@ void adem_particles_kick(adem_particles *p, double h, bool closing, int nthreads
  * dt |v| - radius: > 0 when some particle moved more than its radius (tunnelling check). */
 double adem_particles_kick_drift(adem_particles *p, double h, double dt, int nthreads);
 /* Wraps every centre into the periodic box along its periodic axes, counting the crossings in
- * image (called by the neighbour build, before the sort). */
-void adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads);
+ * image, which it keeps (called by the neighbour build, before the sort). */
+adem_status adem_particles_wrap(adem_particles *p, const adem_periodic *pb, int nthreads);
 /* Records the positions at a neighbour build. */
 void adem_particles_mark_build(adem_particles *p);
+
+/* Optional fields as they read, zero while absent. */
+static inline adem_vec3 adem_particles_ext_force(const adem_particles *p, size_t i) {
+  return p->ext_force ? p->ext_force[i] : v3_zero();
+}
+static inline adem_image adem_particles_image(const adem_particles *p, size_t i) {
+  adem_image none = {{0, 0, 0}};
+  return p->image ? p->image[i] : none;
+}
+static inline int32_t adem_particles_attach(const adem_particles *p, size_t i) {
+  return p->attach ? p->attach[i] : 0;
+}
+static inline double adem_particles_dissipated(const adem_particles *p, size_t i) {
+  return p->dissipated ? p->dissipated[i] : 0.0;
+}
+static inline double adem_particles_wall_work(const adem_particles *p, size_t i) {
+  return p->wall_work ? p->wall_work[i] : 0.0;
+}
+static inline adem_vec3 adem_particles_brof_impulse(const adem_particles *p, size_t i) {
+  return p->brof_impulse ? p->brof_impulse[i] : v3_zero();
+}
 
 /* The force pass's result for particle i. */
 static inline void adem_particles_set_loads(adem_particles *p, size_t i, adem_vec3 force,

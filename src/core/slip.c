@@ -64,7 +64,7 @@ void adem_world_wall_slip(const adem_world *w, double *plane_slip, double *group
       uint32_t code = nb->pp_entries[e];
       size_t k = code >> 1, j = (code & 1u) ? w->pp.a[k] : w->pp.b[k];
       if (!w->pp.touching[k] || !p->frozen[j]) continue;
-      int32_t a = p->attach[j];
+      int32_t a = adem_particles_attach(p, j);
       int slot = a > 0 ? np + a - 1 : a < 0 ? -a - 1
                                             : -1;
       if (slot < 0 || slot >= np + ng) continue;

@@ -222,11 +222,17 @@ adem_status adem_world_gather(adem_world *w) {
   return adem_neighbors_gather(&w->nb, &w->p, &w->pp, &w->pw, adem_world_threads(w));
 }
 
-/* Makes the lists keep their balance records exactly while the balance is on (pairs.h). */
-static adem_status sync_balance_records(adem_world *w) {
+/* Makes the lists keep their balance records, and the particles their balance fields, exactly
+ * while the balance is on (pairs.h, particles.h); and the particles their BROF impulses once a
+ * law needs them (kept after: the impulse is a running total the diagnostics report). */
+static adem_status sync_optional_fields(adem_world *w) {
   adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
   for (int s = 0; s < 3; ++s)
     if (adem_pairs_keep_balance(lists[s], w->energy_balance)) return ADEM_ERR_NOMEM;
+  if (!w->energy_balance) adem_particles_drop(&w->p, ADEM_PART_BALANCE);
+  else if (adem_particles_keep(&w->p, ADEM_PART_BALANCE)) return ADEM_ERR_NOMEM;
+  if (adem_materials_per_particle_rolling(&w->mat) && adem_particles_keep(&w->p, ADEM_PART_BROF))
+    return ADEM_ERR_NOMEM;
   return ADEM_OK;
 }
 
@@ -236,7 +242,7 @@ static adem_status sync_balance_records(adem_world *w) {
 static void compute_forces(adem_world *w, bool energy, bool hold_history) {
   /* the balance's terms need their records: adem_world_step and prepare report a failure to
    * allocate them before they get here */
-  bool balance = w->energy_balance && sync_balance_records(w) == ADEM_OK;
+  bool balance = sync_optional_fields(w) == ADEM_OK && w->energy_balance;
   if (w->predicted_cap < w->p.n) { /* without it the pass predicts per contact: the same bits */
     free(w->predicted);
     size_t cap = w->p.n + w->p.n / 8;
@@ -286,7 +292,9 @@ adem_status adem_world_change_materials(adem_world *w, const adem_material_def *
   mt->defs = d;
   mt->ndefs = ninteractions;
   adem_status st = adem_materials_derive(mt, err);
-  size_t cleared = st ? 0 : adem_history_switch_all(mt, old, &w->p, &w->pp, &w->pw, &w->pm, &w->walls, w->energy_balance);
+  /* the energy a switch loses goes to the particles' balance fields, present while it is on */
+  bool balance = w->energy_balance && adem_particles_keep(&w->p, ADEM_PART_BALANCE) == ADEM_OK;
+  size_t cleared = st ? 0 : adem_history_switch_all(mt, old, &w->p, &w->pp, &w->pw, &w->pm, &w->walls, balance);
   free(old);
   if (cleared > 0)
     adem_log(ADEM_LOG_INFO, "t = %.9g s: %zu contact histories cleared (their tangential or "
@@ -311,7 +319,7 @@ adem_status adem_world_admit_particles(adem_world *w, size_t first, adem_error *
   for (size_t i = first; i < p->n; ++i) {
     double m = 1.0 / p->inv_mass[i];
     adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, m), w->groups[p->group[i]].external_force),
-                         p->ext_force[i]);
+                         adem_particles_ext_force(p, i));
     adem_particles_set_loads(p, i, f, v3_zero(), v3_zero(), 0);
     energy += 0.5 * v3_norm2(p->vel[i]) * m + 0.5 * v3_norm2(p->omega[i]) / p->inv_inertia[i] -
               v3_dot(f, p->pos[i]);
@@ -436,7 +444,7 @@ adem_status adem_world_particle_image(const adem_world *w, uint64_t id, int32_t 
   const adem_particles *p = &w->p;
   for (size_t i = 0; i < p->n; ++i)
     if (p->id[i] == id) {
-      for (int d = 0; d < 3; ++d) out[d] = p->image[i].n[d];
+      for (int d = 0; d < 3; ++d) out[d] = adem_particles_image(p, i).n[d];
       return ADEM_OK;
     }
   return adem_error_set(err, ADEM_ERR_INPUT, "no particle has id %llu", (unsigned long long)id);
@@ -455,7 +463,8 @@ void adem_world_set_contact_scheme(adem_world *w, adem_contact_scheme scheme) {
 }
 /* The pair lists keep their balance records while the balance is on, and only then; switched
  * on, the balance finds fresh (zero) records: no lost spring energy of pairs that opened before.
- * The force pass makes the lists agree with the flag (sync_balance_records). */
+ * The particles' balance fields (dissipated, wall work) do the same: switched on again, their
+ * totals start from zero. The force pass makes both agree with the flag (sync_optional_fields). */
 void adem_world_set_energy_balance(adem_world *w, bool on) { w->energy_balance = on; }
 bool adem_world_energy_balance(const adem_world *w) { return w->energy_balance; }
 double adem_world_dt(const adem_world *w) { return w->dt; }
@@ -495,14 +504,15 @@ adem_status adem_world_prepare(adem_world *w, adem_error *err) {
   st = adem_world_check_initial_state(w, err);
   if (st) return st;
   adem_world_default_domain(w);
-  if (sync_balance_records(w))
-    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the energy balance's pair records");
+  if (sync_optional_fields(w))
+    return adem_error_set(err, ADEM_ERR_NOMEM,
+                          "out of memory for the energy balance's records or the BROF impulses");
   adem_world_compute_forces(w);
   /* the balance starts here: what this pass dissipated belongs to no step (its opening-kick
    * share, held in *_next, does) */
   for (size_t i = 0; i < w->p.n; ++i) {
-    w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
-    w->p.brof_impulse[i] = v3_zero();
+    if (w->p.dissipated) w->p.dissipated[i] = w->p.wall_work[i] = 0.0;
+    if (w->p.brof_impulse) w->p.brof_impulse[i] = v3_zero();
   }
   adem_diagnostics d = adem_world_diagnostics(w);
   w->energy_initial = adem_world_total_energy(&d);
@@ -529,8 +539,9 @@ adem_status adem_world_step(adem_world *w, uint64_t nsteps, adem_error *err) {
     adem_status st = adem_world_admit_particles(w, w->admit_from, err);
     if (st) return st;
   }
-  if (sync_balance_records(w))
-    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the energy balance's pair records");
+  if (sync_optional_fields(w))
+    return adem_error_set(err, ADEM_ERR_NOMEM,
+                          "out of memory for the energy balance's records or the BROF impulses");
   double dt = w->dt;
   for (uint64_t s = 0; s < nsteps; ++s) {
     int nthreads = adem_world_threads(w);
@@ -617,6 +628,7 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
   for (size_t id = 0; id < n; ++id) {
     size_t i = order[id];
     const adem_vec3 *v = NULL;
+    adem_vec3 ext;
     double s = 0.0;
     switch (field) {
       case ADEM_FIELD_POSITION: v = &p->pos[i]; break;
@@ -632,7 +644,10 @@ adem_status adem_world_get_particles(const adem_world *w, adem_particle_field fi
       case ADEM_FIELD_PATH_LENGTH: s = p->path_length[i]; break;
       case ADEM_FIELD_INVERSE_MASS: s = p->inv_mass[i]; break;
       case ADEM_FIELD_INVERSE_INERTIA: s = p->inv_inertia[i]; break;
-      case ADEM_FIELD_EXTERNAL_FORCE: v = &p->ext_force[i]; break;
+      case ADEM_FIELD_EXTERNAL_FORCE:
+        ext = adem_particles_ext_force(p, i);
+        v = &ext;
+        break;
     }
     if (v) {
       out[3 * id] = v->x;

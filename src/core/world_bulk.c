@@ -58,13 +58,14 @@ adem_status adem_world_get_ids(const adem_world *w, uint64_t *out, size_t capaci
  * A particle still waiting to be admitted has no energy in the balance yet. */
 static double force_change_work(const adem_world *w, size_t i, adem_vec3 old, adem_vec3 new) {
   if (w->admit_pending && i >= w->admit_from) return 0.0;
-  adem_vec3 x = adem_periodic_unwrap(&w->periodic, w->p.pos[i], w->p.image[i]);
+  adem_vec3 x = adem_periodic_unwrap(&w->periodic, w->p.pos[i], adem_particles_image(&w->p, i));
   return -v3_dot(v3_sub(new, old), x);
 }
 
 /* The new force replaces the old one in the last pass's total too, so that the next step's
  * opening half kick feels it already: the step then sees one constant force, whose work is
- * exactly the change of -F . x (velocity Verlet), and the balance closes. */
+ * exactly the change of -F . x (velocity Verlet), and the balance closes. The external forces
+ * are kept (ADEM_PART_EXTERNAL) before the first change. */
 static void change_force(adem_particles *p, size_t i, adem_vec3 f) {
   p->force[i] = v3_add(p->force[i], v3_sub(f, p->ext_force[i]));
   p->ext_force[i] = f;
@@ -79,7 +80,7 @@ adem_status adem_world_set_particles(adem_world *w, adem_particle_field field, c
     case ADEM_FIELD_POSITION: dst = p->pos; break;
     case ADEM_FIELD_VELOCITY: dst = p->vel; break;
     case ADEM_FIELD_ANGULAR_VELOCITY: dst = p->omega; break;
-    case ADEM_FIELD_EXTERNAL_FORCE: dst = p->ext_force; break;
+    case ADEM_FIELD_EXTERNAL_FORCE: dst = NULL; break; /* change_force sets them */
     default:
       return adem_error_set(err, ADEM_ERR_INPUT,
                             "particle field %d cannot be set: position (0), velocity (1), "
@@ -94,6 +95,8 @@ adem_status adem_world_set_particles(adem_world *w, adem_particle_field field, c
                             "row %zu (particle of the %zu-th smallest id) is not finite: nothing "
                             "was set",
                             k / 3, k / 3);
+  if (field == ADEM_FIELD_EXTERNAL_FORCE && adem_particles_keep(p, ADEM_PART_EXTERNAL))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the external forces");
   uint32_t *order = adem_world_id_order(w);
   if (!order && n) return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory");
   if (field == ADEM_FIELD_EXTERNAL_FORCE) {
@@ -121,6 +124,8 @@ adem_status adem_world_set_external_force(adem_world *w, uint64_t id, adem_vec3 
   if (!v3_isfinite(force))
     return adem_error_set(err, ADEM_ERR_INPUT, "the external force of particle %llu must be finite",
                           (unsigned long long)id);
+  if (adem_particles_keep(&w->p, ADEM_PART_EXTERNAL))
+    return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the external forces");
   adem_world_add_external_work(w, force_change_work(w, i, w->p.ext_force[i], force));
   change_force(&w->p, i, force);
   return ADEM_OK;

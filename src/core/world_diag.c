@@ -71,16 +71,16 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
      * external work: adem_world_set_particles) */
     adem_vec3 f = v3_add(v3_add(v3_scale(w->gravity, 1.0 / p->inv_mass[i]),
                                 w->groups[p->group[i]].external_force),
-                         p->ext_force[i]);
-    adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], p->image[i]);
+                         adem_particles_ext_force(p, i));
+    adem_vec3 xi = adem_periodic_unwrap(&w->periodic, p->pos[i], adem_particles_image(p, i));
     adem_block_sum_add(&sum[POTENTIAL], -v3_dot(f, xi));
     /* accumulated per particle every step (force_sums.c): the dissipative forces' work and the
      * laws' own losses, and the work of moving walls */
-    adem_block_sum_add(&sum[DISSIPATED], p->dissipated[i]);
-    adem_block_sum_add(&sum[WALL_WORK], p->wall_work[i]);
+    adem_block_sum_add(&sum[DISSIPATED], adem_particles_dissipated(p, i));
+    adem_block_sum_add(&sum[WALL_WORK], adem_particles_wall_work(p, i));
     adem_vec3 l = v3_add(v3_scale(v3_cross(xi, p->vel[i]), 1.0 / p->inv_mass[i]),
                          v3_scale(p->omega[i], 1.0 / p->inv_inertia[i]));
-    adem_vec3 b = p->brof_impulse[i];
+    adem_vec3 b = adem_particles_brof_impulse(p, i);
     double c[6] = {l.x, l.y, l.z, b.x, b.y, b.z};
     for (int a = 0; a < 6; ++a) adem_block_sum_add(&sum[MOMENTUM + a], c[a]);
   }

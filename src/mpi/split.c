@@ -470,7 +470,11 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
   }
   p->n = n;
   for (size_t i = 0; i < n; ++i) {
-    adem_split_get_particle(p, i, pin.d + i * rec);
+    if (!adem_split_get_particle(p, i, pin.d + i * rec)) {
+      p->n = i; /* those taken so far: the exchange failed */
+      st = ADEM_ERR_NOMEM;
+      goto done;
+    }
     map[i] = (id_index){p->id[i], (uint32_t)i};
   }
   qsort(map, n, sizeof *map, adem_split_compare_id_index);

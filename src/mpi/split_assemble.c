@@ -123,8 +123,9 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
     if (!order || !perm || adem_particles_reserve(q, n)) st = ADEM_ERR_NOMEM;
     if (!st) {
       q->n = n;
-      for (size_t i = 0; i < n; ++i) adem_split_get_particle(q, i, in[0].d + i * rec);
-      st = adem_particles_id_order(q, order); /* stored by id, as a serial world starts */
+      for (size_t i = 0; i < n && !st; ++i)
+        if (!adem_split_get_particle(q, i, in[0].d + i * rec)) st = ADEM_ERR_NOMEM;
+      if (!st) st = adem_particles_id_order(q, order); /* stored by id, as a serial world starts */
     }
     for (size_t i = 0; i < n && !st; ++i) perm[i] = order[i];
     if (!st) st = adem_particles_permute(q, perm);

@@ -83,7 +83,9 @@ void adem_split_bytes_free_all(bytes *b, int n);
 int adem_split_mem_sink(void *ctx, const void *data, size_t n);
 size_t adem_split_particle_bytes(void);
 bool adem_split_put_particle(bytes *b, const adem_particles *p, size_t i);
-void adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *src);
+/* Particle i from a record; false when out of memory for a kind of field it carries (nonzero)
+ * that this process did not keep (particles.h). */
+bool adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *src);
 size_t adem_split_pair_bytes(bool bal);
 bool adem_split_put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb,
                          bool bal);

@@ -33,28 +33,35 @@ int adem_split_mem_sink(void *ctx, const void *data, size_t n) {
 
 /* ---------------------------------------------------------------- records */
 
-/* A particle: every field of ADEM_PARTICLE_FIELDS. */
+/* A particle: every field of ADEM_PARTICLE_FIELDS, zeros for one its process does not keep. */
 size_t adem_split_particle_bytes(void) { return adem_soa_item_bytes(adem_particles_layout()); }
 
 bool adem_split_put_particle(bytes *b, const adem_particles *p, size_t i) {
+  static const char zeros[64]; /* the largest field is an adem_vec3 */
   adem_soa_layout L = adem_particles_layout();
   bool ok = true;
   for (size_t k = 0; k < L.count; ++k) {
     size_t e = L.fields[k].elem;
     const char *a = *(char *const *)((const char *)p + L.fields[k].offset);
-    ok = ok && adem_split_bytes_put(b, a + i * e, e);
+    ok = ok && e <= sizeof zeros && adem_split_bytes_put(b, a ? a + i * e : zeros, e);
   }
   return ok;
 }
 
-void adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *src) {
+bool adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *src) {
   adem_soa_layout L = adem_particles_layout();
   for (size_t k = 0; k < L.count; ++k) {
     size_t e = L.fields[k].elem;
-    char *a = *(char **)((char *)p + L.fields[k].offset);
-    memcpy(a + i * e, src, e);
+    char **a = (char **)((char *)p + L.fields[k].offset);
+    if (!*a) { /* absent here: zeros stay so, anything else makes its kind present */
+      bool zero = true;
+      for (size_t b = 0; b < e && zero; ++b) zero = src[b] == 0;
+      if (!zero && adem_particles_keep(p, (adem_particle_kind)L.fields[k].kind)) return false;
+    }
+    if (*a) memcpy(*a + i * e, src, e);
     src += e;
   }
+  return true;
 }
 
 /* A pair for the assembly: its keys as ids (or id and plane), then every field of

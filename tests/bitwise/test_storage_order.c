@@ -67,8 +67,10 @@ static size_t *index_of_ids(const adem_particles *p) {
   return at;
 }
 
-/* Every per-particle array (ADEM_PARTICLE_FIELDS), particle by particle by id. */
+/* Every per-particle array (ADEM_PARTICLE_FIELDS), particle by particle by id; an absent optional
+ * one as the zeros it reads as. */
 static void assert_same_particles(const adem_particles *p, const adem_particles *q) {
+  static const char zeros[64];
   assert_int_equal(p->n, q->n);
   size_t *ip = index_of_ids(p), *iq = index_of_ids(q);
   adem_soa_layout L = adem_particles_layout();
@@ -76,8 +78,9 @@ static void assert_same_particles(const adem_particles *p, const adem_particles 
     const char *a = *(char *const *)((const char *)p + L.fields[f].offset);
     const char *b = *(char *const *)((const char *)q + L.fields[f].offset);
     size_t e = L.fields[f].elem;
+    assert_true(e <= sizeof zeros);
     for (uint64_t id = 0; id < p->n; ++id)
-      if (memcmp(a + ip[id] * e, b + iq[id] * e, e) != 0)
+      if (memcmp(a ? a + ip[id] * e : zeros, b ? b + iq[id] * e : zeros, e) != 0)
         fail_msg("particle id %llu: %s differs", (unsigned long long)id, L.fields[f].name);
   }
   free(ip);

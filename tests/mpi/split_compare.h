@@ -46,12 +46,14 @@ static const char *split_compare(const adem_world *a, const adem_world *b) {
   for (size_t r = 0; r < n && !why; ++r)
     if (p->id[ia[r]] != q->id[ib[r]]) why = split_differs("particle ids", p->id[ia[r]]);
   adem_soa_layout L = adem_particles_layout();
+  static const char zeros[64]; /* an absent optional field reads as zeros (particles.h) */
   for (size_t f = 0; f < L.count && !why; ++f) {
     const char *x = *(char *const *)((const char *)p + L.fields[f].offset);
     const char *y = *(char *const *)((const char *)q + L.fields[f].offset);
     size_t e = L.fields[f].elem;
     for (size_t id = 0; id < n && !why; ++id)
-      if (memcmp(x + ia[id] * e, y + ib[id] * e, e) != 0) why = split_differs(L.fields[f].name, id);
+      if (memcmp(x ? x + ia[id] * e : zeros, y ? y + ib[id] * e : zeros, e) != 0)
+        why = split_differs(L.fields[f].name, id);
   }
   free(ia);
   free(ib);
