@@ -80,10 +80,27 @@ adem_step_estimate adem_world_estimate_step(const adem_world *w, double v_ref) {
 }
 
 size_t adem_world_bytes_per_particle(void) {
-  /* the particle table, the per-particle entries of the neighbour and mesh-slot ranges and the
-   * order by id */
+  /* the particle table with every optional kind of field (no world to ask which a run keeps:
+   * adem_world_memory_estimate counts those), the per-particle entries of the neighbour and
+   * mesh-slot ranges and the order by id */
   return adem_soa_item_bytes(adem_particles_layout()) + 2 * sizeof(size_t) + sizeof(size_t) +
          sizeof(uint32_t);
+}
+
+/* Bytes per particle of the particle table as the world will keep it: the fields of every run,
+ * the energy balance's while it is on, and each other optional kind once the world needs it
+ * (particles.h). */
+static size_t kept_particle_bytes(const adem_world *w) {
+  size_t b = adem_particles_kind_bytes(ADEM_PART_ALWAYS);
+  bool need[ADEM_PART_KINDS] = {false};
+  need[ADEM_PART_BALANCE] = w->energy_balance;
+  need[ADEM_PART_BROF] = adem_materials_per_particle_rolling(&w->mat);
+  need[ADEM_PART_FROZEN] = w->frozen_any;
+  need[ADEM_PART_PERIODIC] = w->periodic.axes != 0;
+  for (int k = 1; k < ADEM_PART_KINDS; ++k)
+    if (need[k] || adem_particles_has(&w->p, (adem_particle_kind)k))
+      b += adem_particles_kind_bytes((adem_particle_kind)k);
+  return b;
 }
 
 size_t adem_world_bytes_per_pair(const adem_world *w) {
@@ -108,7 +125,7 @@ adem_memory_estimate adem_world_memory_estimate(const adem_world *w, double n) {
   double pw = w->walls.nplanes > 0 ? n : 0.0;
   double pm = w->walls.mesh.ntris > 0 ? ADEM_MESH_SLOTS_PER_PARTICLE * n : 0.0;
   e.pairs = pp + pw + pm;
-  e.particle_bytes = grown_capacity(n) * (double)adem_soa_item_bytes(adem_particles_layout()) +
+  e.particle_bytes = grown_capacity(n) * (double)kept_particle_bytes(w) +
                      (n + 1.0) * (double)sizeof(size_t) +         /* mesh slot ranges */
                      1.125 * n * 2.0 * (double)sizeof(adem_vec3); /* the predicted velocities */
   /* the lists keep a quarter more than they hold (adem_pairs_reserve) */
