@@ -32,11 +32,12 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
     open_pair(l, k, it, &g, onset_pass(w), dt, w->balance, w->break_forces);
     return;
   }
-  adem_contact_history h = l->hist[k];
+  adem_contact_history h = l->hist[adem_pairs_slot(l, k)];
   contact_result r = contact_force(it, laws_of(it), &g, &h, law_step(w), onset_pass(w) && !was);
-  if (!w->hold_history) l->hist[k] = h;
+  size_t s = adem_pairs_own_slot(l, k);
+  if (!w->hold_history) l->hist[s] = h;
   store_pair(l, k, &g, &r, w->balance);
-  note_overlap(w, l->res[k].overlap_ratio);
+  note_overlap(w, l->res[s].overlap_ratio);
 }
 
 /* The same for a block's lane whose result is not finite (pair_blocks.c); particle_pair stays
@@ -93,7 +94,7 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     b.it = it;
     b.k[q] = k;
     pair_kinematics kin = particle_kinematics(p, predicted, i, j, d, dist, hp);
-    pair_block_put(&b, q, &kin, &l->hist[k]);
+    pair_block_put(&b, q, &kin, &l->hist[adem_pairs_slot(l, k)]);
     b.fresh[q] = onset && !was ? 1.0 : 0.0;
     if (b.m == PAIR_BLOCK) adem_pair_block_flush(w, &b);
   }
