@@ -50,6 +50,8 @@ void adem_force_particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, 
 /* The particle pairs of chunk c: those apart forgotten, the touching ones of an interaction with
  * a block kernel gathered into blocks, the rest one at a time. Each pair writes only its own
  * records, so the order in which they are done changes nothing. */
+enum { PAIR_PREFETCH = 8 }; /* pairs ahead whose particles the chunk loop asks for */
+
 static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
@@ -69,6 +71,17 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   const double hp = w->second_order ? w->dt : 0.0;
   for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
+    if (k + PAIR_PREFETCH < k1) { /* a partner a few pairs ahead: its numbers are in L3 at best */
+      size_t jn = l->b[k + PAIR_PREFETCH], in = l->a[k + PAIR_PREFETCH];
+      __builtin_prefetch(&p->pos[jn]);
+      __builtin_prefetch(&p->pos[in]);
+      __builtin_prefetch(&p->radius[jn]);
+      __builtin_prefetch(&p->vel[jn]);
+      __builtin_prefetch(&p->omega[jn]);
+      __builtin_prefetch(&predicted[2 * jn]);
+      __builtin_prefetch(&predicted[2 * jn + 1]);
+      __builtin_prefetch(&l->hist[adem_pairs_slot(l, k + PAIR_PREFETCH)]);
+    }
     adem_vec3 d = adem_periodic_min_image(periodic, v3_sub(p->pos[j], p->pos[i]));
     double rsum = p->radius[i] + p->radius[j];
     double dist2 = v3_norm2(d);
