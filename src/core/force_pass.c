@@ -76,6 +76,8 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
       __builtin_prefetch(&p->pos[jn]);
       __builtin_prefetch(&p->pos[in]);
       __builtin_prefetch(&p->radius[jn]);
+      __builtin_prefetch(&p->material[jn]);
+      __builtin_prefetch(&p->inv_mass[jn]);
       __builtin_prefetch(&p->vel[jn]);
       __builtin_prefetch(&p->omega[jn]);
       __builtin_prefetch(&predicted[2 * jn]);

@@ -84,7 +84,10 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
       }
       if (e + PREFETCH_AHEAD / 2 < nb->pp_start[n_all]) /* its slot read by now */
         __builtin_prefetch(&pp->res[pp->slot[nb->pp_entries[e + PREFETCH_AHEAD / 2] >> 1]]);
-      size_t s = pp->slot[k];                                    /* the list is sparse (pairs.h) */
+      size_t s = pp->slot[k]; /* the list is sparse (pairs.h) */
+      /* not touched since the build: its records are zeros, and adding +0.0 to a sum that
+       * starts at +0.0 changes no bit, so it adds nothing */
+      if (s == 0) continue;
       if (balance) en.dissipated += 0.5 * pp->bal[s].dissipated; /* also of one just opened */
       if (!pp->touching[k]) {                                    /* apart; one that just opened may carry a break correction */
         if (!breaks) continue;
