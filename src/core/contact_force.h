@@ -238,9 +238,10 @@ pair_records(const contact_geometry *g, const contact_result *r, bool balance, a
 /* Stores a contact's results in its list. */
 static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometry *g,
                               const contact_result *r, bool balance) {
+  size_t s = adem_pairs_own_slot(l, k);
   l->touching[k] = true;
-  pair_records(g, r, balance, &l->res[k], balance ? &l->bal[k] : NULL);
-  if (g->energy) l->elastic[k] = r->elastic; /* only the diagnostics read it */
+  pair_records(g, r, balance, &l->res[s], balance ? &l->bal[s] : NULL);
+  if (g->energy) l->elastic[s] = r->elastic; /* only the diagnostics read it */
 }
 
 /* A wall contact's power: the wall's material at the contact point moves at V and turns at
@@ -249,8 +250,9 @@ static inline void store_pair(adem_pair_list *l, size_t k, const contact_geometr
  * motion did not take (the particle-side sums subtract it back). */
 static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_result *r,
                                     adem_vec3 v_wall, adem_vec3 omega_wall) {
-  l->bal[k].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
-  l->bal[k].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
+  size_t s = adem_pairs_slot(l, k); /* a wall's list is dense: k */
+  l->bal[s].wall_power = v3_dot(r->force, v_wall) + v3_dot(r->rolling, omega_wall);
+  l->bal[s].wall_damping_power = v3_dot(r->damping, v_wall) + v3_dot(r->damping_couple, omega_wall);
 }
 
 
@@ -259,11 +261,14 @@ static inline void store_wall_power(adem_pair_list *l, size_t k, const contact_r
 static inline void open_pair(adem_pair_list *l, size_t k, const adem_interaction *it,
                              const contact_geometry *g, bool onset, double dt, bool balance,
                              int *breaks) {
-  double lost = l->hist[k].elastic;
+  size_t s = adem_pairs_slot(l, k);
+  double lost = l->hist[s].elastic;
   double f = onset ? break_correction(it, g, dt) : 0.0;
   adem_pairs_clear(l, k);
-  if (balance) l->bal[k].dissipated = lost;
-  l->res[k].force_a = v3_scale(g->n, -f);
+  if (lost == 0.0 && f == 0.0 && s == 0 && l->slot) return; /* nothing left: zeros already */
+  s = adem_pairs_own_slot(l, k);
+  if (balance) l->bal[s].dissipated = lost;
+  l->res[s].force_a = v3_scale(g->n, -f);
   l->opened[k] = true;
   if (f != 0.0) {
 #ifdef ADEM_HAVE_OPENMP
@@ -287,8 +292,9 @@ static inline bool needs_rolling_inertia(const adem_interaction *it) {
  * is not written at all (its records stay out of the cache). */
 static inline void forget_opened(adem_pair_list *l, size_t k, bool balance) {
   if (!l->opened[k]) return;
-  if (balance) l->bal[k].dissipated = 0.0;
-  l->res[k].force_a = v3_zero();
+  size_t s = adem_pairs_slot(l, k); /* its own: it opened */
+  if (balance) l->bal[s].dissipated = 0.0;
+  l->res[s].force_a = v3_zero();
   l->opened[k] = false;
 }
 

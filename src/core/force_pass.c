@@ -32,11 +32,12 @@ static __attribute__((noinline)) void particle_pair(const adem_force_scope *w, s
     open_pair(l, k, it, &g, onset_pass(w), dt, w->balance, w->break_forces);
     return;
   }
-  adem_contact_history h = l->hist[k];
+  adem_contact_history h = l->hist[adem_pairs_slot(l, k)];
   contact_result r = contact_force(it, laws_of(it), &g, &h, law_step(w), onset_pass(w) && !was);
-  if (!w->hold_history) l->hist[k] = h;
+  size_t s = adem_pairs_own_slot(l, k);
+  if (!w->hold_history) l->hist[s] = h;
   store_pair(l, k, &g, &r, w->balance);
-  note_overlap(w, l->res[k].overlap_ratio);
+  note_overlap(w, l->res[s].overlap_ratio);
 }
 
 /* The same for a block's lane whose result is not finite (pair_blocks.c); particle_pair stays
@@ -49,6 +50,8 @@ void adem_force_particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, 
 /* The particle pairs of chunk c: those apart forgotten, the touching ones of an interaction with
  * a block kernel gathered into blocks, the rest one at a time. Each pair writes only its own
  * records, so the order in which they are done changes nothing. */
+enum { PAIR_PREFETCH = 8 }; /* pairs ahead whose particles the chunk loop asks for */
+
 static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   adem_particles *p = w->p;
   adem_pair_list *l = w->pp;
@@ -68,6 +71,19 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   const double hp = w->second_order ? w->dt : 0.0;
   for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
+    if (k + PAIR_PREFETCH < k1) { /* a partner a few pairs ahead: its numbers are in L3 at best */
+      size_t jn = l->b[k + PAIR_PREFETCH], in = l->a[k + PAIR_PREFETCH];
+      __builtin_prefetch(&p->pos[jn]);
+      __builtin_prefetch(&p->pos[in]);
+      __builtin_prefetch(&p->radius[jn]);
+      __builtin_prefetch(&p->material[jn]);
+      __builtin_prefetch(&p->inv_mass[jn]);
+      __builtin_prefetch(&p->vel[jn]);
+      __builtin_prefetch(&p->omega[jn]);
+      __builtin_prefetch(&predicted[2 * jn]);
+      __builtin_prefetch(&predicted[2 * jn + 1]);
+      __builtin_prefetch(&l->hist[adem_pairs_slot(l, k + PAIR_PREFETCH)]);
+    }
     adem_vec3 d = adem_periodic_min_image(periodic, v3_sub(p->pos[j], p->pos[i]));
     double rsum = p->radius[i] + p->radius[j];
     double dist2 = v3_norm2(d);
@@ -93,7 +109,7 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
     b.it = it;
     b.k[q] = k;
     pair_kinematics kin = particle_kinematics(p, predicted, i, j, d, dist, hp);
-    pair_block_put(&b, q, &kin, &l->hist[k]);
+    pair_block_put(&b, q, &kin, &l->hist[adem_pairs_slot(l, k)]);
     b.fresh[q] = onset && !was ? 1.0 : 0.0;
     if (b.m == PAIR_BLOCK) adem_pair_block_flush(w, &b);
   }

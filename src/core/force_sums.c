@@ -79,39 +79,45 @@ static inline void sum_particle_as(const adem_force_scope *w, size_t i, bool bal
        * that waits for memory is most of the sum's time on a large bed */
       if (e + PREFETCH_AHEAD < nb->pp_start[n_all]) {
         size_t ka = nb->pp_entries[e + PREFETCH_AHEAD] >> 1;
-        __builtin_prefetch(&pp->res[ka]);
+        __builtin_prefetch(&pp->slot[ka]);
         __builtin_prefetch(&pp->touching[ka]);
       }
-      if (balance) en.dissipated += 0.5 * pp->bal[k].dissipated; /* also of one just opened */
+      if (e + PREFETCH_AHEAD / 2 < nb->pp_start[n_all]) /* its slot read by now */
+        __builtin_prefetch(&pp->res[pp->slot[nb->pp_entries[e + PREFETCH_AHEAD / 2] >> 1]]);
+      size_t s = pp->slot[k]; /* the list is sparse (pairs.h) */
+      /* not touched since the build: its records are zeros, and adding +0.0 to a sum that
+       * starts at +0.0 changes no bit, so it adds nothing */
+      if (s == 0) continue;
+      if (balance) en.dissipated += 0.5 * pp->bal[s].dissipated; /* also of one just opened */
       if (!pp->touching[k]) {                                    /* apart; one that just opened may carry a break correction */
         if (!breaks) continue;
-        adem_vec3 fb = pp->res[k].force_a;
+        adem_vec3 fb = pp->res[s].force_a;
         if (fb.x != 0.0 || fb.y != 0.0 || fb.z != 0.0) f = (code & 1u) ? v3_sub(f, fb) : v3_add(f, fb);
         continue;
       }
       if (code & 1u) {
-        f = v3_sub(f, pp->res[k].force_a);
-        t = v3_add(t, v3_sub(v3_scale(pp->res[k].moment, ri), pp->res[k].rolling_a));
-        roll = v3_sub(roll, pp->res[k].rolling_a);
+        f = v3_sub(f, pp->res[s].force_a);
+        t = v3_add(t, v3_sub(v3_scale(pp->res[s].moment, ri), pp->res[s].rolling_a));
+        roll = v3_sub(roll, pp->res[s].rolling_a);
         if (balance) {
-          en.G = v3_sub(en.G, pp->bal[k].damping_a);
-          en.H = v3_add(en.H, pp->bal[k].damping_torque_b);
+          en.G = v3_sub(en.G, pp->bal[s].damping_a);
+          en.H = v3_add(en.H, pp->bal[s].damping_torque_b);
         }
       } else {
-        f = v3_add(f, pp->res[k].force_a);
-        t = v3_add(t, v3_add(v3_scale(pp->res[k].moment, ri), pp->res[k].rolling_a));
-        roll = v3_add(roll, pp->res[k].rolling_a);
+        f = v3_add(f, pp->res[s].force_a);
+        t = v3_add(t, v3_add(v3_scale(pp->res[s].moment, ri), pp->res[s].rolling_a));
+        roll = v3_add(roll, pp->res[s].rolling_a);
         if (balance) {
-          en.G = v3_add(en.G, pp->bal[k].damping_a);
-          en.H = v3_add(en.H, pp->bal[k].damping_torque_a);
+          en.G = v3_add(en.G, pp->bal[s].damping_a);
+          en.H = v3_add(en.H, pp->bal[s].damping_torque_a);
         }
       }
-      capacity += pp->res[k].rolling_capacity;
-      if (pp->res[k].rolling_capacity > 0.0) {
+      capacity += pp->res[s].rolling_capacity;
+      if (pp->res[s].rolling_capacity > 0.0) {
         size_t j = (code & 1u) ? pp->a[k] : pp->b[k];
         if (adem_materials_pair(w->mat, p->material[i], p->material[j])->rolling ==
             ADEM_ROLLING_BROF_OBJECTIVE) {
-          partner_spin = v3_axpy(partner_spin, pp->res[k].rolling_capacity, p->omega[j]);
+          partner_spin = v3_axpy(partner_spin, pp->res[s].rolling_capacity, p->omega[j]);
           objective = true;
         }
       }

@@ -99,7 +99,7 @@ size_t adem_history_switch_all(const adem_materials *mt, const int *old, adem_pa
   for (size_t k = 0; k < pp->n; ++k) {
     if (!pp->touching[k]) continue;
     size_t i = pp->a[k], j = pp->b[k];
-    double lost = switch_one(mt, old, p->material[i], p->material[j], &pp->hist[k], &cleared);
+    double lost = switch_one(mt, old, p->material[i], p->material[j], &pp->hist[adem_pairs_slot(pp, k)], &cleared);
     if (balance && lost > 0.0) {
       p->dissipated[i] += 0.5 * lost;
       p->dissipated[j] += 0.5 * lost;

@@ -102,7 +102,7 @@ static int compare_key(const void *x, const void *y) {
   return compare_ids(a->ka, a->kb, b->ka, b->kb);
 }
 
-/* The touching pairs' ids and slots, sorted by ids. */
+/* The touching pairs' ids and slots (where their histories are), sorted by ids. */
 static pair_key *save_pair_keys(const build_ctx *w, const adem_pair_list *l, size_t *count) {
   size_t m = 0;
   for (size_t k = 0; k < l->n; ++k) m += l->touching[k];
@@ -110,30 +110,21 @@ static pair_key *save_pair_keys(const build_ctx *w, const adem_pair_list *l, siz
   if (!s) return NULL;
   size_t j = 0;
   for (size_t k = 0; k < l->n; ++k)
-    if (l->touching[k]) s[j++] = (pair_key){w->p->id[l->a[k]], w->p->id[l->b[k]], k};
+    if (l->touching[k]) s[j++] = (pair_key){w->p->id[l->a[k]], w->p->id[l->b[k]], adem_pairs_slot(l, k)};
   qsort(s, m, sizeof *s, compare_key);
   *count = m;
   return s;
 }
 
-enum { NO_SLOT = UINT32_MAX };
-
-/* After the build (l holds the new pairs; its history array still the old pairs' histories in
- * their old slots, n_old of them): each new pair takes the history its ids had, every other
- * field cleared, as restore_history does for the other lists. src[k] is new pair k's old slot;
- * as src is one-to-one, the moves are chains that start at a slot whose history nobody wants
- * and cycles, which go through one temporary. */
-static adem_status carry_pair_history(const build_ctx *w, adem_pair_list *l, size_t n_old,
-                                      const pair_key *s, size_t ns) {
+/* After the build (l holds the new pairs; its slots still the old pairs' histories): each new
+ * pair takes the history its ids had (adem_pairs_pack_slots), every other record cleared, as
+ * restore_history does for the other lists. */
+static adem_status carry_pair_history(const build_ctx *w, adem_pair_list *l, const pair_key *s,
+                                      size_t ns) {
   int nthreads = w->nthreads;
-  size_t n = l->n, m = n > n_old ? n : n_old;
+  size_t n = l->n;
   uint32_t *src = malloc((n + 1) * sizeof *src);
-  unsigned char *state = calloc(m + 1, 1); /* 1: an old slot some new pair takes; 2: filled */
-  if (!src || !state) {
-    free(src);
-    free(state);
-    return ADEM_ERR_NOMEM;
-  }
+  if (!src) return ADEM_ERR_NOMEM;
   const uint64_t *id = w->p->id;
   ADEM_PARALLEL_FOR
   for (size_t k = 0; k < n; ++k) {
@@ -144,41 +135,11 @@ static adem_status carry_pair_history(const build_ctx *w, adem_pair_list *l, siz
       if (compare_key(&s[mid], &key) < 0) lo = mid + 1;
       else hi = mid;
     }
-    src[k] = lo < ns && compare_key(&s[lo], &key) == 0 ? (uint32_t)s[lo].k : NO_SLOT;
+    src[k] = lo < ns && compare_key(&s[lo], &key) == 0 ? (uint32_t)s[lo].k : 0u;
   }
-  for (size_t k = 0; k < n; ++k)
-    if (src[k] != NO_SLOT) state[src[k]] |= 1;
-  adem_contact_history *h = l->hist;
-  for (size_t p0 = 0; p0 < n; ++p0) { /* chains: from a slot whose history nobody takes */
-    if (state[p0] & 1) continue;
-    for (size_t p = p0; p < n && src[p] != NO_SLOT && !(state[p] & 2); p = src[p]) {
-      h[p] = h[src[p]];
-      state[p] |= 2;
-    }
-  }
-  for (size_t p0 = 0; p0 < n; ++p0) { /* what is left are cycles */
-    if (src[p0] == NO_SLOT || (state[p0] & 2)) continue;
-    adem_contact_history first = h[p0];
-    size_t p = p0;
-    for (; src[p] != p0; p = src[p]) {
-      h[p] = h[src[p]];
-      state[p] |= 2;
-    }
-    h[p] = first;
-    state[p] |= 2;
-  }
-  ADEM_PARALLEL_FOR
-  for (size_t k = 0; k < n; ++k) {
-    adem_contact_history kept = h[k];
-    adem_pairs_clear(l, k);
-    if (src[k] != NO_SLOT) {
-      l->hist[k] = kept;
-      l->touching[k] = true;
-    }
-  }
+  adem_status st = adem_pairs_pack_slots(l, src);
   free(src);
-  free(state);
-  return ADEM_OK;
+  return st;
 }
 
 static adem_status grow_size_t(size_t **p, size_t *cap, size_t need) {
@@ -656,7 +617,7 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   if (adem_particles_wrap(p, &nb->periodic, w->nthreads))
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for the periodic image counters");
 
-  size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0, npp_old = w->pp->n;
+  size_t nsaved_pp = 0, nsaved_pw = 0, nsaved_pm = 0;
   pair_key *saved_pp = save_pair_keys(w, w->pp, &nsaved_pp);
   saved_history *saved_pw = save_history(w, w->pw, true, &nsaved_pw);
   saved_history *saved_pm = save_mesh_history(w, &nsaved_pm);
@@ -686,7 +647,7 @@ adem_status adem_neighbors_build(adem_neighbors *nb, const adem_neighbor_scope *
   if (!st && grow_size_t(&w->pm->start, &w->pm->start_cap, n + 1)) st = ADEM_ERR_NOMEM;
   if (st) goto done;
   memcpy(w->pm->start, offsets, (n + 1) * sizeof *offsets);
-  st = carry_pair_history(w, w->pp, npp_old, saved_pp, nsaved_pp);
+  st = carry_pair_history(w, w->pp, saved_pp, nsaved_pp);
   if (st) goto done;
   restore_history(w, w->pw, true, saved_pw, nsaved_pw);
   restore_mesh_history(w, saved_pm, nsaved_pm);

@@ -94,14 +94,15 @@ void adem_pair_block_run(const adem_force_scope *w, pair_block *b) {
                                b->in.kin.dist[q], b->fresh[q] == 0.0, b->it);
       continue;
     }
+    size_t s = adem_pairs_own_slot(l, k);
     l->touching[k] = true;
-    if (!w->hold_history) l->hist[k] = b->hist[q];
-    l->res[k] = b->res[q];
+    if (!w->hold_history) l->hist[s] = b->hist[q];
+    l->res[s] = b->res[q];
     if (w->balance) { /* the fields pair_records writes: a particle pair has no wall power */
-      l->bal[k].damping_a = b->bal[q].damping_a;
-      l->bal[k].damping_torque_a = b->bal[q].damping_torque_a;
-      l->bal[k].damping_torque_b = b->bal[q].damping_torque_b;
-      l->bal[k].dissipated = b->bal[q].dissipated;
+      l->bal[s].damping_a = b->bal[q].damping_a;
+      l->bal[s].damping_torque_a = b->bal[q].damping_torque_a;
+      l->bal[s].damping_torque_b = b->bal[q].damping_torque_b;
+      l->bal[s].dissipated = b->bal[q].dissipated;
     }
     note_overlap(w, b->res[q].overlap_ratio);
   }

@@ -5,12 +5,21 @@
 
 #include "log.h"
 
+/* Per candidate; a sparse list's slot numbers; per slot (per pair in a dense list). */
 static const adem_soa_field pair_fields[] = {
 #define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type), 0},
     ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
 };
 static const adem_soa_layout pair_layout = {pair_fields, sizeof pair_fields / sizeof pair_fields[0]};
+static const adem_soa_field slot_index_fields[] = {{"slot", offsetof(adem_pair_list, slot), sizeof(uint32_t)}};
+static const adem_soa_layout slot_index_layout = {slot_index_fields, 1};
+static const adem_soa_field state_fields[] = {
+#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type)},
+    ADEM_PAIR_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+};
+static const adem_soa_layout state_layout = {state_fields, sizeof state_fields / sizeof state_fields[0]};
 
 static const adem_soa_field slot_fields[] = {
 #define ADEM_X(type, name, saved, doc) {#name, offsetof(adem_mesh_pairs, name), sizeof(type), 0},
@@ -31,16 +40,28 @@ static const adem_soa_field balance_fields[] = {{"bal", offsetof(adem_pair_list,
 static const adem_soa_layout balance_layout = {balance_fields, 1};
 
 size_t adem_pairs_item_bytes(bool with_balance) {
-  return adem_soa_item_bytes(pair_layout) + (with_balance ? sizeof(adem_pair_balance) : 0);
+  return adem_soa_item_bytes(pair_layout) + adem_soa_item_bytes(state_layout) +
+         (with_balance ? sizeof(adem_pair_balance) : 0);
 }
 
 adem_status adem_pairs_reserve(adem_pair_list *l, size_t cap) {
-  if (cap <= l->cap) return ADEM_OK;
-  cap = cap + cap / 4 + 16; /* headroom: the list is rebuilt often with similar sizes */
+  if (cap <= l->cap && (l->slot_cap > 0 || !l->sparse)) return ADEM_OK; /* sparse: slot 0 too */
+  cap = cap + cap / 4 + 16;                                             /* headroom: the list is rebuilt often with similar sizes */
+  /* a sparse list: a slot for every candidate and the zeros' slot; only the slots taken are
+   * ever written, so the rest costs address space, not memory */
+  size_t scap = l->sparse ? cap + 1 : cap;
   adem_status st = adem_soa_grow(l, pair_layout, cap);
-  if (!st && l->keeps_balance) st = adem_soa_grow(l, balance_layout, cap);
-  if (!st) l->cap = cap;
-  return st;
+  if (!st && l->sparse) st = adem_soa_grow(l, slot_index_layout, cap);
+  if (!st) st = adem_soa_grow(l, state_layout, scap);
+  if (!st && l->keeps_balance) st = adem_soa_grow(l, balance_layout, scap);
+  if (st) return st;
+  if (l->sparse && l->slot_cap == 0) {
+    l->nslots = 1;
+    adem_pairs_clear_slot(l, 0);
+  }
+  l->cap = cap;
+  l->slot_cap = scap;
+  return ADEM_OK;
 }
 
 adem_status adem_pairs_keep_balance(adem_pair_list *l, bool on) {
@@ -50,39 +71,131 @@ adem_status adem_pairs_keep_balance(adem_pair_list *l, bool on) {
     adem_soa_free(l, balance_layout);
     return ADEM_OK;
   }
-  if (l->cap == 0) return ADEM_OK; /* grown with the list */
-  l->bal = calloc(l->cap, sizeof *l->bal);
+  if (l->slot_cap == 0) return ADEM_OK; /* grown with the list */
+  l->bal = calloc(l->slot_cap, sizeof *l->bal);
   if (l->bal) return ADEM_OK;
   l->keeps_balance = false;
   return ADEM_ERR_NOMEM;
 }
 
 void adem_pairs_free(adem_pair_list *l) {
+  bool sparse = l->sparse;
   adem_soa_free(l, pair_layout);
+  adem_soa_free(l, slot_index_layout);
+  adem_soa_free(l, state_layout);
   adem_soa_free(l, balance_layout);
   memset(l, 0, sizeof *l);
+  l->sparse = sparse;
 }
 
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm) {
   adem_status st = adem_soa_permute(l, pair_layout, l->n, perm);
+  if (l->sparse) return st ? st : adem_soa_permute(l, slot_index_layout, l->n, perm);
+  if (!st) st = adem_soa_permute(l, state_layout, l->n, perm);
   if (!st && l->bal) st = adem_soa_permute(l, balance_layout, l->n, perm);
   return st;
 }
 
+adem_status adem_pairs_pack_slots(adem_pair_list *l, const uint32_t *src) {
+  size_t n = l->n, m = 0;
+  for (size_t k = 0; k < n; ++k) m += src[k] != 0;
+  size_t span = l->nslots > m + 1 ? l->nslots : m + 1;
+  uint32_t *from = malloc((m + 2) * sizeof *from);
+  unsigned char *state = calloc(span + 1, 1); /* 1: an old slot some new one takes; 2: filled */
+  if (!from || !state) {
+    free(from);
+    free(state);
+    return ADEM_ERR_NOMEM;
+  }
+  /* new slot d (1 .. m) takes old slot from[d]; from is one-to-one, so the moves are chains that
+   * start at a slot nobody takes from, and cycles, which go through one temporary */
+  from[0] = 0;
+  for (size_t k = 0, d = 1; k < n; ++k)
+    if (src[k] != 0) from[d++] = src[k];
+  for (size_t d = 1; d <= m; ++d) state[from[d]] |= 1;
+  adem_contact_history *h = l->hist;
+  for (size_t p0 = 1; p0 <= m; ++p0) {
+    if (state[p0] & 1) continue;
+    for (size_t p = p0; p >= 1 && p <= m && !(state[p] & 2); p = from[p]) {
+      h[p] = h[from[p]];
+      state[p] |= 2;
+    }
+  }
+  for (size_t p0 = 1; p0 <= m; ++p0) {
+    if (state[p0] & 2) continue;
+    adem_contact_history first = h[p0];
+    size_t p = p0;
+    for (; from[p] != p0; p = from[p]) {
+      h[p] = h[from[p]];
+      state[p] |= 2;
+    }
+    h[p] = first;
+    state[p] |= 2;
+  }
+  for (size_t k = 0, d = 1; k < n; ++k) {
+    bool kept = src[k] != 0;
+    l->slot[k] = kept ? (uint32_t)d : 0u;
+    l->touching[k] = kept;
+    l->opened[k] = false;
+    if (!kept) continue;
+    adem_contact_history hk = h[d];
+    adem_pairs_clear_slot(l, d);
+    h[d] = hk;
+    ++d;
+  }
+  adem_pairs_clear_slot(l, 0);
+  l->nslots = m + 1;
+  free(from);
+  free(state);
+  return ADEM_OK;
+}
+
+/* One per-slot array written per pair (a sparse list's untaken slot as zeros): the file is the
+ * same whatever the list keeps in slots. */
+static void put_by_pair(adem_writer *wr, const adem_pair_list *l, const void *arr, size_t elem) {
+  adem_put_u64(wr, l->n);
+  for (size_t k = 0; k < l->n; ++k)
+    adem_put(wr, (const char *)arr + adem_pairs_slot(l, k) * elem, elem);
+}
+
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l) {
   adem_put_u64(wr, l->n);
-  adem_soa_save(wr, l, pair_layout, l->n);
+  /* the order of the format: a, b, hist, touching, opened, res, elastic */
+  adem_put_array(wr, l->a, l->n, sizeof *l->a);
+  adem_put_array(wr, l->b, l->n, sizeof *l->b);
+  put_by_pair(wr, l, l->hist, sizeof *l->hist);
+  adem_put_array(wr, l->touching, l->n, sizeof *l->touching);
+  adem_put_array(wr, l->opened, l->n, sizeof *l->opened);
+  put_by_pair(wr, l, l->res, sizeof *l->res);
+  put_by_pair(wr, l, l->elastic, sizeof *l->elastic);
   adem_put_u8(wr, l->bal ? 1 : 0);
-  if (l->bal) adem_soa_save(wr, l, balance_layout, l->n);
+  if (l->bal) put_by_pair(wr, l, l->bal, sizeof *l->bal);
+}
+
+static bool all_zero(const void *x, size_t n) {
+  const unsigned char *c = x;
+  for (size_t i = 0; i < n; ++i)
+    if (c[i]) return false;
+  return true;
 }
 
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err) {
   uint64_t n = adem_get_count(rd, adem_pairs_item_bytes(false));
   if (rd->failed) return ADEM_OK;
-  if (n > l->cap && adem_pairs_reserve(l, (size_t)n) != ADEM_OK)
+  if (adem_pairs_reserve(l, (size_t)n) != ADEM_OK)
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
   l->n = (size_t)n;
-  adem_soa_load(rd, l, pair_layout, l->n);
+  /* read by pair, as a dense list holds them (a sparse list's slots hold a slot per pair) */
+  if (l->sparse)
+    for (size_t k = 0; k < l->n; ++k) l->slot[k] = (uint32_t)(k + 1);
+  adem_get_array(rd, l->a, l->n, sizeof *l->a);
+  adem_get_array(rd, l->b, l->n, sizeof *l->b);
+  size_t o = l->sparse ? 1 : 0; /* sparse: reserved, so the arrays exist */
+  adem_get_array(rd, l->hist + o, l->n, sizeof *l->hist);
+  adem_get_array(rd, l->touching, l->n, sizeof *l->touching);
+  adem_get_array(rd, l->opened, l->n, sizeof *l->opened);
+  adem_get_array(rd, l->res + o, l->n, sizeof *l->res);
+  adem_get_array(rd, l->elastic + o, l->n, sizeof *l->elastic);
   uint8_t with_balance = adem_get_u8(rd);
   if (rd->failed || with_balance > 1) {
     rd->failed = 1;
@@ -91,16 +204,40 @@ adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err)
   if (with_balance) {
     if (adem_pairs_keep_balance(l, true) != ADEM_OK)
       return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
-    adem_soa_load(rd, l, balance_layout, l->n);
+    adem_get_array(rd, l->bal + o, l->n, sizeof *l->bal);
   } else if (l->bal) {
-    memset(l->bal, 0, l->n * sizeof *l->bal);
+    memset(l->bal, 0, l->slot_cap * sizeof *l->bal);
   }
   /* a bool must hold 0 or 1 */
   for (size_t k = 0; k < l->n && !rd->failed; ++k) {
-    unsigned char b;
+    unsigned char b, c;
     memcpy(&b, &l->touching[k], 1);
-    if (b > 1) rd->failed = 1;
+    memcpy(&c, &l->opened[k], 1);
+    if (b > 1 || c > 1) rd->failed = 1;
   }
+  if (rd->failed || !l->sparse) return ADEM_OK;
+  /* a sparse list: every pair in slot k + 1; those whose records are all zero go to slot 0, and
+   * the rest are packed in order (a move down, never onto a slot still to be read) */
+  adem_pairs_clear_slot(l, 0);
+  size_t d = 1;
+  for (size_t k = 0; k < l->n; ++k) {
+    size_t s = k + 1;
+    bool zero = !l->touching[k] && !l->opened[k] && all_zero(&l->hist[s], sizeof l->hist[s]) &&
+                all_zero(&l->res[s], sizeof l->res[s]) && all_zero(&l->elastic[s], sizeof l->elastic[s]) &&
+                (!l->bal || all_zero(&l->bal[s], sizeof l->bal[s]));
+    if (zero) {
+      l->slot[k] = 0;
+      continue;
+    }
+    if (d != s) {
+      l->hist[d] = l->hist[s];
+      l->res[d] = l->res[s];
+      l->elastic[d] = l->elastic[s];
+      if (l->bal) l->bal[d] = l->bal[s];
+    }
+    l->slot[k] = (uint32_t)d++;
+  }
+  l->nslots = d;
   return ADEM_OK;
 }
 

@@ -71,45 +71,80 @@ enum {
   ADEM_PAIR_RESULT = 2 /* written by every force pass; zero when the pair does not touch */
 };
 
-/* X(type, name, role, what it holds) */
+/* Per candidate: X(type, name, role, what it holds) */
 // clang-format off
 #define ADEM_PAIR_FIELDS(X)                                                                    \
   X(uint32_t, a, ADEM_PAIR_KEY, "particle index; for particle pairs id[a] < id[b]")             \
   X(uint32_t, b, ADEM_PAIR_KEY, "particle, plane or triangle index")                            \
-  X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(bool, touching, ADEM_PAIR_STATE, "in contact after the last force pass")                   \
-  X(bool, opened, ADEM_PAIR_STATE, "opened at the last force pass: its results hold what the pass left (a break correction, the lost spring energy) for the next pass to clear") \
+  X(bool, opened, ADEM_PAIR_STATE, "opened at the last force pass: its results hold what the pass left (a break correction, the lost spring energy) for the next pass to clear")
+/* Per slot (the place of a pair's state and results, adem_pairs_slot): X(type, name, role, doc) */
+#define ADEM_PAIR_SLOT_FIELDS(X)                                                               \
+  X(adem_contact_history, hist, ADEM_PAIR_STATE, "tangential and rolling history")             \
   X(adem_pair_result, res, ADEM_PAIR_RESULT, "the results of the last force pass")          \
   X(double, elastic, ADEM_PAIR_RESULT, "elastic energy stored in the contact, J, written by the passes after which the diagnostics can be read")
 // clang-format on
 
 /* A list of candidate pairs within cut-off + skin. Per-pair results are written by the force pass
- * and summed per particle afterwards in a fixed order, so any thread count gives the same sums. */
+ * and summed per particle afterwards in a fixed order, so any thread count gives the same sums.
+ *
+ * Where a pair's state and results are (issue 24, stage 3): a dense list (walls, meshes) keeps
+ * them at the pair's own index. The particle pairs' list is sparse: of its candidates about a
+ * third never touch between two builds, and their 200 bytes of history and results would be
+ * zeros. A sparse list keeps them in slots: slot 0 holds zeros for every pair that has not touched
+ * since the build (it is read, never written); a pair takes a slot of its own when it first
+ * touches (adem_pairs_own_slot) and keeps it to the next build, which packs the slots of the
+ * touching pairs in the list's order. A slot's number depends on the order in which the threads
+ * took them; no result does. */
 typedef struct adem_pair_list {
   size_t n, cap;
 #define ADEM_X(type, name, role, doc) type *name;
   ADEM_PAIR_FIELDS(ADEM_X)
+  uint32_t *slot; /* sparse: each candidate's slot (0: none of its own); NULL: dense */
+  ADEM_PAIR_SLOT_FIELDS(ADEM_X)
 #undef ADEM_X
-  bool keeps_balance;     /* bal is kept (the energy balance is on) */
-  adem_pair_balance *bal; /* the energy balance's terms, a result like res; NULL unless kept */
+  bool sparse;             /* state and results in slots (set before the list first grows) */
+  size_t nslots, slot_cap; /* sparse: slots in use (slot 0 included) and allocated */
+  bool keeps_balance;      /* bal is kept (the energy balance is on) */
+  adem_pair_balance *bal;  /* the energy balance's terms, a result like res (per slot); NULL unless kept */
 } adem_pair_list;
+
+/* The slot of pair k: where its hist, res, elastic and bal are. */
+static inline size_t adem_pairs_slot(const adem_pair_list *l, size_t k) {
+  return l->slot ? l->slot[k] : k;
+}
+
+/* Zeroes slot s's records (history and results). */
+static inline void adem_pairs_clear_slot(adem_pair_list *l, size_t s) {
+#define ADEM_X(type, name, role, doc) memset(&l->name[s], 0, sizeof l->name[s]);
+  ADEM_PAIR_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+  if (l->bal) memset(&l->bal[s], 0, sizeof l->bal[s]);
+}
+
+/* The slot pair k writes to: its own, taken now (zeroed) if it has none. Safe from several
+ * threads: the build reserved a slot for every candidate. */
+static inline size_t adem_pairs_own_slot(adem_pair_list *l, size_t k) {
+  if (!l->slot) return k;
+  if (l->slot[k] != 0) return l->slot[k];
+  size_t s = __atomic_fetch_add(&l->nslots, 1, __ATOMIC_RELAXED);
+  adem_pairs_clear_slot(l, s);
+  l->slot[k] = (uint32_t)s;
+  return s;
+}
+
+/* A sparse list's slots all free again (slot 0 stays), for a list filled anew: each pair then
+ * gets slot 0 (set slot[k] = 0) or takes its own. */
+static inline void adem_pairs_free_slots(adem_pair_list *l) {
+  if (l->slot) l->nslots = 1;
+}
 
 /* Forgets the pair's state and results: a candidate out of contact. */
 static inline void adem_pairs_clear(adem_pair_list *l, size_t k) {
-#define ADEM_X(type, name, role, doc) \
-  if (role != ADEM_PAIR_KEY) memset(&l->name[k], 0, sizeof l->name[k]);
-  ADEM_PAIR_FIELDS(ADEM_X)
-#undef ADEM_X
-  if (l->bal) memset(&l->bal[k], 0, sizeof l->bal[k]);
-}
-
-/* Zeroes the pair's results, keeping its state. */
-static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
-#define ADEM_X(type, name, role, doc) \
-  if (role == ADEM_PAIR_RESULT) memset(&l->name[k], 0, sizeof l->name[k]);
-  ADEM_PAIR_FIELDS(ADEM_X)
-#undef ADEM_X
-  if (l->bal) memset(&l->bal[k], 0, sizeof l->bal[k]);
+  l->touching[k] = false;
+  l->opened[k] = false;
+  size_t s = adem_pairs_slot(l, k);
+  if (s != 0 || !l->slot) adem_pairs_clear_slot(l, s);
 }
 
 /* Clears every pair out of contact except what the pass in which it opened left (its lost
@@ -119,11 +154,13 @@ static inline void adem_pairs_clear_results(adem_pair_list *l, size_t k) {
 static inline void adem_pairs_clear_apart(adem_pair_list *l) {
   for (size_t k = 0; k < l->n; ++k) {
     if (l->touching[k]) continue;
-    double lost = l->bal ? l->bal[k].dissipated : 0.0;
-    adem_vec3 f = l->res[k].force_a;
+    size_t s = adem_pairs_slot(l, k);
+    if (l->slot && s == 0) continue; /* zeros already */
+    double lost = l->bal ? l->bal[s].dissipated : 0.0;
+    adem_vec3 f = l->res[s].force_a;
     adem_pairs_clear(l, k);
-    if (l->bal) l->bal[k].dissipated = lost;
-    l->res[k].force_a = f;
+    if (l->bal) l->bal[s].dissipated = lost;
+    l->res[s].force_a = f;
     l->opened[k] = true;
   }
 }
@@ -136,9 +173,14 @@ adem_status adem_pairs_keep_balance(adem_pair_list *l, bool on);
 void adem_pairs_free(adem_pair_list *l);
 /* Reorders the pairs: new pair k is old pair perm[k] (the particle indices are not remapped). */
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm);
+/* A sparse list's state carried to its new candidates (the neighbour build): src[k] is the slot
+ * whose history new pair k takes, or 0. The histories move to slots 1, 2, ... in the order of
+ * the pairs, every other record is cleared, and the pairs with a history are touching. */
+adem_status adem_pairs_pack_slots(adem_pair_list *l, const uint32_t *src);
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l);
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err);
-/* Bytes per pair over every array; with_balance: the balance records too. */
+/* Bytes per pair over every array; with_balance: the balance records too (a sparse list's slots
+ * counted as one per pair: what it holds at most). */
 size_t adem_pairs_item_bytes(bool with_balance);
 
 /* Particle-mesh contacts. The pair list holds each particle's candidate triangles (b = triangle

@@ -32,6 +32,7 @@ adem_world *adem_world_create(void) {
   w->next_id = 0;
   adem_world_add_group(w, "default", v3_zero(), NULL, NULL);
   w->pair_blocks = true;
+  w->pp.sparse = true; /* particle pairs keep state only for those that touch (pairs.h) */
   return w;
 }
 
@@ -681,11 +682,12 @@ static void contact_from(adem_contact_info *c, adem_contact_kind kind, uint64_t 
   c->kind = kind;
   c->a = a;
   c->b = b;
-  c->force = l->res[k].force_a;
-  c->overlap_ratio = l->res[k].overlap_ratio;
-  c->elastic = l->elastic[k];
-  c->tangential_history = l->hist[k].tangential;
-  c->rolling_history = l->hist[k].rolling;
+  size_t s = adem_pairs_slot(l, k);
+  c->force = l->res[s].force_a;
+  c->overlap_ratio = l->res[s].overlap_ratio;
+  c->elastic = l->elastic[s];
+  c->tangential_history = l->hist[s].tangential;
+  c->rolling_history = l->hist[s].rolling;
 }
 
 size_t adem_world_contacts(const adem_world *w, adem_contact_info *out, size_t capacity) {
@@ -708,7 +710,10 @@ size_t adem_world_contacts(const adem_world *w, adem_contact_info *out, size_t c
 void adem_world_clear_history(adem_world *w) {
   adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
   for (int s = 0; s < 3; ++s)
-    for (size_t k = 0; k < lists[s]->n; ++k) memset(&lists[s]->hist[k], 0, sizeof lists[s]->hist[k]);
+    for (size_t k = 0; k < lists[s]->n; ++k) {
+      size_t q = adem_pairs_slot(lists[s], k); /* slot 0 of a sparse list: zeros already */
+      memset(&lists[s]->hist[q], 0, sizeof lists[s]->hist[q]);
+    }
 }
 
 adem_status adem_world_pair_info(adem_world *w, int a, int b, adem_pair_info *out,

@@ -231,7 +231,8 @@ adem_status adem_world_check_state(const adem_world *w, adem_error *err) {
   for (int s = 0; s < 2; ++s) {
     const adem_pair_list *l = lists[s];
     for (size_t k = 0; k < l->n; ++k) {
-      if (!(l->res[k].overlap_ratio > w->max_overlap_ratio)) continue;
+      double ratio = l->res[adem_pairs_slot(l, k)].overlap_ratio;
+      if (!(ratio > w->max_overlap_ratio)) continue;
       const char *other = s == 0 ? "particle" : "wall";
       char name[ADEM_NAME_MAX + 32];
       if (s == 0)
@@ -241,7 +242,7 @@ adem_status adem_world_check_state(const adem_world *w, adem_error *err) {
       return adem_error_set(err, ADEM_ERR_RUNTIME,
                             "particle id %llu overlaps %s %s by %.3g of its radius (limit %.3g) at "
                             "t = %.9g s (step %llu); the time step is probably too large",
-                            (unsigned long long)p->id[l->a[k]], other, name, l->res[k].overlap_ratio,
+                            (unsigned long long)p->id[l->a[k]], other, name, ratio,
                             w->max_overlap_ratio, w->time, (unsigned long long)w->step);
     }
   }

@@ -33,7 +33,8 @@ static void sum_elastic(const adem_world *w, double out[3]) {
   for (size_t r = 0; r < nb->gathered; ++r) {
     size_t i = nb->id_order[r];
     for (size_t e = nb->pp_start[i]; e < nb->pp_start[i + 1]; ++e)
-      if (!(nb->pp_entries[e] & 1u)) adem_block_sum_add(&b[0], w->pp.elastic[nb->pp_entries[e] >> 1]);
+      if (!(nb->pp_entries[e] & 1u))
+        adem_block_sum_add(&b[0], w->pp.elastic[adem_pairs_slot(&w->pp, nb->pp_entries[e] >> 1)]);
     for (size_t e = nb->pw_start[i]; e < nb->pw_start[i + 1]; ++e)
       adem_block_sum_add(&b[1], w->pw.elastic[nb->pw_entries[e]]);
     for (size_t k = pm->start ? pm->start[i] : 0; pm->start && k < pm->start[i + 1]; ++k)
@@ -99,7 +100,7 @@ adem_diagnostics adem_world_diagnostics(const adem_world *w) {
   d.elastic = elastic[0] + elastic[1] + elastic[2];
   for (size_t k = 0; k < w->pp.n; ++k) {
     d.contacts_pp += w->pp.touching[k];
-    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.res[k].overlap_ratio);
+    d.max_overlap_ratio = fmax(d.max_overlap_ratio, w->pp.res[adem_pairs_slot(&w->pp, k)].overlap_ratio);
   }
   for (size_t k = 0; k < w->pw.n; ++k) {
     d.contacts_pw += w->pw.touching[k];

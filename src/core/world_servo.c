@@ -21,8 +21,9 @@
 /* Stiffness of a touching contact for the servo's stability rule: 1.5 F / delta, exact for Hertz
  * (F ~ delta^1.5), of the order for the other laws. */
 static double contact_stiffness(const adem_pair_list *l, size_t k, const adem_particles *p) {
-  double delta = l->res[k].overlap_ratio * p->radius[l->a[k]];
-  return l->touching[k] && delta > 0.0 ? 1.5 * v3_norm(l->res[k].force_a) / delta : 0.0;
+  const adem_pair_result *r = &l->res[adem_pairs_slot(l, k)];
+  double delta = r->overlap_ratio * p->radius[l->a[k]];
+  return l->touching[k] && delta > 0.0 ? 1.5 * v3_norm(r->force_a) / delta : 0.0;
 }
 
 static void servo_warn(adem_motion *m, const char *name, double K, double dt) {

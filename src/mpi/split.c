@@ -421,7 +421,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
     memset(&r, 0, sizeof r);
     r.ka = p->id[a];
     r.kb = p->id[b];
-    r.h = w->pp.hist[k];
+    r.h = w->pp.hist[adem_pairs_slot(&w->pp, k)];
     if (da >= 0 && !adem_split_bytes_put(&hout[da], &r, sizeof r)) st = ADEM_ERR_NOMEM;
     if (db >= 0 && db != da && !adem_split_bytes_put(&hout[db], &r, sizeof r)) st = ADEM_ERR_NOMEM;
   }
@@ -493,6 +493,7 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
   adem_pair_list *lists[3] = {&w->pp, &w->pw, &w->pm.l};
   for (int pass = 0; pass < 2 && !st; ++pass) {
     m[0] = m[1] = m[2] = 0;
+    if (pass == 1) adem_pairs_free_slots(&w->pp); /* the old slots are the old lists' */
     for (size_t k = 0; k < nh; ++k) {
       if (k > 0 && compare_history(&hr[k - 1], &hr[k]) == 0) continue; /* held on both sides */
       size_t a = adem_split_find_id(map, n, hr[k].ka);
@@ -503,9 +504,10 @@ static adem_status build_hook_work(void *ctx, adem_world *w, adem_error *err) {
       if (pass == 1) {
         L->a[m[l]] = (uint32_t)a;
         L->b[m[l]] = l == 2 ? 0u : (uint32_t)b;
+        if (L->slot) L->slot[m[l]] = 0; /* before the clear: none of its own yet */
         adem_pairs_clear(L, m[l]);
         if (l == 2) w->pm.key[m[l]] = hr[k].kb;
-        L->hist[m[l]] = hr[k].h;
+        L->hist[adem_pairs_own_slot(L, m[l])] = hr[k].h;
         L->touching[m[l]] = true;
       }
       m[l]++;

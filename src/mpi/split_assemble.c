@@ -144,6 +144,7 @@ adem_status adem_split_assemble(adem_split *s, const adem_world *local, adem_wor
         break;
       }
       L->n = m;
+      adem_pairs_free_slots(L);
       for (size_t k = 0; k < m; ++k) {
         uint64_t ka, kb;
         adem_split_get_pair(L, k, in[l + 1].d + k * prec, &ka, &kb, bal);

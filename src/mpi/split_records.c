@@ -65,12 +65,14 @@ bool adem_split_get_particle(adem_particles *p, size_t i, const unsigned char *s
 }
 
 /* A pair for the assembly: its keys as ids (or id and plane), then every field of
- * ADEM_PAIR_FIELDS but the keys, then (bal: while the balance is on) its balance record. */
+ * ADEM_PAIR_FIELDS but the keys and every field of ADEM_PAIR_SLOT_FIELDS, then (bal: while the
+ * balance is on) its balance record. */
 size_t adem_split_pair_bytes(bool bal) {
   size_t n = 2 * sizeof(uint64_t);
 #define ADEM_X(type, name, role, doc) \
   if (role != ADEM_PAIR_KEY) n += sizeof(type);
   ADEM_PAIR_FIELDS(ADEM_X)
+  ADEM_PAIR_SLOT_FIELDS(ADEM_X)
 #undef ADEM_X
   return n + (bal ? sizeof(adem_pair_balance) : 0);
 }
@@ -78,18 +80,23 @@ size_t adem_split_pair_bytes(bool bal) {
 bool adem_split_put_pair(bytes *b, const adem_pair_list *l, size_t k, uint64_t ka, uint64_t kb,
                          bool bal) {
   bool ok = adem_split_bytes_put(b, &ka, sizeof ka) && adem_split_bytes_put(b, &kb, sizeof kb);
+  size_t s = adem_pairs_slot(l, k);
 #define ADEM_X(type, name, role, doc) \
   if (role != ADEM_PAIR_KEY) ok = ok && adem_split_bytes_put(b, &l->name[k], sizeof(type));
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
+#define ADEM_X(type, name, role, doc) ok = ok && adem_split_bytes_put(b, &l->name[s], sizeof(type));
+  ADEM_PAIR_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
   if (bal) { /* records not made yet (no force pass since the balance came on) are zero */
     adem_pair_balance zero;
     memset(&zero, 0, sizeof zero);
-    ok = ok && adem_split_bytes_put(b, l->bal ? &l->bal[k] : &zero, sizeof zero);
+    ok = ok && adem_split_bytes_put(b, l->bal ? &l->bal[s] : &zero, sizeof zero);
   }
   return ok;
 }
 
+/* Into pair k of a list being filled anew (a sparse one's slots freed: adem_pairs_free_slots). */
 void adem_split_get_pair(adem_pair_list *l, size_t k, const unsigned char *src, uint64_t *ka,
                          uint64_t *kb, bool bal) {
   memcpy(ka, src, sizeof *ka);
@@ -102,7 +109,14 @@ void adem_split_get_pair(adem_pair_list *l, size_t k, const unsigned char *src, 
   }
   ADEM_PAIR_FIELDS(ADEM_X)
 #undef ADEM_X
-  if (bal && l->bal) memcpy(&l->bal[k], src, sizeof l->bal[k]);
+  if (l->slot) l->slot[k] = 0;
+  size_t s = adem_pairs_own_slot(l, k); /* zeros or not, the assembled list is not timed */
+#define ADEM_X(type, name, role, doc)     \
+  memcpy(&l->name[s], src, sizeof(type)); \
+  src += sizeof(type);
+  ADEM_PAIR_SLOT_FIELDS(ADEM_X)
+#undef ADEM_X
+  if (bal && l->bal) memcpy(&l->bal[s], src, sizeof l->bal[s]);
 }
 
 int adem_split_compare_id_index(const void *x, const void *y) {

@@ -81,8 +81,9 @@ adem_status adem_contact_records(const adem_world *w, adem_contact_record **out,
       r->p0 = p->pos[i];
       r->p1 = v3_add(p->pos[i], d);
       r->overlap = p->radius[i] + p->radius[j] - v3_norm(d);
-      r->force = w->pp.res[k].force_a;
-      r->rolling_torque = w->pp.res[k].rolling_a;
+      const adem_pair_result *res = &w->pp.res[adem_pairs_slot(&w->pp, k)];
+      r->force = res->force_a;
+      r->rolling_torque = res->rolling_a;
     } else if (r->kind == 1) {
       uint32_t i = w->pw.a[k];
       const adem_plane_def *pl = &w->walls.planes[w->pw.b[k]].def;

@@ -42,8 +42,11 @@ static inline int settle_same_state(const adem_world *a, const adem_world *b, co
     SAME(memcmp(la[s]->a, lb[s]->a, m * sizeof *la[s]->a) == 0 &&
              memcmp(la[s]->b, lb[s]->b, m * sizeof *la[s]->b) == 0,
          s ? "wall pairs" : "particle pairs");
-    SAME(memcmp(la[s]->hist, lb[s]->hist, m * sizeof *la[s]->hist) == 0,
-         s ? "wall contact history" : "particle contact history");
+    bool same_hist = true; /* by pair: a slot's number is the threads' order of taking it */
+    for (size_t k = 0; k < m && same_hist; ++k)
+      same_hist = memcmp(&la[s]->hist[adem_pairs_slot(la[s], k)], &lb[s]->hist[adem_pairs_slot(lb[s], k)],
+                         sizeof *la[s]->hist) == 0;
+    SAME(same_hist, s ? "wall contact history" : "particle contact history");
     SAME(memcmp(la[s]->touching, lb[s]->touching, m * sizeof *la[s]->touching) == 0,
          "touching flags");
   }
@@ -55,7 +58,7 @@ static inline int settle_same_state(const adem_world *a, const adem_world *b, co
 static inline size_t settle_loaded_contacts(const adem_world *w) {
   size_t k, count = 0;
   for (k = 0; k < w->pp.n; ++k)
-    if (w->pp.touching[k] && w->pp.hist[k].tangential.x != 0.0) ++count;
+    if (w->pp.touching[k] && w->pp.hist[adem_pairs_slot(&w->pp, k)].tangential.x != 0.0) ++count;
   for (k = 0; k < w->pw.n; ++k)
     if (w->pw.touching[k] && w->pw.hist[k].tangential.x != 0.0) ++count;
   return count;
