@@ -12,10 +12,10 @@ static const adem_soa_field pair_fields[] = {
 #undef ADEM_X
 };
 static const adem_soa_layout pair_layout = {pair_fields, sizeof pair_fields / sizeof pair_fields[0]};
-static const adem_soa_field slot_index_fields[] = {{"slot", offsetof(adem_pair_list, slot), sizeof(uint32_t)}};
+static const adem_soa_field slot_index_fields[] = {{"slot", offsetof(adem_pair_list, slot), sizeof(uint32_t), 0}};
 static const adem_soa_layout slot_index_layout = {slot_index_fields, 1};
 static const adem_soa_field state_fields[] = {
-#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type)},
+#define ADEM_X(type, name, role, doc) {#name, offsetof(adem_pair_list, name), sizeof(type), 0},
     ADEM_PAIR_SLOT_FIELDS(ADEM_X)
 #undef ADEM_X
 };
