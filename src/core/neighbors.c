@@ -116,6 +116,13 @@ static pair_key *save_pair_keys(const build_ctx *w, const adem_pair_list *l, siz
   return s;
 }
 
+static inline bool pair_close(const adem_neighbors *nb, const adem_particles *p, size_t i, size_t j,
+                              double skin) {
+  adem_vec3 d = adem_periodic_min_image(&nb->periodic, v3_sub(p->pos[j], p->pos[i]));
+  double cut = p->radius[i] + p->radius[j] + skin;
+  return v3_norm2(d) < cut * cut;
+}
+
 /* After the build (l holds the new pairs; its slots still the old pairs' histories): each new
  * pair takes the history its ids had (adem_pairs_pack_slots), every other record cleared, as
  * restore_history does for the other lists. */
@@ -136,6 +143,10 @@ static adem_status carry_pair_history(const build_ctx *w, adem_pair_list *l, con
       else hi = mid;
     }
     src[k] = lo < ns && compare_key(&s[lo], &key) == 0 ? (uint32_t)s[lo].k : 0u;
+    /* a pair that overlaps now but kept no history (a new contact, or the first build of a run)
+     * will touch at the next pass: its slot now, in the list's order, rather than in the order
+     * the threads come to it (where two threads' slots would share cache lines) */
+    if (src[k] == 0 && pair_close(w->nb, w->p, l->a[k], l->b[k], 0.0)) src[k] = ADEM_PAIR_FRESH_SLOT;
   }
   adem_status st = adem_pairs_pack_slots(l, src);
   free(src);
@@ -279,13 +290,6 @@ static adem_status sort_by_cell(build_ctx *w, double cell) {
   adem_status st = adem_particles_permute(p, perm);
   free(perm);
   return st;
-}
-
-static inline bool pair_close(const adem_neighbors *nb, const adem_particles *p, size_t i, size_t j,
-                              double skin) {
-  adem_vec3 d = adem_periodic_min_image(&nb->periodic, v3_sub(p->pos[j], p->pos[i]));
-  double cut = p->radius[i] + p->radius[j] + skin;
-  return v3_norm2(d) < cut * cut;
 }
 
 /* The cells next to cell c along one axis (itself included), each once, ascending from c - 1 for

@@ -110,8 +110,8 @@ adem_status adem_pairs_pack_slots(adem_pair_list *l, const uint32_t *src) {
   /* new slot d (1 .. m) takes old slot from[d]; from is one-to-one, so the moves are chains that
    * start at a slot nobody takes from, and cycles, which go through one temporary */
   from[0] = 0;
-  for (size_t k = 0, d = 1; k < n; ++k)
-    if (src[k] != 0) from[d++] = src[k];
+  for (size_t k = 0, d = 1; k < n; ++k) /* a fresh slot takes slot 0's zeros */
+    if (src[k] != 0) from[d++] = src[k] == ADEM_PAIR_FRESH_SLOT ? 0u : src[k];
   for (size_t d = 1; d <= m; ++d) state[from[d]] |= 1;
   adem_contact_history *h = l->hist;
   for (size_t p0 = 1; p0 <= m; ++p0) {
@@ -135,7 +135,7 @@ adem_status adem_pairs_pack_slots(adem_pair_list *l, const uint32_t *src) {
   for (size_t k = 0, d = 1; k < n; ++k) {
     bool kept = src[k] != 0;
     l->slot[k] = kept ? (uint32_t)d : 0u;
-    l->touching[k] = kept;
+    l->touching[k] = kept && src[k] != ADEM_PAIR_FRESH_SLOT;
     l->opened[k] = false;
     if (!kept) continue;
     adem_contact_history hk = h[d];

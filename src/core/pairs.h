@@ -174,8 +174,10 @@ void adem_pairs_free(adem_pair_list *l);
 /* Reorders the pairs: new pair k is old pair perm[k] (the particle indices are not remapped). */
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm);
 /* A sparse list's state carried to its new candidates (the neighbour build): src[k] is the slot
- * whose history new pair k takes, or 0. The histories move to slots 1, 2, ... in the order of
- * the pairs, every other record is cleared, and the pairs with a history are touching. */
+ * whose history new pair k takes, 0 (no slot) or ADEM_PAIR_FRESH_SLOT (a zeroed slot of its own).
+ * The histories move to slots 1, 2, ... in the order of the pairs, every other record is
+ * cleared, and the pairs with a history are touching. */
+enum { ADEM_PAIR_FRESH_SLOT = UINT32_MAX };
 adem_status adem_pairs_pack_slots(adem_pair_list *l, const uint32_t *src);
 void adem_pairs_save(adem_writer *wr, const adem_pair_list *l);
 adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err);

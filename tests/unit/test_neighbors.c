@@ -1,4 +1,5 @@
-/* The cell-grid search against the brute-force one, and history across rebuilds. */
+/* The cell-grid search against the brute-force one, history across rebuilds, and the slots of
+ * the sparse particle-pair list. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -122,10 +123,76 @@ static void test_history_survives_rebuild(void **state) {
   adem_world_free(w);
 }
 
+/* The slots of a sparse list: every pair that touches has one of its own, no two pairs share
+ * one, slot 0 stays zeros; a build packs the touching pairs' slots 1 .. m in the list's order. */
+static void check_slots(const adem_pair_list *l, bool packed) {
+  size_t own = 0, touching = 0;
+  unsigned char *seen = calloc(l->nslots + 1, 1);
+  for (size_t k = 0; k < l->n; ++k) {
+    size_t s = l->slot[k];
+    touching += l->touching[k];
+    if (l->touching[k] || l->opened[k]) assert_true(s != 0);
+    if (s == 0) continue;
+    assert_true(s < l->nslots);
+    assert_false(seen[s]);
+    seen[s] = 1;
+    if (packed) assert_int_equal(s, own + 1);
+    ++own;
+  }
+  assert_int_equal(own + 1, l->nslots);
+  if (packed) assert_true(own >= touching); /* and the fresh ones: overlapping, no history */
+  const unsigned char *z = (const unsigned char *)&l->hist[0];
+  for (size_t b = 0; b < sizeof l->hist[0]; ++b) assert_int_equal(z[b], 0);
+  z = (const unsigned char *)&l->res[0];
+  for (size_t b = 0; b < sizeof l->res[0]; ++b) assert_int_equal(z[b], 0);
+  assert_true(l->elastic[0] == 0.0);
+  free(seen);
+}
+
+/* Claim: the particle pairs' history and results take memory only for pairs that touched since
+ * the last build (issue 24, stage 3), and a build packs them. */
+static void test_slots_only_for_pairs_that_touched(void **state) {
+  (void)state;
+  adem_world *w = random_world(7, 3000, 0);
+  adem_error err;
+  adem_world_set_dt(w, 1e-7);
+  assert_true(w->pp.slot != NULL);
+  /* built before any force: none touching; the pairs that overlap took fresh slots */
+  check_slots(&w->pp, true);
+  size_t overlapping = 0;
+  for (size_t k = 0; k < w->pp.n; ++k) {
+    size_t i = w->pp.a[k], j = w->pp.b[k];
+    double rs = w->p.radius[i] + w->p.radius[j];
+    bool close = v3_norm2(v3_sub(w->p.pos[j], w->p.pos[i])) < rs * rs;
+    assert_true(close == (w->pp.slot[k] != 0));
+    overlapping += close;
+  }
+  assert_int_equal(w->pp.nslots, overlapping + 1);
+  assert_true(overlapping > 20 && overlapping < w->pp.n);
+  adem_world_compute_forces(w);
+  check_slots(&w->pp, false);
+  size_t before = w->pp.nslots;
+  for (size_t i = 0; i < w->p.n; ++i) w->p.pos[i] = v3_scale(w->p.pos[i], 0.98); /* new contacts */
+  adem_world_compute_forces(w);
+  check_slots(&w->pp, false);
+  assert_true(w->pp.nslots > before);
+  for (size_t i = 0; i < w->p.n; ++i) w->p.pos[i] = v3_scale(w->p.pos[i], 1.04); /* some open */
+  adem_world_compute_forces(w);
+  check_slots(&w->pp, false);
+  size_t taken = w->pp.nslots - 1, candidates = w->pp.n;
+  assert_int_equal(adem_world_build_neighbors(w, &err), ADEM_OK);
+  check_slots(&w->pp, true);
+  printf("# %zu candidates, %zu took a slot, %zu touching after the build\n", candidates, taken,
+         w->pp.nslots - 1);
+  assert_true(taken > 20 && taken < candidates);
+  adem_world_free(w);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_grid_matches_brute_force),
       cmocka_unit_test(test_history_survives_rebuild),
+      cmocka_unit_test(test_slots_only_for_pairs_that_touched),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
