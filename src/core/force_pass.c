@@ -50,7 +50,8 @@ void adem_force_particle_pair(const adem_force_scope *w, size_t k, adem_vec3 d, 
 /* The particle pairs of chunk c: those apart forgotten, the touching ones of an interaction with
  * a block kernel gathered into blocks, the rest one at a time. Each pair writes only its own
  * records, so the order in which they are done changes nothing. */
-enum { PAIR_PREFETCH = 8 }; /* pairs ahead whose particles the chunk loop asks for */
+enum { PAIR_PREFETCH = 8 };          /* pairs ahead whose particles the chunk loop asks for */
+enum { PAIR_PREFETCH_FROM = 16384 }; /* from this many particles on */
 
 static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   adem_particles *p = w->p;
@@ -69,9 +70,12 @@ static void particle_pair_chunk(const adem_force_scope *w, size_t c) {
   const adem_vec3 *predicted = w->predicted;
   const bool blocks = w->pair_blocks && !w->energy, onset = onset_pass(w);
   const double hp = w->second_order ? w->dt : 0.0;
+  /* ask ahead only where the particles' numbers outgrow a core's L2 (~100 B each are read):
+   * in a smaller system the requests only cost instructions */
+  const bool ahead = p->n > PAIR_PREFETCH_FROM;
   for (size_t k = k0; k < k1; ++k) {
     size_t i = l->a[k], j = l->b[k];
-    if (k + PAIR_PREFETCH < k1) { /* a partner a few pairs ahead: its numbers are in L3 at best */
+    if (ahead && k + PAIR_PREFETCH < k1) { /* a partner a few pairs ahead */
       size_t jn = l->b[k + PAIR_PREFETCH], in = l->a[k + PAIR_PREFETCH];
       __builtin_prefetch(&p->pos[jn]);
       __builtin_prefetch(&p->pos[in]);

@@ -186,8 +186,10 @@ adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err)
     return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
   l->n = (size_t)n;
   /* read by pair, as a dense list holds them (a sparse list's slots hold a slot per pair) */
-  if (l->sparse)
+  if (l->sparse) {
     for (size_t k = 0; k < l->n; ++k) l->slot[k] = (uint32_t)(k + 1);
+    l->nslots = l->n + 1; /* consistent even if the file turns out bad below */
+  }
   adem_get_array(rd, l->a, l->n, sizeof *l->a);
   adem_get_array(rd, l->b, l->n, sizeof *l->b);
   size_t o = l->sparse ? 1 : 0; /* sparse: reserved, so the arrays exist */
