@@ -88,9 +88,50 @@ void adem_pairs_free(adem_pair_list *l) {
   l->sparse = sparse;
 }
 
+/* A sparse list's slots renumbered 1, 2, ... in the order of its pairs, every record kept (after
+ * a permutation, which may drop pairs): the slots in use are then at most one per pair, so the
+ * pairs still without one can each take one within the capacity (a slot per candidate). */
+static adem_status repack_slots(adem_pair_list *l) {
+  size_t m = 0;
+  for (size_t k = 0; k < l->n; ++k) m += l->slot[k] != 0;
+  if (m == 0) { /* (the arrays may not exist yet) */
+    if (l->slot_cap > 0) l->nslots = 1;
+    return ADEM_OK;
+  }
+  adem_contact_history *h = malloc((m + 1) * sizeof *h);
+  adem_pair_result *r = malloc((m + 1) * sizeof *r);
+  double *e = malloc((m + 1) * sizeof *e);
+  adem_pair_balance *b = l->bal ? malloc((m + 1) * sizeof *b) : NULL;
+  adem_status st = h && r && e && (b || !l->bal) ? ADEM_OK : ADEM_ERR_NOMEM;
+  for (size_t k = 0, d = 1; k < l->n && !st; ++k) {
+    size_t s = l->slot[k];
+    if (s == 0) continue;
+    h[d] = l->hist[s];
+    r[d] = l->res[s];
+    e[d] = l->elastic[s];
+    if (b) b[d] = l->bal[s];
+    l->slot[k] = (uint32_t)d++;
+  }
+  if (!st) {
+    memcpy(l->hist + 1, h + 1, m * sizeof *h);
+    memcpy(l->res + 1, r + 1, m * sizeof *r);
+    memcpy(l->elastic + 1, e + 1, m * sizeof *e);
+    if (b) memcpy(l->bal + 1, b + 1, m * sizeof *b);
+    l->nslots = m + 1;
+  }
+  free(h);
+  free(r);
+  free(e);
+  free(b);
+  return st;
+}
+
 adem_status adem_pairs_permute(adem_pair_list *l, const size_t *perm) {
   adem_status st = adem_soa_permute(l, pair_layout, l->n, perm);
-  if (l->sparse) return st ? st : adem_soa_permute(l, slot_index_layout, l->n, perm);
+  if (l->sparse) {
+    if (!st) st = adem_soa_permute(l, slot_index_layout, l->n, perm);
+    return st ? st : repack_slots(l);
+  }
   if (!st) st = adem_soa_permute(l, state_layout, l->n, perm);
   if (!st && l->bal) st = adem_soa_permute(l, balance_layout, l->n, perm);
   return st;
