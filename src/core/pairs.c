@@ -233,12 +233,14 @@ adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err)
   }
   adem_get_array(rd, l->a, l->n, sizeof *l->a);
   adem_get_array(rd, l->b, l->n, sizeof *l->b);
-  size_t o = l->sparse ? 1 : 0; /* sparse: reserved, so the arrays exist */
-  adem_get_array(rd, l->hist + o, l->n, sizeof *l->hist);
+  /* a sparse list's pair k in slot k + 1 (reserved: the arrays exist); a dense list's arrays
+   * as they are (NULL while it never grew, which takes no offset) */
+  bool o = l->sparse;
+  adem_get_array(rd, o ? l->hist + 1 : l->hist, l->n, sizeof *l->hist);
   adem_get_array(rd, l->touching, l->n, sizeof *l->touching);
   adem_get_array(rd, l->opened, l->n, sizeof *l->opened);
-  adem_get_array(rd, l->res + o, l->n, sizeof *l->res);
-  adem_get_array(rd, l->elastic + o, l->n, sizeof *l->elastic);
+  adem_get_array(rd, o ? l->res + 1 : l->res, l->n, sizeof *l->res);
+  adem_get_array(rd, o ? l->elastic + 1 : l->elastic, l->n, sizeof *l->elastic);
   uint8_t with_balance = adem_get_u8(rd);
   if (rd->failed || with_balance > 1) {
     rd->failed = 1;
@@ -247,7 +249,7 @@ adem_status adem_pairs_load(adem_reader *rd, adem_pair_list *l, adem_error *err)
   if (with_balance) {
     if (adem_pairs_keep_balance(l, true) != ADEM_OK)
       return adem_error_set(err, ADEM_ERR_NOMEM, "out of memory for %llu pairs", (unsigned long long)n);
-    adem_get_array(rd, l->bal + o, l->n, sizeof *l->bal);
+    adem_get_array(rd, o ? l->bal + 1 : l->bal, l->n, sizeof *l->bal);
   } else if (l->bal) {
     memset(l->bal, 0, l->slot_cap * sizeof *l->bal);
   }
